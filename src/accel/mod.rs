@@ -1,0 +1,284 @@
+//! Acceleration: an obvhs CWBVH over the scene's triangles, traversed with a watertight test.
+//!
+//! Two choices shape this module:
+//! - **Power-of-two rescaling.** obvhs clamps the entry distance of every node to 1e-4 (an
+//!   absolute distance), which would cull geometry in scenes measured in micrometres and contact
+//!   occluders at any scale. The BVH therefore lives in "BVH space" = world × 2^e, with e chosen so
+//!   the scene's bounding-box diagonal is about 256. Multiplying by a power of two is exact in
+//!   floating point, so nothing is lost; distances come back divided by the same factor.
+//! - **Leaf-ordered triangles.** Triangle vertices are copied in the order the BVH's leaves
+//!   reference them, so traversal reads memory linearly and needs no index indirection.
+
+pub mod triangle;
+
+use std::time::{Duration, Instant};
+
+use glam::{Vec3, Vec3A};
+use obvhs::{cwbvh::CwBvh, ray::Ray, BvhBuildParams};
+
+use crate::scene::mesh::TriangleMesh;
+use crate::shading::shadow::{Occluder, ShadowRay};
+use triangle::WatertightRay;
+
+/// The obvhs build presets, from fastest build to best traversal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BvhPreset {
+    /// `BvhBuildParams::fastest_build`.
+    Fastest,
+    /// `BvhBuildParams::fast_build`.
+    Fast,
+    /// `BvhBuildParams::medium_build`.
+    Medium,
+    /// `BvhBuildParams::slow_build` (spatial pre-splits).
+    Slow,
+}
+
+impl BvhPreset {
+    /// Every preset, for benchmarks.
+    pub const ALL: [BvhPreset; 4] = [Self::Fastest, Self::Fast, Self::Medium, Self::Slow];
+
+    /// The preset renders use: chosen with `cargo bench --bench rays` (see README, Benchmarks).
+    pub const DEFAULT: BvhPreset = BvhPreset::Fast;
+
+    fn params(self) -> BvhBuildParams {
+        match self {
+            Self::Fastest => BvhBuildParams::fastest_build(),
+            Self::Fast => BvhBuildParams::fast_build(),
+            Self::Medium => BvhBuildParams::medium_build(),
+            Self::Slow => BvhBuildParams::slow_build(),
+        }
+    }
+
+    /// Lower-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Fastest => "fastest",
+            Self::Fast => "fast",
+            Self::Medium => "medium",
+            Self::Slow => "slow",
+        }
+    }
+}
+
+/// The closest intersection of a ray with the scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Index of the triangle in the scene mesh.
+    pub triangle: u32,
+    /// World-space distance along the (unit) ray direction.
+    pub t: f32,
+    /// Barycentric weight of vertex 1.
+    pub b1: f32,
+    /// Barycentric weight of vertex 2.
+    pub b2: f32,
+}
+
+/// A BVH over every triangle of a scene.
+pub struct Bvh {
+    cwbvh: CwBvh,
+    /// Vertices of each BVH primitive, in BVH space, in leaf order.
+    leaf_triangles: Vec<[Vec3A; 3]>,
+    /// Scene-mesh triangle of each BVH primitive.
+    leaf_to_triangle: Vec<u32>,
+    /// World → BVH space factor (a power of two).
+    scale: f32,
+    /// Time spent building.
+    pub build_time: Duration,
+}
+
+impl Bvh {
+    /// Builds the BVH over `mesh` (which must have at least one triangle).
+    pub fn build(mesh: &TriangleMesh, preset: BvhPreset) -> Bvh {
+        let start = Instant::now();
+        let scale = world_to_bvh_scale(mesh);
+        let triangles: Vec<obvhs::triangle::Triangle> = (0..mesh.triangle_count())
+            .map(|t| {
+                let [v0, v1, v2] = mesh.triangle_positions(t).map(|p| Vec3A::from(p * scale));
+                obvhs::triangle::Triangle { v0, v1, v2 }
+            })
+            .collect();
+        let cwbvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(&triangles, preset.params(), &mut Duration::default());
+        let leaf_triangles = cwbvh
+            .primitive_indices
+            .iter()
+            .map(|&i| {
+                let t = &triangles[i as usize];
+                [t.v0, t.v1, t.v2]
+            })
+            .collect();
+        let leaf_to_triangle = cwbvh.primitive_indices.clone();
+        Bvh {
+            cwbvh,
+            leaf_triangles,
+            leaf_to_triangle,
+            scale,
+            build_time: start.elapsed(),
+        }
+    }
+
+    /// Closest hit along `origin + t·direction`, 0 < t < t_max (world units; `direction` unit).
+    #[inline]
+    pub fn intersect(&self, origin: Vec3, direction: Vec3, t_max: f32) -> Option<Hit> {
+        let origin = Vec3A::from(origin * self.scale);
+        let direction = Vec3A::from(direction);
+        let shear = WatertightRay::new(origin, direction);
+        let ray = Ray::new(origin, direction, 0.0, t_max * self.scale);
+        let mut hit = obvhs::ray::RayHit::none();
+        let found = self.cwbvh.ray_traverse(ray, &mut hit, |r, leaf| {
+            shear
+                .intersect(&self.leaf_triangles[leaf], r.tmax)
+                .map_or(f32::INFINITY, |h| h.t)
+        });
+        if !found {
+            return None;
+        }
+        let leaf = hit.primitive_id as usize;
+        // Recompute the barycentrics of the winning triangle only.
+        let h = shear.intersect(&self.leaf_triangles[leaf], f32::INFINITY)?;
+        Some(Hit {
+            triangle: self.leaf_to_triangle[leaf],
+            t: h.t / self.scale,
+            b1: h.b1,
+            b2: h.b2,
+        })
+    }
+
+    /// True if anything lies along `origin + t·direction` for 0 < t < t_max (stops at the first hit).
+    #[inline]
+    pub fn any_hit(&self, origin: Vec3, direction: Vec3, t_max: f32) -> bool {
+        let origin = Vec3A::from(origin * self.scale);
+        let direction = Vec3A::from(direction);
+        let shear = WatertightRay::new(origin, direction);
+        let ray = Ray::new(origin, direction, 0.0, t_max * self.scale);
+        !self.cwbvh.ray_traverse_miss(ray, |r, leaf| {
+            shear
+                .intersect(&self.leaf_triangles[leaf], r.tmax)
+                .map_or(f32::INFINITY, |h| h.t)
+        })
+    }
+
+    /// Number of primitives the BVH references (triangles, plus duplicates from pre-splitting).
+    pub fn primitive_count(&self) -> usize {
+        self.leaf_to_triangle.len()
+    }
+
+    /// World length of one BVH-space unit (about the scene's size / 200): the unit the
+    /// shadow-ray offset is measured in.
+    pub fn scene_unit(&self) -> f32 {
+        1.0 / self.scale
+    }
+
+    /// Number of CWBVH nodes.
+    pub fn node_count(&self) -> usize {
+        self.cwbvh.nodes.len()
+    }
+}
+
+impl Occluder for Bvh {
+    #[inline]
+    fn occluded(&self, ray: &ShadowRay) -> bool {
+        self.any_hit(ray.origin, ray.direction, ray.t_max)
+    }
+}
+
+/// 2^e such that the scene's bounding-box diagonal times it is in [128, 256), limited so that no
+/// coordinate overflows or loses its normal range.
+fn world_to_bvh_scale(mesh: &TriangleMesh) -> f32 {
+    let Some((lo, hi)) = mesh.bounds() else { return 1.0 };
+    let diagonal = (hi - lo).length();
+    let largest = lo.abs().max(hi.abs()).max_element();
+    if !(diagonal > 0.0) || !diagonal.is_finite() {
+        return 1.0;
+    }
+    let mut e = (256.0 / diagonal).log2().floor() as i32;
+    // Keep |coordinates| ≤ 2^100 after scaling, and do not scale up if already huge.
+    let max_e = 100 - largest.max(f32::MIN_POSITIVE).log2().ceil() as i32;
+    e = e.clamp(-100, max_e.max(-100));
+    2f32.powi(e)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn quad(y: f32, half: f32, offset: Vec3) -> TriangleMesh {
+        let p = [
+            Vec3::new(-half, y, -half),
+            Vec3::new(half, y, -half),
+            Vec3::new(half, y, half),
+            Vec3::new(-half, y, half),
+        ]
+        .map(|v| v + offset);
+        TriangleMesh {
+            positions: p.to_vec(),
+            normals: vec![Vec3::Y; 4],
+            uvs: None,
+            triangles: vec![[0, 2, 1], [0, 3, 2]],
+            material_of_triangle: vec![0, 0],
+        }
+    }
+
+    #[test]
+    fn closest_hit_and_occlusion_at_any_scale_and_offset() {
+        for &(size, offset) in &[(1.0f32, 0.0f32), (1e-6, 0.0), (1e6, 0.0), (1.0, 1e5)] {
+            let off = Vec3::splat(offset);
+            let mut mesh = quad(0.0, size, off);
+            mesh.append(quad(size, size, off), 0);
+            let bvh = Bvh::build(&mesh, BvhPreset::DEFAULT);
+            let from = off + Vec3::new(0.1, 3.0, 0.2) * size;
+            let hit = bvh.intersect(from, Vec3::NEG_Y, f32::INFINITY).expect("hit");
+            assert!(hit.triangle >= 2, "upper quad first (size {size})");
+            assert!(
+                (hit.t - 2.0 * size).abs() <= 1e-4 * size + offset * 1e-6,
+                "t {} size {size}",
+                hit.t
+            );
+            assert!(bvh.any_hit(from, Vec3::NEG_Y, 10.0 * size));
+            assert!(!bvh.any_hit(from, Vec3::NEG_Y, 1.5 * size), "t_max respected");
+            assert!(!bvh.any_hit(from, Vec3::Y, f32::INFINITY));
+        }
+    }
+
+    #[test]
+    fn point_under_a_plane_is_in_shadow_and_a_point_on_it_is_not() {
+        for &offset in &[0.0f32, 1e5] {
+            let off = Vec3::splat(offset);
+            let bvh = Bvh::build(&quad(0.0, 4.0, off), BvhPreset::DEFAULT);
+            let light = off + Vec3::new(0.3, 5.0, -0.2);
+            let unit = bvh.scene_unit();
+            let ray_to_light = |p: Vec3, ng: Vec3| {
+                let to = light - p;
+                ShadowRay::towards_light(p, ng, to.normalize(), to.length(), unit)
+            };
+            // Under the plane: occluded, down to depths of 1e-3 of the plane's size or 16 ulps of
+            // the coordinates (0.125 at 1e5), whichever is larger; closer than that a point cannot
+            // be told from one on the plane in f32.
+            let ulp16 = 16.0 * (offset.max(1.0) * f32::EPSILON);
+            for depth in [1.0f32, 1e-1, 1e-2, 1e-3].into_iter().filter(|&d| d >= ulp16) {
+                let under = off + Vec3::new(-0.4, -depth, 0.7);
+                assert!(
+                    bvh.occluded(&ray_to_light(under, Vec3::NEG_Y)),
+                    "offset {offset}, {depth} below"
+                );
+            }
+            // On the plane, computed from barycentrics as the renderer does: lit, everywhere.
+            let mesh = quad(0.0, 4.0, off);
+            for k in 0..100 {
+                let (b1, b2) = ((k % 10) as f32 / 10.0 * 0.9, (k / 10) as f32 / 10.0 * 0.09);
+                let [p0, p1, p2] = mesh.triangle_positions(k % 2);
+                let on = (1.0 - b1 - b2) * p0 + b1 * p1 + b2 * p2;
+                assert!(
+                    !bvh.occluded(&ray_to_light(on, Vec3::Y)),
+                    "offset {offset}: acne at {on}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn scale_is_a_power_of_two() {
+        let s = world_to_bvh_scale(&quad(0.0, 3.7e-5, Vec3::ZERO));
+        assert_eq!(s.log2().fract(), 0.0);
+        assert!(s > 1.0);
+    }
+}

@@ -1,0 +1,17 @@
+//! pointshade — a CPU renderer that shades surface points with analytic BRDFs.
+//!
+//! The module tree is the pipeline, in the order data flows through it:
+//! [`scene`] (loading) → [`plan`] (which stages this scene needs) → [`accel`] (BVH) →
+//! [`surface`] (camera rays → [`surface::SurfacePoint`]s) → [`shading`] (BRDFs, lights,
+//! shadow rays) → [`film`] (samples → pixels) → [`output`] (PNG / EXR files).
+//! [`render`] drives the stages; see ARCHITECTURE.md.
+
+pub mod accel;
+pub mod error;
+pub mod film;
+pub mod output;
+pub mod plan;
+pub mod render;
+pub mod scene;
+pub mod shading;
+pub mod surface;

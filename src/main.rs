@@ -1,0 +1,216 @@
+//! The `pointshade` command line.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use pointshade::accel::{Bvh, BvhPreset};
+use pointshade::error::InputError;
+use pointshade::film::SamplerKind;
+use pointshade::output::{aov_path, encode, write_all_or_nothing, Format};
+use pointshade::plan::{Aov, RenderPlan};
+use pointshade::{render, scene};
+
+#[derive(Parser)]
+#[command(name = "pointshade", version, about = "Shade surface points with analytic BRDFs")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene (.toml) or a bare mesh (.obj) to PNG (8-bit sRGB) or EXR (linear float32).
+    Render(RenderArgs),
+}
+
+#[derive(clap::Args)]
+struct RenderArgs {
+    /// Scene file (.toml) or mesh (.obj).
+    scene: PathBuf,
+    /// Output image (.png or .exr); default: the scene's name with .png, in the current directory.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Samples per pixel.
+    #[arg(long)]
+    spp: Option<u32>,
+    /// Sampler: grid (spp = N², sub-pixel centres), sobol (default), independent.
+    #[arg(long)]
+    sampler: Option<String>,
+    /// Image width in pixels.
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height in pixels.
+    #[arg(long)]
+    height: Option<u32>,
+    /// Exposure in stops for PNG output.
+    #[arg(long, allow_negative_numbers = true)]
+    exposure: Option<f32>,
+    /// Extra images written beside the output as EXR: normal,position,depth,albedo.
+    #[arg(long)]
+    aov: Option<String>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Print the render plan: stages kept and skipped, and why.
+    #[arg(long)]
+    explain: bool,
+    /// No progress bar and no summary.
+    #[arg(long, short)]
+    quiet: bool,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(args) => run_render(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn option_error(option: &str, problem: impl std::fmt::Display) -> InputError {
+    InputError::new(option, problem)
+}
+
+fn run_render(args: RenderArgs) -> Result<(), InputError> {
+    let t_load = Instant::now();
+    let output = args.output.clone().unwrap_or_else(|| default_output(&args.scene));
+    let format = Format::of(&output)?;
+    let aovs = match &args.aov {
+        Some(list) => Aov::parse_list(list).map_err(|e| option_error("--aov", e))?,
+        None => Vec::new(),
+    };
+    if args.threads == Some(0) {
+        return Err(option_error("--threads", "must be at least 1"));
+    }
+    let mut scene = scene::load(&args.scene)?;
+    let f = &mut scene.film;
+    f.width = args.width.unwrap_or(f.width);
+    f.height = args.height.unwrap_or(f.height);
+    f.exposure = args.exposure.unwrap_or(f.exposure);
+    if let Some(name) = &args.sampler {
+        f.sampler = SamplerKind::parse(name).map_err(|e| option_error("--sampler", e))?;
+    }
+    f.spp = args.spp.unwrap_or(f.spp);
+    f.validate().map_err(|e| InputError::new(&args.scene, e))?;
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
+    let load_time = t_load.elapsed();
+
+    let plan = RenderPlan::new(&scene, &aovs);
+    if args.explain {
+        print!("{}", plan.explain(&scene));
+    }
+
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| option_error("--threads", e))?;
+    let (bvh, rendered) = pool.install(|| {
+        let bvh = plan.trace_rays.then(|| Bvh::build(&scene.mesh, BvhPreset::DEFAULT));
+        let progress = Progress::new(&scene, args.quiet);
+        let rendered = render::render(&scene, &plan, bvh.as_ref(), &|n| progress.tick(n));
+        progress.finish();
+        (bvh, rendered)
+    });
+    let rendered = rendered.map_err(|e| InputError::new(&args.scene, e))?;
+
+    let t_out = Instant::now();
+    let mut files = vec![(
+        output.clone(),
+        encode(&rendered.image, format, scene.film.exposure).map_err(|e| InputError::new(&output, e))?,
+    )];
+    for (aov, img) in &rendered.aovs {
+        let path = aov_path(&output, *aov);
+        let bytes = encode(img, Format::Exr, 0.0).map_err(|e| InputError::new(&path, e))?;
+        files.push((path, bytes));
+    }
+    write_all_or_nothing(&files)?;
+    let output_time = t_out.elapsed();
+
+    if !args.quiet {
+        let s = &rendered.stats;
+        let bvh_time = bvh.as_ref().map_or(Duration::ZERO, |b| b.build_time);
+        eprintln!(
+            "rendered {}x{}, {} spp, {} triangles, {} primary + {} shadow rays in {:.2} s → {}",
+            scene.film.width,
+            scene.film.height,
+            scene.film.spp,
+            scene.mesh.triangle_count(),
+            s.primary_rays,
+            s.shadow_rays,
+            (load_time + bvh_time + s.wall_time + output_time).as_secs_f64(),
+            output.display()
+        );
+        eprintln!(
+            "  stages: load {:.3} s, bvh {:.3} s, render {:.3} s (surface points {:.3} s + shading {:.3} s, summed over threads), output {:.3} s",
+            load_time.as_secs_f64(),
+            bvh_time.as_secs_f64(),
+            s.wall_time.as_secs_f64(),
+            s.surface_time.as_secs_f64(),
+            s.shading_time.as_secs_f64(),
+            output_time.as_secs_f64()
+        );
+    }
+    Ok(())
+}
+
+fn default_output(scene: &Path) -> PathBuf {
+    let stem = scene
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "render".into());
+    PathBuf::from(format!("{stem}.png"))
+}
+
+/// A progress bar on stderr that appears only for renders longer than about a second, only on a
+/// terminal, and never with --quiet.
+struct Progress {
+    bar: ProgressBar,
+    start: Instant,
+    enabled: bool,
+    shown: AtomicBool,
+}
+
+impl Progress {
+    fn new(scene: &scene::Scene, quiet: bool) -> Self {
+        let tiles = (scene.film.width.div_ceil(16) * scene.film.height.div_ceil(16)) as u64;
+        let bar = ProgressBar::with_draw_target(Some(tiles), ProgressDrawTarget::hidden());
+        if let Ok(style) = ProgressStyle::with_template("{bar:40} {percent:>3}% tiles {pos}/{len} eta {eta}") {
+            bar.set_style(style);
+        }
+        Self {
+            bar,
+            start: Instant::now(),
+            enabled: !quiet && std::io::stderr().is_terminal(),
+            shown: AtomicBool::new(false),
+        }
+    }
+
+    fn tick(&self, done: u64) {
+        if self.enabled
+            && !self.shown.load(Ordering::Relaxed)
+            && self.start.elapsed() > Duration::from_secs(1)
+            && !self.shown.swap(true, Ordering::Relaxed)
+        {
+            self.bar.set_draw_target(ProgressDrawTarget::stderr());
+        }
+        self.bar.set_position(done);
+    }
+
+    fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}

@@ -1,0 +1,164 @@
+//! Output: images to files. PNG is 8-bit sRGB with exposure and clamping; EXR is linear float32
+//! RGB, untouched. All files of a render are encoded in memory first, written to temporary
+//! files beside their targets and renamed only when every one of them is written, so a failure
+//! never leaves partial output behind.
+
+use std::io::Cursor;
+use std::path::{Path, PathBuf};
+
+use image::{ImageFormat, Rgb32FImage, RgbImage};
+
+use crate::error::{InputError, InputResult};
+use crate::film::Image;
+use crate::plan::Aov;
+
+/// Output formats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// 8-bit sRGB PNG.
+    Png,
+    /// Linear float32 OpenEXR.
+    Exr,
+}
+
+impl Format {
+    /// The format a path's extension asks for.
+    pub fn of(path: &Path) -> InputResult<Format> {
+        match crate::scene::extension(path).as_deref() {
+            Some("png") => Ok(Format::Png),
+            Some("exr") => Ok(Format::Exr),
+            _ => Err(InputError::new(path, "unsupported output type (expected .png or .exr)")),
+        }
+    }
+}
+
+/// The sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1].
+pub fn srgb_encode(linear: f32) -> f32 {
+    if linear <= 0.003_130_8 {
+        12.92 * linear
+    } else {
+        1.055 * linear.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Linear radiance → 8-bit sRGB: scale by 2^exposure, clamp to [0, 1] (NaN → 0), encode, round.
+pub fn to_srgb8(linear: f32, exposure_scale: f32) -> u8 {
+    let v = (linear * exposure_scale).clamp(0.0, 1.0);
+    let v = if v.is_nan() { 0.0 } else { v };
+    (srgb_encode(v) * 255.0).round() as u8
+}
+
+/// Encodes `image` in `format`.
+pub fn encode(image: &Image, format: Format, exposure: f32) -> Result<Vec<u8>, String> {
+    let mut bytes = Cursor::new(Vec::new());
+    match format {
+        Format::Png => {
+            let scale = exposure.exp2();
+            let raw = image
+                .pixels
+                .iter()
+                .flat_map(|p| p.to_array().map(|c| to_srgb8(c, scale)))
+                .collect();
+            let img = RgbImage::from_raw(image.width, image.height, raw).expect("buffer size matches");
+            img.write_to(&mut bytes, ImageFormat::Png).map_err(|e| e.to_string())?;
+        }
+        Format::Exr => {
+            let raw = image.pixels.iter().flat_map(|p| p.to_array()).collect();
+            let img = Rgb32FImage::from_raw(image.width, image.height, raw).expect("buffer size matches");
+            img.write_to(&mut bytes, ImageFormat::OpenExr)
+                .map_err(|e| e.to_string())?;
+        }
+    }
+    Ok(bytes.into_inner())
+}
+
+/// Where an AOV of a render written to `out` goes: `out` with `.<aov>.exr` instead of its extension.
+pub fn aov_path(out: &Path, aov: Aov) -> PathBuf {
+    let stem = out
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    out.with_file_name(format!("{stem}.{}.exr", aov.name()))
+}
+
+/// Writes every `(path, bytes)` or none: temporary files first, then renames.
+pub fn write_all_or_nothing(files: &[(PathBuf, Vec<u8>)]) -> InputResult<()> {
+    let mut written: Vec<PathBuf> = Vec::new();
+    let cleanup = |written: &[PathBuf]| {
+        for t in written {
+            let _ = std::fs::remove_file(t);
+        }
+    };
+    for (path, bytes) in files {
+        let tmp = temporary_path(path);
+        if let Err(e) = std::fs::write(&tmp, bytes) {
+            cleanup(&written);
+            let _ = std::fs::remove_file(&tmp);
+            return Err(InputError::new(path, format!("cannot write: {e}")));
+        }
+        written.push(tmp);
+    }
+    for ((path, _), tmp) in files.iter().zip(&written) {
+        if let Err(e) = std::fs::rename(tmp, path) {
+            cleanup(&written);
+            return Err(InputError::new(path, format!("cannot write: {e}")));
+        }
+    }
+    Ok(())
+}
+
+fn temporary_path(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    #[test]
+    fn srgb_encoding_hits_known_values() {
+        assert_eq!(to_srgb8(0.0, 1.0), 0);
+        assert_eq!(to_srgb8(1.0, 1.0), 255);
+        assert_eq!(to_srgb8(0.5, 1.0), 188); // 0.7354 · 255
+        assert_eq!(to_srgb8(0.25, 2.0), 188); // one stop of exposure
+        assert_eq!(to_srgb8(7.0, 1.0), 255);
+        assert_eq!(to_srgb8(-1.0, 1.0), 0);
+        assert_eq!(to_srgb8(f32::NAN, 1.0), 0);
+    }
+
+    #[test]
+    fn exr_round_trips_linear_values_exactly() {
+        let mut img = Image::new(3, 2);
+        img.pixels[4] = Vec3::new(0.125, 7.5, 1e-6);
+        let bytes = encode(&img, Format::Exr, 3.0).unwrap();
+        let back = image::load_from_memory(&bytes).unwrap().into_rgb32f();
+        assert_eq!(back.dimensions(), (3, 2));
+        assert_eq!(back.get_pixel(1, 1).0, [0.125, 7.5, 1e-6]);
+    }
+
+    #[test]
+    fn aov_files_sit_beside_the_image() {
+        assert_eq!(
+            aov_path(Path::new("out/dragon.png"), Aov::Depth),
+            PathBuf::from("out/dragon.depth.exr")
+        );
+    }
+
+    #[test]
+    fn failed_write_leaves_no_file() {
+        let dir = std::env::temp_dir().join(format!("pointshade-out-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let good = dir.join("a.png");
+        let bad = dir.join("missing-dir").join("b.png");
+        let r = write_all_or_nothing(&[(good.clone(), vec![1, 2, 3]), (bad, vec![4])]);
+        assert!(r.is_err());
+        assert!(!good.exists(), "first file must not appear when the second fails");
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0, "no temporary left behind");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

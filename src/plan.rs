@@ -1,0 +1,211 @@
+//! The plan: which stages this scene needs, decided once before rendering.
+//!
+//! Nothing is computed "just in case" on the per-pixel path: the renderer consults the plan, and
+//! `--explain` prints it — every stage kept or skipped, with the reason, and the rays of each kind.
+
+use std::fmt::Write as _;
+
+use crate::scene::Scene;
+
+/// An extra image written beside the render.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Aov {
+    /// Shading normal (world space, as the shader saw it).
+    Normal,
+    /// World-space position.
+    Position,
+    /// Distance from the camera along the primary ray.
+    Depth,
+    /// Diffuse albedo times kd.
+    Albedo,
+}
+
+impl Aov {
+    /// Every AOV.
+    pub const ALL: [Aov; 4] = [Aov::Normal, Aov::Position, Aov::Depth, Aov::Albedo];
+
+    /// Name on the command line and in file names.
+    pub fn name(self) -> &'static str {
+        match self {
+            Aov::Normal => "normal",
+            Aov::Position => "position",
+            Aov::Depth => "depth",
+            Aov::Albedo => "albedo",
+        }
+    }
+
+    /// Parses a comma-separated list (`normal,depth`); the error lists the valid names.
+    pub fn parse_list(list: &str) -> Result<Vec<Aov>, String> {
+        let mut out = Vec::new();
+        for name in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+            let aov = Aov::ALL
+                .into_iter()
+                .find(|a| a.name() == name)
+                .ok_or_else(|| format!("unknown AOV '{name}' (expected normal, position, depth or albedo)"))?;
+            if !out.contains(&aov) {
+                out.push(aov);
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// One stage of the pipeline and whether this scene runs it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StageDecision {
+    /// Stage name.
+    pub stage: &'static str,
+    /// Whether it runs.
+    pub kept: bool,
+    /// Why.
+    pub why: String,
+}
+
+/// What a render of this scene will do.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderPlan {
+    /// Build a BVH and trace primary rays (the scene has geometry).
+    pub trace_rays: bool,
+    /// Trace shadow rays.
+    pub shadows: bool,
+    /// Some rendered material has a specular lobe.
+    pub specular: bool,
+    /// Interpolate texture coordinates (some material uses a texture).
+    pub uvs: bool,
+    /// AOV buffers to fill.
+    pub aovs: Vec<Aov>,
+    /// Every decision, for `--explain`.
+    pub stages: Vec<StageDecision>,
+    /// Primary rays that will be traced.
+    pub primary_rays: u64,
+    /// Upper bound on shadow rays (one per primary hit and light in front of the surface).
+    pub max_shadow_rays: u64,
+}
+
+impl RenderPlan {
+    /// Decides the stages for `scene` with the requested AOVs.
+    pub fn new(scene: &Scene, aovs: &[Aov]) -> Self {
+        let mut stages = Vec::new();
+        let mut decide = |stage, kept: bool, why: String| {
+            stages.push(StageDecision { stage, kept, why });
+            kept
+        };
+        let triangles = scene.mesh.triangle_count();
+        let trace_rays = decide(
+            "bvh + primary rays",
+            triangles > 0,
+            if triangles > 0 {
+                format!("{triangles} triangles")
+            } else {
+                "the scene has no geometry: every pixel is background".into()
+            },
+        );
+        let shadows = decide(
+            "shadow rays",
+            trace_rays && scene.shadows && !scene.lights.is_empty(),
+            if !scene.shadows {
+                "shadows = false in the scene".into()
+            } else if scene.lights.is_empty() {
+                "no lights".into()
+            } else if !trace_rays {
+                "no geometry to cast shadows".into()
+            } else {
+                format!(
+                    "{} light(s), one ray per light in front of each shaded point",
+                    scene.lights.len()
+                )
+            },
+        );
+        let used: Vec<_> = {
+            let mut seen = vec![false; scene.materials.len()];
+            for &m in &scene.mesh.material_of_triangle {
+                seen[m as usize] = true;
+            }
+            scene
+                .materials
+                .iter()
+                .zip(seen)
+                .filter(|(_, s)| *s)
+                .map(|(m, _)| m)
+                .collect()
+        };
+        let specular_names: Vec<_> = used
+            .iter()
+            .filter(|m| m.has_specular())
+            .map(|m| m.name.as_str())
+            .collect();
+        let specular = decide(
+            "specular BRDF terms",
+            !specular_names.is_empty(),
+            if specular_names.is_empty() {
+                "every rendered material is Lambert".into()
+            } else {
+                format!("materials with a specular lobe: {}", specular_names.join(", "))
+            },
+        );
+        let uvs = decide("texture coordinates", false, "no material uses a texture".into());
+        let aov_list = aovs.iter().map(|a| a.name()).collect::<Vec<_>>().join(", ");
+        decide(
+            "AOV buffers",
+            !aovs.is_empty() && trace_rays,
+            if aovs.is_empty() {
+                "none requested (--aov)".into()
+            } else {
+                format!("requested: {aov_list}")
+            },
+        );
+        let primary_rays = if trace_rays {
+            scene.film.pixel_count() as u64 * scene.film.spp as u64
+        } else {
+            0
+        };
+        let max_shadow_rays = if shadows {
+            primary_rays * scene.lights.len() as u64
+        } else {
+            0
+        };
+        RenderPlan {
+            trace_rays,
+            shadows,
+            specular,
+            uvs,
+            aovs: if trace_rays { aovs.to_vec() } else { Vec::new() },
+            stages,
+            primary_rays,
+            max_shadow_rays,
+        }
+    }
+
+    /// The plan as text, for `--explain`.
+    pub fn explain(&self, scene: &Scene) -> String {
+        let mut s = String::new();
+        let f = &scene.film;
+        let _ = writeln!(s, "plan for {}", scene.source.display());
+        let _ = writeln!(
+            s,
+            "  film: {}x{}, {} spp, {} sampler",
+            f.width,
+            f.height,
+            f.spp,
+            f.sampler.name()
+        );
+        for note in &scene.notes {
+            let _ = writeln!(s, "  note: {note}");
+        }
+        for d in &self.stages {
+            let _ = writeln!(
+                s,
+                "  [{}] {:<20} {}",
+                if d.kept { "run " } else { "skip" },
+                d.stage,
+                d.why
+            );
+        }
+        let _ = writeln!(
+            s,
+            "  rays: {} primary, at most {} shadow",
+            self.primary_rays, self.max_shadow_rays
+        );
+        s
+    }
+}

@@ -1,0 +1,162 @@
+//! Defaults for scenes that do not say: a camera that frames the geometry, a key light and a
+//! fill light, a neutral material. Used for bare meshes on the command line and for scene files
+//! without a `[camera]` or `[[light]]`.
+
+use std::path::Path;
+
+use glam::Vec3;
+
+use crate::error::{InputError, InputResult};
+use crate::film::FilmSettings;
+use crate::scene::obj::{load_obj, NO_MATERIAL};
+use crate::scene::Scene;
+use crate::shading::light::{Falloff, Light, LightKind};
+use crate::shading::material::Material;
+use crate::surface::camera::{CameraSpec, FovAxis, Projection};
+
+/// Vertical field of view of the automatic camera, in degrees.
+const AUTO_FOV: f32 = 35.0;
+/// Where the automatic camera stands, relative to the centre: in front (+Z), a little to the
+/// right and above — a three-quarter view of models that face +Z with +Y up, the usual convention.
+const VIEW_FROM: Vec3 = Vec3::new(0.45, 0.35, 1.0);
+/// Irradiance the key light delivers at the centre of the geometry.
+const KEY_IRRADIANCE: f32 = 2.0;
+
+/// The material of faces that have none: light grey Lambert, two-sided.
+pub fn default_material() -> Material {
+    Material::lambert("default", [0.8, 0.8, 0.8])
+}
+
+/// A perspective camera that sees all eight corners of the box `(lo, hi)`, as close as it can
+/// (5% margin), for any image at least as wide as it is tall.
+pub fn frame_bounds(lo: Vec3, hi: Vec3) -> CameraSpec {
+    let centre = (lo + hi) * 0.5;
+    let back = VIEW_FROM.normalize();
+    let right = Vec3::Y.cross(back).normalize();
+    let up = back.cross(right);
+    let tan_half = (AUTO_FOV.to_radians() * 0.5).tan();
+    // A corner at offset r from the centre is inside the vertical (and, for aspect ≥ 1, the
+    // horizontal) fov when |r·up| ≤ tan·depth and |r·right| ≤ tan·depth, depth = D − r·back.
+    let mut distance = f32::MIN_POSITIVE.sqrt();
+    for i in 0..8 {
+        let corner = Vec3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        );
+        let r = corner - centre;
+        let lateral = r.dot(up).abs().max(r.dot(right).abs());
+        distance = distance.max(r.dot(back) + lateral / tan_half);
+    }
+    CameraSpec {
+        position: centre + back * distance * 1.05,
+        look_at: centre,
+        up: Vec3::Y,
+        projection: Projection::Perspective {
+            fov_degrees: AUTO_FOV,
+            fov_axis: FovAxis::Y,
+        },
+        near_clip: 0.0,
+        far_clip: f32::INFINITY,
+    }
+}
+
+/// A key light above-left of `camera` and a dim fill light low on the right, both aimed at the
+/// centre of `(lo, hi)`, with intensities that give irradiance KEY_IRRADIANCE (key) and a fifth
+/// of it (fill) at the centre whatever the scene's scale.
+pub fn default_lights(lo: Vec3, hi: Vec3, camera: &CameraSpec) -> Vec<Light> {
+    let centre = (lo + hi) * 0.5;
+    let radius = ((hi - lo).length() * 0.5).max(f32::MIN_POSITIVE.sqrt());
+    let back = (camera.position - centre).normalize_or(Vec3::Z);
+    let right = Vec3::Y.cross(back).normalize_or(Vec3::X);
+    let up = back.cross(right);
+    let light = |dir: Vec3, irradiance: f32| {
+        let d = 3.0 * radius;
+        Light {
+            kind: LightKind::Point {
+                position: centre + dir.normalize() * d,
+            },
+            power: Vec3::splat(irradiance * d * d),
+            falloff: Falloff::InverseSquare,
+        }
+    };
+    vec![
+        light(-0.7 * right + 1.0 * up + 0.8 * back, KEY_IRRADIANCE),
+        light(1.0 * right - 0.2 * up + 0.9 * back, KEY_IRRADIANCE * 0.2),
+    ]
+}
+
+/// A scene for a mesh given alone on the command line.
+pub fn scene_for_bare_mesh(path: &Path) -> InputResult<Scene> {
+    let obj = load_obj(path)?;
+    let mut materials = obj.materials;
+    let mut mesh = obj.mesh;
+    if mesh.material_of_triangle.contains(&NO_MATERIAL) {
+        let default = materials.len() as u32;
+        materials.push(default_material());
+        for m in &mut mesh.material_of_triangle {
+            if *m == NO_MATERIAL {
+                *m = default;
+            }
+        }
+    }
+    let (lo, hi) = mesh.bounds().ok_or_else(|| InputError::new(path, "no geometry"))?;
+    let camera = frame_bounds(lo, hi);
+    let lights = default_lights(lo, hi, &camera);
+    Ok(Scene {
+        source: path.to_path_buf(),
+        film: FilmSettings::default(),
+        camera,
+        lights,
+        materials,
+        mesh,
+        shadows: true,
+        notes: vec![
+            "camera: framed automatically on the bounding box".into(),
+            "lights: default key + fill lights".into(),
+        ],
+        warnings: obj.material_warning.into_iter().collect(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::surface::camera::Camera;
+
+    #[test]
+    fn automatic_camera_sees_every_corner_of_the_box_at_any_scale() {
+        for &(s, off) in &[(1.0f32, 0.0f32), (1e-4, 0.0), (1e4, 0.0), (1.0, 1e3)] {
+            let (lo, hi) = (Vec3::new(-1.0, 0.0, -0.5) * s + off, Vec3::new(2.0, 1.5, 0.5) * s + off);
+            let cam = Camera::new(frame_bounds(lo, hi), 640, 480).unwrap();
+            for i in 0..8 {
+                let corner = Vec3::new(
+                    if i & 1 == 0 { lo.x } else { hi.x },
+                    if i & 2 == 0 { lo.y } else { hi.y },
+                    if i & 4 == 0 { lo.z } else { hi.z },
+                );
+                let d = (corner - cam.spec().position).normalize();
+                let (fwd, half_y) = (cam.forward(), (AUTO_FOV.to_radians() * 0.5).tan());
+                let up = fwd.cross(Vec3::Y.cross(fwd).normalize());
+                let right = fwd.cross(Vec3::Y).normalize();
+                let z = d.dot(fwd);
+                assert!(z > 0.0);
+                assert!(
+                    (d.dot(up) / z).abs() <= half_y,
+                    "corner {i} outside vertically (scale {s})"
+                );
+                assert!((d.dot(right) / z).abs() <= half_y, "corner {i} outside horizontally");
+            }
+        }
+    }
+
+    #[test]
+    fn key_light_irradiance_at_the_centre_is_scale_independent() {
+        for s in [1e-3f32, 1.0, 1e3] {
+            let (lo, hi) = (Vec3::splat(-s), Vec3::splat(s));
+            let lights = default_lights(lo, hi, &frame_bounds(lo, hi));
+            let e = lights[0].sample(Vec3::ZERO).unwrap().irradiance.x;
+            assert!((e - KEY_IRRADIANCE).abs() < 1e-3 * KEY_IRRADIANCE, "{e} at scale {s}");
+        }
+    }
+}

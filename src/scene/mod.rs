@@ -1,0 +1,60 @@
+//! Scene loading: a TOML scene file or a bare mesh becomes a [`Scene`].
+//!
+//! A scene is everything a render needs, already validated: film settings, a camera, lights,
+//! materials, and all objects merged into one world-space [`TriangleMesh`]. Loading is the only
+//! stage that reads user files, so every [`InputError`] comes from here.
+
+pub mod file;
+pub mod framing;
+pub mod mesh;
+pub mod obj;
+pub mod procedural;
+
+use std::path::{Path, PathBuf};
+
+use crate::error::{InputError, InputResult};
+use crate::film::FilmSettings;
+use crate::shading::light::Light;
+use crate::shading::material::Material;
+use crate::surface::camera::CameraSpec;
+pub use mesh::TriangleMesh;
+
+/// A validated scene, ready to plan and render.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// The file it was loaded from.
+    pub source: PathBuf,
+    /// Image and sampling settings.
+    pub film: FilmSettings,
+    /// The camera.
+    pub camera: CameraSpec,
+    /// Lights, in the order they are summed.
+    pub lights: Vec<Light>,
+    /// Materials, indexed by `mesh.material_of_triangle`.
+    pub materials: Vec<Material>,
+    /// Every object, in world space.
+    pub mesh: TriangleMesh,
+    /// Whether shadow rays are traced.
+    pub shadows: bool,
+    /// Decisions made for the user (automatic camera, default light …), shown by `--explain`.
+    pub notes: Vec<String>,
+    /// Problems that did not stop loading, printed as warnings.
+    pub warnings: Vec<String>,
+}
+
+/// Loads a scene from a `.toml` scene file or a bare `.obj` mesh.
+pub fn load(path: &Path) -> InputResult<Scene> {
+    match extension(path).as_deref() {
+        Some("toml") => file::load_scene_file(path),
+        Some("obj") => framing::scene_for_bare_mesh(path),
+        _ => Err(InputError::new(
+            path,
+            "unsupported scene type (expected a .toml scene file or an .obj mesh)",
+        )),
+    }
+}
+
+/// Lower-case file extension.
+pub fn extension(path: &Path) -> Option<String> {
+    path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase())
+}

@@ -1,0 +1,242 @@
+//! Wavefront OBJ/MTL loading (via tobj) into a [`TriangleMesh`] and [`Material`]s.
+//!
+//! Polygons are fan-triangulated and vertices are unique (position, uv, normal) tuples, as in
+//! Mitsuba's OBJ loader, so a mesh renders the same in both. MTL materials map to the BRDF models:
+//! `Pr`/`Pm` (the PBR extension) → Cook-Torrance; `Ks` with `Ns` → Blinn-Phong; otherwise `Kd` →
+//! Lambert. A missing MTL file is a warning, not an error (many OBJ files name one they lack).
+
+use std::path::Path;
+
+use glam::{Vec2, Vec3};
+
+use crate::error::{InputError, InputResult};
+use crate::scene::mesh::{angle_weighted_normals, TriangleMesh};
+use crate::shading::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
+use crate::shading::material::{BlinnPhong, CookTorrance, Material, Specular};
+
+/// The geometry and materials of one OBJ file, in the file's own coordinates.
+#[derive(Debug)]
+pub struct ObjContents {
+    /// All triangles; `material_of_triangle` indexes `materials`, or is `u32::MAX` for faces with
+    /// no material (the caller substitutes its default).
+    pub mesh: TriangleMesh,
+    /// The MTL materials, converted.
+    pub materials: Vec<Material>,
+    /// Why the file's material library could not be used, if it names one that failed to load.
+    /// Only worth a warning when the caller actually renders the file's own materials.
+    pub material_warning: Option<String>,
+}
+
+/// Material index meaning "no material assigned in the file".
+pub const NO_MATERIAL: u32 = u32::MAX;
+
+/// Loads `path`. Errors name the file and the problem; nothing is partially returned.
+pub fn load_obj(path: &Path) -> InputResult<ObjContents> {
+    if !path.is_file() {
+        return Err(InputError::new(path, "file not found"));
+    }
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ..Default::default()
+    };
+    let (models, materials) =
+        tobj::load_obj(path, &options).map_err(|e| InputError::new(path, format!("malformed OBJ: {e}")))?;
+    let mut material_warning = None;
+    let materials = match materials {
+        Ok(m) => m,
+        Err(e) => {
+            material_warning = Some(format!(
+                "{}: its material library (mtllib) could not be loaded ({e}): faces get the default material",
+                path.display()
+            ));
+            Vec::new()
+        }
+    };
+
+    let mut mesh = TriangleMesh::default();
+    let mut all_have_uvs = true;
+    let mut uvs = Vec::new();
+    for model in &models {
+        let m = &model.mesh;
+        let count = m.positions.len() / 3;
+        let positions: Vec<Vec3> = m.positions.chunks_exact(3).map(Vec3::from_slice).collect();
+        if let Some(bad) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(InputError::new(
+                path,
+                format!("vertex {} of object '{}' is not finite", bad + 1, model.name),
+            ));
+        }
+        if m.indices.len() % 3 != 0 {
+            return Err(InputError::new(
+                path,
+                format!(
+                    "object '{}' has a face that is not a triangle after triangulation",
+                    model.name
+                ),
+            ));
+        }
+        let triangles: Vec<[u32; 3]> = m.indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+        if let Some(bad) = m.indices.iter().find(|&&i| i as usize >= count) {
+            return Err(InputError::new(
+                path,
+                format!(
+                    "face index {bad} out of range ({count} vertices) in object '{}'",
+                    model.name
+                ),
+            ));
+        }
+        let normals = if m.normals.len() == m.positions.len() {
+            let n: Vec<Vec3> = m
+                .normals
+                .chunks_exact(3)
+                .map(|c| Vec3::from_slice(c).normalize_or_zero())
+                .collect();
+            if n.iter().any(|v| !v.is_finite()) {
+                return Err(InputError::new(
+                    path,
+                    format!("a normal of object '{}' is not finite", model.name),
+                ));
+            }
+            n
+        } else {
+            angle_weighted_normals(&positions, &triangles)
+        };
+        if m.texcoords.len() / 2 == count && count > 0 {
+            // OBJ's v axis points up; images store row 0 at the top.
+            uvs.extend(m.texcoords.chunks_exact(2).map(|c| Vec2::new(c[0], 1.0 - c[1])));
+        } else {
+            all_have_uvs = false;
+        }
+        let material = match m.material_id {
+            Some(id) if id < materials.len() => id as u32,
+            _ => NO_MATERIAL,
+        };
+        let part = TriangleMesh {
+            material_of_triangle: vec![material; triangles.len()],
+            positions,
+            normals,
+            uvs: None,
+            triangles,
+        };
+        mesh.append(part, 0);
+    }
+    if mesh.triangles.is_empty() {
+        return Err(InputError::new(path, "no faces: nothing to render"));
+    }
+    mesh.uvs = (all_have_uvs && uvs.len() == mesh.positions.len()).then_some(uvs);
+
+    let materials = materials
+        .iter()
+        .map(|m| material_from_mtl(m).map_err(|e| InputError::new(path, format!("material '{}': {e}", m.name))))
+        .collect::<InputResult<Vec<_>>>()?;
+    Ok(ObjContents {
+        mesh,
+        materials,
+        material_warning,
+    })
+}
+
+/// Converts one MTL material to the BRDF module's [`Material`].
+///
+/// - `Pr` (roughness) or `Pm` (metallic) present → Cook-Torrance with the GGX + height-correlated
+///   Smith + Schlick terms of the PBR workflow that extension comes from, α = Pr² (Pr is a
+///   perceptual roughness there), metallic when Pm ≥ 0.5 (then Kd tints the specular colour and
+///   the diffuse part is off), F0 from `Ni` (default 1.5) otherwise.
+/// - `Ks` non-black and `Ns` given → Blinn-Phong with `specular_color = Ks`, `shininess = Ns`.
+/// - Otherwise Lambert with `albedo = Kd`.
+pub fn material_from_mtl(m: &tobj::Material) -> Result<Material, String> {
+    let albedo = m.diffuse.unwrap_or([0.8, 0.8, 0.8]);
+    let param = |key: &str| -> Result<Option<f32>, String> {
+        m.unknown_param
+            .get(key)
+            .map(|v| {
+                v.trim()
+                    .parse::<f32>()
+                    .map_err(|_| format!("{key} '{v}' is not a number"))
+            })
+            .transpose()
+    };
+    let (pr, pm) = (param("Pr")?, param("Pm")?);
+    let mut material = Material::lambert(&m.name, albedo);
+    if pr.is_some() || pm.is_some() {
+        let metallic = pm.unwrap_or(0.0) >= 0.5;
+        let roughness = pr.unwrap_or(0.5);
+        material.specular = Specular::CookTorrance(CookTorrance {
+            alpha: roughness * roughness,
+            d: MicrofacetDistribution::Ggx,
+            g: MaskingShadowing::SmithGgxCorrelated,
+            f: FresnelTerm::Schlick,
+            metallic,
+            specular_color: if metallic { albedo } else { [1.0; 3] },
+            ior: m.optical_density.unwrap_or(1.5),
+            ..CookTorrance::default()
+        });
+        if metallic {
+            material.kd = 0.0;
+        }
+    } else if let (Some(ks), Some(ns)) = (m.specular, m.shininess) {
+        if ks.iter().any(|&c| c > 0.0) {
+            material.specular = Specular::BlinnPhong(BlinnPhong {
+                ks: 1.0,
+                shininess: ns,
+                color: ks,
+            });
+        }
+    }
+    material.validate()?;
+    Ok(material)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn load(name: &str, obj: &str, mtl: &str) -> ObjContents {
+        let dir = std::env::temp_dir().join(format!("pointshade-obj-{}-{name}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("m.mtl"), mtl).unwrap();
+        std::fs::write(dir.join("m.obj"), obj).unwrap();
+        let c = load_obj(&dir.join("m.obj")).unwrap();
+        std::fs::remove_dir_all(dir).unwrap();
+        c
+    }
+
+    #[test]
+    fn mtl_keys_choose_the_brdf_model() {
+        let mtl = "newmtl matte\nKd 0.5 0.25 0.125\n\
+                   newmtl shiny\nKd 0.1 0.2 0.3\nKs 0.5 0.5 0.5\nNs 40\n\
+                   newmtl metal\nKd 0.9 0.6 0.3\nPr 0.5\nPm 1\n";
+        let obj = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl shiny\nf 1 2 3\n";
+        let c = load("mtl", obj, mtl);
+        let by_name = |n: &str| c.materials.iter().find(|m| m.name == n).unwrap();
+        assert_eq!(by_name("matte").specular, Specular::None);
+        assert_eq!(by_name("matte").albedo, [0.5, 0.25, 0.125]);
+        match by_name("shiny").specular {
+            Specular::BlinnPhong(bp) => assert_eq!((bp.shininess, bp.color), (40.0, [0.5; 3])),
+            other => panic!("{other:?}"),
+        }
+        match by_name("metal").specular {
+            Specular::CookTorrance(ct) => {
+                assert_eq!(ct.alpha, 0.25, "α = Pr²");
+                assert!(ct.metallic);
+                assert_eq!(ct.specular_color, [0.9, 0.6, 0.3]);
+            }
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(by_name("metal").kd, 0.0);
+        // The face uses "shiny".
+        let shiny = c.materials.iter().position(|m| m.name == "shiny").unwrap() as u32;
+        assert_eq!(c.mesh.material_of_triangle, vec![shiny]);
+        assert!(c.material_warning.is_none());
+    }
+
+    #[test]
+    fn missing_normals_become_angle_weighted_and_quads_are_fan_triangulated() {
+        let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+        let c = load("quad", obj, "");
+        assert_eq!(c.mesh.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+        assert!(c.mesh.normals.iter().all(|n| (*n - Vec3::Z).length() < 1e-6));
+        assert_eq!(c.mesh.material_of_triangle, vec![NO_MATERIAL; 2]);
+    }
+}

@@ -1,0 +1,168 @@
+//! Fresnel terms F(ω_i·ω_h): the share of light a microfacet reflects.
+
+use super::{named_terms, Real};
+
+/// Which Fresnel term a Cook-Torrance material uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FresnelTerm {
+    /// Schlick's approximation (the assignment).
+    Schlick,
+    /// Schlick with Karis' spherical-gaussian exponent.
+    SchlickSg,
+    /// Exact unpolarised Fresnel of a conductor with complex index η + iκ.
+    Conductor,
+    /// F = specular colour at every angle.
+    Constant,
+}
+
+named_terms!(
+    FresnelTerm, "F",
+    Schlick => "schlick",
+    SchlickSg => "schlick-sg",
+    Conductor => "conductor",
+    Constant => "constant",
+);
+
+/// Normal-incidence reflectance of a dielectric of index `ior` in air: F0 = ((n − 1)/(n + 1))².
+/// Symmetric in n ↔ 1/n; 0 at n = 1. `ior` > 0 is validated with the material, so n + 1 > 1.
+#[inline(always)]
+pub fn schlick_f0_dielectric<R: Real>(ior: R) -> R {
+    let r = (ior - R::one()) / (ior + R::one());
+    r * r
+}
+
+/// Schlick: F = F0 + (1 − F0)(1 − c)⁵, c = ω_i·ω_h clamped to [0, 1] (the assignment's
+/// max(0, ·), and ≤ 1 against rounding so (1 − c)⁵ stays in [0, 1]).
+#[inline(always)]
+pub fn fresnel_schlick<R: Real>(f0: R, i_dot_h: R) -> R {
+    let m = R::one() - i_dot_h.max(R::zero()).min(R::one());
+    let m2 = m * m;
+    f0 + (R::one() - f0) * m2 * m2 * m
+}
+
+/// Schlick with Karis' spherical-gaussian exponent (SIGGRAPH 2013 course notes):
+/// F = F0 + (1 − F0)·2^((−5.55473 c − 6.98316) c), c = ω_i·ω_h clamped to [0, 1].
+#[inline(always)]
+pub fn fresnel_schlick_sg<R: Real>(f0: R, i_dot_h: R) -> R {
+    let c = i_dot_h.max(R::zero()).min(R::one());
+    f0 + (R::one() - f0) * ((R::lit(-5.55473) * c - R::lit(6.98316)) * c).exp2()
+}
+
+/// Exact unpolarised reflectance of a conductor with complex index η + iκ (relative to the
+/// outside medium) at cos θ = c, as Mitsuba's `fresnel_conductor` (after Moeller, "Optics"):
+/// s² = 1 − c², t1 = η² − κ² − s², A = √(t1² + 4η²κ²), a = √(max(0, (A + t1)/2)),
+/// Rs = (A + c² − 2ca)/(A + c² + 2ca), Rp = Rs (A c² + s⁴ − 2ca s²)/(A c² + s⁴ + 2ca s²),
+/// F = (Rs + Rp)/2.
+/// Both denominators are sums of non-negative terms. The first is 0 only when A = 0 and c = 0;
+/// the second only when A·c² = 0 and s = 0, i.e. c = 1 and A = 0. A = 0 means η² − κ² = s²
+/// and ηκ = 0: a lossless medium matching the grazing angle, where the exact reflectance tends
+/// to 1 (total reflection at the critical angle); those points return 1.
+#[inline(always)]
+pub fn fresnel_conductor<R: Real>(i_dot_h: R, eta: R, k: R) -> R {
+    let c = i_dot_h.max(R::zero()).min(R::one());
+    let c2 = c * c;
+    let s2 = super::microfacet::one_minus_squared(c);
+    let (eta2, k2) = (eta * eta, k * k);
+    let t1 = eta2 - k2 - s2;
+    let a_sq = (t1 * t1 + R::lit(4.0) * eta2 * k2).sqrt();
+    let a = ((a_sq + t1) * R::lit(0.5)).max(R::zero()).sqrt();
+    let two_ca = R::lit(2.0) * c * a;
+    let rs_den = a_sq + c2 + two_ca;
+    if !(rs_den > R::zero()) {
+        return R::one();
+    }
+    let rs = (a_sq + c2 - two_ca) / rs_den;
+    let s4 = s2 * s2;
+    let rp_den = a_sq * c2 + s4 + two_ca * s2;
+    let rp = if rp_den > R::zero() {
+        rs * (a_sq * c2 + s4 - two_ca * s2) / rp_den
+    } else {
+        rs
+    };
+    // Rounding can push the numerators a hair below zero for perfect mirrors.
+    ((rs + rp) * R::lit(0.5)).max(R::zero()).min(R::one())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn schlick_matches_hand_computed_values() {
+        // The assignment's dielectric with n = 5: F0 = (4/6)² = 4/9.
+        let f0 = schlick_f0_dielectric(5.0f64);
+        assert!((f0 - 4.0 / 9.0).abs() < 1e-15);
+        assert_eq!(fresnel_schlick(f0, 1.0), f0);
+        assert_eq!(fresnel_schlick(f0, 0.0), 1.0);
+        let c = 0.6f64;
+        assert!((fresnel_schlick(0.04, c) - (0.04 + 0.96 * 0.4f64.powi(5))).abs() < 1e-15);
+        // Negative ω_i·ω_h is clamped to 0 (the assignment's max(0, ·)).
+        assert_eq!(fresnel_schlick(0.04f64, -0.3), 1.0);
+        assert_eq!(schlick_f0_dielectric(1.0f64), 0.0);
+        assert!((schlick_f0_dielectric(1.0 / 1.5f64) - schlick_f0_dielectric(1.5f64)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn schlick_sg_is_close_to_schlick() {
+        for k in 0..=20 {
+            let c = k as f64 / 20.0;
+            let a = fresnel_schlick(0.04, c);
+            let b = fresnel_schlick_sg(0.04, c);
+            assert!((a - b).abs() < 0.01, "c {c}: {a} vs {b}");
+        }
+        assert!((fresnel_schlick_sg(0.5f64, 0.0) - 1.0).abs() < 1e-15);
+        // At c = 1: 2^(−12.53789) ≈ 1.68e-4 of (1 − F0) remains.
+        let expect = 0.5 + 0.5 * 2f64.powf(-5.55473 - 6.98316);
+        assert!((fresnel_schlick_sg(0.5f64, 1.0) - expect).abs() < 1e-15);
+    }
+
+    /// Textbook form with complex arithmetic: r_s = (c − w)/(c + w), r_p = (m² c − w)/(m² c + w),
+    /// w = √(m² − s²), m = η + iκ.
+    fn conductor_complex(c: f64, eta: f64, k: f64) -> f64 {
+        use num_complex::Complex64 as C;
+        let m = C::new(eta, k);
+        let s2 = 1.0 - c * c;
+        let w = (m * m - s2).sqrt();
+        let rs = (c - w) / (c + w);
+        let rp = (m * m * c - w) / (m * m * c + w);
+        (rs.norm_sqr() + rp.norm_sqr()) / 2.0
+    }
+
+    #[test]
+    fn conductor_matches_complex_fresnel_equations() {
+        // Copper-like and gold-like RGB channels, and a dielectric (κ = 0).
+        for &(eta, k) in &[
+            (0.200f64, 3.912f64),
+            (0.924, 2.452),
+            (1.102, 2.142),
+            (0.143, 3.983),
+            (1.5, 0.0),
+        ] {
+            for i in 0..=10 {
+                let c = i as f64 / 10.0;
+                let ours = fresnel_conductor(c, eta, k);
+                let exact = conductor_complex(c.max(1e-12), eta, k);
+                assert!((ours - exact).abs() < 1e-9, "η {eta} κ {k} c {c}: {ours} vs {exact}");
+            }
+        }
+    }
+
+    #[test]
+    fn conductor_special_cases() {
+        // Mitsuba's material "none": η = 0, κ = 1 gives F ≡ 1.
+        for c in [0.0f32, 0.3, 1.0] {
+            assert!((fresnel_conductor(c, 0.0, 1.0) - 1.0).abs() < 1e-6);
+        }
+        // Normal incidence: ((η − 1)² + κ²)/((η + 1)² + κ²).
+        let (eta, k) = (0.2f64, 3.9f64);
+        let normal = ((eta - 1.0).powi(2) + k * k) / ((eta + 1.0).powi(2) + k * k);
+        assert!((fresnel_conductor(1.0, eta, k) - normal).abs() < 1e-12);
+        // Grazing: 1.
+        assert!((fresnel_conductor(0.0f64, eta, k) - 1.0).abs() < 1e-12);
+        // η = 1, κ = 0 (no interface): A = 0 at grazing, documented value 1; 0 elsewhere.
+        assert_eq!(fresnel_conductor(0.0f32, 1.0, 0.0), 1.0);
+        assert!(fresnel_conductor(0.7f32, 1.0, 0.0).abs() < 1e-6);
+        // Degenerate η = κ = 0 at normal incidence: both denominators 0 → documented 1.
+        assert_eq!(fresnel_conductor(1.0f32, 0.0, 0.0), 1.0);
+    }
+}

@@ -1,0 +1,79 @@
+//! The shader: outgoing radiance of a [`SurfacePoint`] under every light, with shadow rays.
+//!
+//! L_o = Σ_lights f_r(ω_i, ω_o) · E_light · cos θ_i · V, summed in light order (deterministic).
+//! Sidedness follows the material: one-sided (Mitsuba's convention) contributes only where
+//! n_s·ω_i > 0 and n_s·ω_o > 0; two-sided first turns both normals towards the viewer. Lights
+//! behind the surface are skipped before any shadow ray is traced.
+
+use glam::Vec3;
+
+use crate::shading::brdf::LocalDots;
+use crate::shading::light::Light;
+use crate::shading::material::Material;
+use crate::shading::shadow::{Occluder, ShadowRay};
+use crate::surface::SurfacePoint;
+
+/// Everything shading needs besides the point itself.
+pub struct Shader<'a, O: Occluder> {
+    /// The scene's materials, indexed by `SurfacePoint::material`.
+    pub materials: &'a [Material],
+    /// The scene's lights.
+    pub lights: &'a [Light],
+    /// What blocks shadow rays; `None` when the plan leaves shadows out.
+    pub occluder: Option<&'a O>,
+    /// Length unit of the shadow-ray offset (scene size / 256).
+    pub scene_unit: f32,
+}
+
+impl<O: Occluder> Shader<'_, O> {
+    /// Outgoing radiance towards `sp.to_viewer`; `shadow_rays` counts the rays traced.
+    /// Always finite and non-negative (the BRDF module guarantees it for f_r, lights for E).
+    #[inline]
+    pub fn shade(&self, sp: &SurfacePoint, shadow_rays: &mut u64) -> Vec3 {
+        let material = &self.materials[sp.material as usize];
+        let wo = sp.to_viewer;
+        let (mut ng, mut ns) = (sp.geometric_normal, sp.shading_normal);
+        if material.two_sided && ng.dot(wo) < 0.0 {
+            ng = -ng;
+            ns = -ns;
+        }
+        let cos_o = ns.dot(wo);
+        if cos_o <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let mut radiance = Vec3::ZERO;
+        for light in self.lights {
+            let Some(ls) = light.sample(sp.position) else { continue };
+            let cos_i = ns.dot(ls.wi);
+            if cos_i <= 0.0 {
+                continue;
+            }
+            let dots = if material.has_specular() {
+                // ω_i = −ω_o cannot happen here (both are on the normal's side), but stay total.
+                match LocalDots::from_unit_vectors(ns.to_array(), ls.wi.to_array(), wo.to_array()) {
+                    Some(d) => d,
+                    None => continue,
+                }
+            } else {
+                // Lambert reads no dot product: skip the half vector.
+                LocalDots {
+                    n_dot_i: cos_i,
+                    n_dot_o: cos_o,
+                    n_dot_h: 0.0,
+                    i_dot_h: 0.0,
+                }
+            };
+            if let Some(occluder) = self.occluder {
+                *shadow_rays += 1;
+                let ray = ShadowRay::towards_light(sp.position, ng, ls.wi, ls.distance, self.scene_unit);
+                if occluder.occluded(&ray) {
+                    continue;
+                }
+            }
+            let f = Vec3::from(material.eval(&dots));
+            radiance += f * ls.irradiance * cos_i;
+        }
+        // Every term is finite and ≥ 0; only the sum of saturated lights could reach infinity.
+        radiance.min(Vec3::splat(f32::MAX))
+    }
+}

@@ -1,0 +1,26 @@
+//! Surface points: what the shader shades, wherever it came from.
+//!
+//! A [`SurfacePoint`] is made from a camera ray's hit ([`primary`]) today and from a pixel of a
+//! normal image in the normal-map mode; neither it nor the shader knows which.
+
+pub mod camera;
+pub mod primary;
+
+use glam::{Vec2, Vec3};
+
+/// A point on a surface, seen from a direction, ready to be shaded.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfacePoint {
+    /// World-space position.
+    pub position: Vec3,
+    /// Unit normal of the flat surface element (for shadow-ray offsets and sidedness).
+    pub geometric_normal: Vec3,
+    /// Unit normal used for shading (interpolated vertex normals, or a normal-map texel).
+    pub shading_normal: Vec3,
+    /// Texture coordinates; zero unless the scene's plan asks for them.
+    pub uv: Vec2,
+    /// Index into the scene's materials.
+    pub material: u32,
+    /// Unit direction from the point towards the viewer (ω_o).
+    pub to_viewer: Vec3,
+}

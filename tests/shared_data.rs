@@ -1,0 +1,72 @@
+//! Renders of the large models in ../shared/data: bare meshes and scene files that use them.
+//! When ../shared/data is absent each test prints SKIPPED and returns (CI always has it).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn shared() -> Option<PathBuf> {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/meshes");
+    if p.is_dir() {
+        Some(p)
+    } else {
+        eprintln!(
+            "SKIPPED: {} is missing; this test needs the shared test data",
+            p.display()
+        );
+        None
+    }
+}
+
+/// Renders `scene` with extra args into a temporary PNG; returns the decoded image.
+fn render(scene: &Path, extra: &[&str]) -> image::RgbImage {
+    let out = std::env::temp_dir().join(format!(
+        "pointshade-shared-{}-{}.png",
+        std::process::id(),
+        scene.file_stem().unwrap().to_string_lossy()
+    ));
+    let r = Command::new(env!("CARGO_BIN_EXE_pointshade"))
+        .arg("render")
+        .arg(scene)
+        .arg("-o")
+        .arg(&out)
+        .arg("--quiet")
+        .args(extra)
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{scene:?}: {}", String::from_utf8_lossy(&r.stderr));
+    let img = image::open(&out).unwrap().into_rgb8();
+    let _ = std::fs::remove_file(out);
+    img
+}
+
+/// Share of pixels that are not black.
+fn coverage(img: &image::RgbImage) -> f64 {
+    img.pixels().filter(|p| p.0 != [0, 0, 0]).count() as f64 / (img.width() * img.height()) as f64
+}
+
+#[test]
+fn bare_bunny_and_dragon_render_framed_and_lit() {
+    let Some(dir) = shared() else { return };
+    for name in ["stanford-bunny.obj", "stanford-dragon.obj"] {
+        let img = render(&dir.join(name), &["--width", "160", "--height", "120", "--spp", "1"]);
+        assert_eq!(img.dimensions(), (160, 120));
+        let c = coverage(&img);
+        // Framed: the model fills a good part of the picture but is not cut off at the borders.
+        assert!((0.15..0.8).contains(&c), "{name}: coverage {c}");
+        let border_lit = (0..160).any(|x| img.get_pixel(x, 0).0 != [0, 0, 0] || img.get_pixel(x, 119).0 != [0, 0, 0]);
+        assert!(!border_lit, "{name}: the model touches the top or bottom border");
+    }
+}
+
+#[test]
+fn scene_files_using_shared_meshes_render() {
+    if shared().is_none() {
+        return;
+    }
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/shared");
+    for name in ["dragon-copper.toml", "bunny-blinn-phong.toml"] {
+        let img = render(&scenes.join(name), &["--width", "128", "--height", "128", "--spp", "1"]);
+        let c = coverage(&img);
+        assert!(c > 0.3, "{name}: coverage {c}");
+    }
+}
