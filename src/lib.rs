@@ -7,6 +7,7 @@
 //! [`render`] drives the stages; see ARCHITECTURE.md.
 
 pub mod accel;
+pub mod cli;
 pub mod error;
 pub mod film;
 pub mod output;
