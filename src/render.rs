@@ -80,6 +80,7 @@ pub fn render(
         lights: &scene.lights,
         occluder: if plan.shadows { bvh } else { None },
         scene_unit: bvh.map_or(1.0, Bvh::scene_unit),
+        convention: plan.convention,
     };
 
     let tile_results: Vec<TileResult> = tiles

@@ -3,6 +3,8 @@
 //! Every subcommand returns `Result<(), InputError>`; [`main`] prints an error as one line
 //! (`error: FILE: problem`) and exits with code 2.
 
+mod bake;
+mod normalmap;
 mod progress;
 mod render;
 
@@ -23,6 +25,10 @@ struct Cli {
 enum Command {
     /// Render a scene (.toml) or a bare mesh (.obj) to PNG (8-bit sRGB) or EXR (linear float32).
     Render(render::RenderArgs),
+    /// Shade a normal image (PNG) or a [normal_map] scene file: presets tp (the NPM3D TP4 report) and physical.
+    Normalmap(normalmap::NormalMapArgs),
+    /// Write a mesh scene's camera-space normals as an RGBA PNG normal image (the assignment's format).
+    Bake(bake::BakeArgs),
 }
 
 /// Parses the command line, runs the subcommand, and maps errors to exit code 2.
@@ -30,6 +36,8 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(args),
+        Command::Normalmap(args) => normalmap::run(args),
+        Command::Bake(args) => bake::run(args),
     };
     finish(result)
 }
