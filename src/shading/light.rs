@@ -106,7 +106,7 @@ impl Light {
         // inf·0 = NaN can arise downstream.
         let irradiance = (self.power * (factor * falloff.min(f32::MAX))).min(Vec3::splat(f32::MAX));
         Some(LightSample {
-            wi: offset / distance,
+            wi: offset * distance.recip(),
             distance,
             irradiance,
         })

@@ -58,7 +58,12 @@ pub enum Samples {
 }
 
 /// An integer sample of a PNG channel.
-pub trait Sample: Copy + Send + Sync {
+pub trait Sample: Copy + Send + Sync + Ord {
+    /// Zero.
+    const ZERO: Self;
+    /// The largest value whose [`Sample::unit`] is ≤ [`TP_BACKGROUND_LEVEL`] (4/255 of full
+    /// scale), so the tp background test can run on the integers.
+    const TP_BACKGROUND_MAX: Self;
     /// The value in [0, 1]: v / (2^bits − 1), correctly rounded.
     fn unit(self) -> f32;
 }
@@ -75,6 +80,8 @@ const UNIT8: [f32; 256] = {
 };
 
 impl Sample for u8 {
+    const ZERO: u8 = 0;
+    const TP_BACKGROUND_MAX: u8 = 4;
     #[inline(always)]
     fn unit(self) -> f32 {
         UNIT8[self as usize]
@@ -82,6 +89,8 @@ impl Sample for u8 {
 }
 
 impl Sample for u16 {
+    const ZERO: u16 = 0;
+    const TP_BACKGROUND_MAX: u16 = 4 * 257;
     #[inline(always)]
     fn unit(self) -> f32 {
         self as f32 / 65535.0
@@ -366,7 +375,31 @@ impl ImageSurface {
 
     #[inline(always)]
     fn push_points<S: Sample>(&self, samples: &[[S; 4]], row: u32, out: &mut Vec<(u32, SurfacePoint)>) {
+        // The background rules of `NormalDecoding::normal`, tested on the integer samples first
+        // (the same decision for every value: see the tests), so that background pixels — most
+        // of a typical normal image — cost no conversion. `point` still applies the rule itself.
+        match self.decoding {
+            NormalDecoding::MinMax(_) => {
+                self.push_foreground(samples, row, out, |p| p[0].max(p[1]).max(p[2]) > S::TP_BACKGROUND_MAX)
+            }
+            NormalDecoding::Signed => self.push_foreground(samples, row, out, |p| {
+                p[3] != S::ZERO && (p[0] != S::ZERO || p[1] != S::ZERO || p[2] != S::ZERO)
+            }),
+        }
+    }
+
+    #[inline(always)]
+    fn push_foreground<S: Sample>(
+        &self,
+        samples: &[[S; 4]],
+        row: u32,
+        out: &mut Vec<(u32, SurfacePoint)>,
+        foreground: impl Fn([S; 4]) -> bool,
+    ) {
         for (col, &p) in samples.iter().enumerate() {
+            if !foreground(p) {
+                continue;
+            }
             let (rgb, alpha) = unit_rgba(p);
             if let Some(sp) = self.point(col as u32, row, rgb, alpha) {
                 out.push((col as u32, sp));
@@ -410,6 +443,18 @@ mod tests {
         }
         assert_eq!(4u8.unit(), TP_BACKGROUND_LEVEL);
         assert_eq!(1028u16.unit(), TP_BACKGROUND_LEVEL, "4/255 of full scale at 16 bits");
+    }
+
+    #[test]
+    fn integer_background_tests_agree_with_the_float_rule() {
+        for v in 0..=255u8 {
+            assert_eq!(v <= u8::TP_BACKGROUND_MAX, v.unit() <= TP_BACKGROUND_LEVEL, "{v}");
+            assert_eq!(v == u8::ZERO, v.unit() == 0.0);
+        }
+        for v in 0..=u16::MAX {
+            assert_eq!(v <= u16::TP_BACKGROUND_MAX, v.unit() <= TP_BACKGROUND_LEVEL, "{v}");
+            assert_eq!(v == u16::ZERO, v.unit() == 0.0);
+        }
     }
 
     #[test]
