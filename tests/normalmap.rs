@@ -78,6 +78,23 @@ fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
+/// `pointshade normalmap INPUT --preset PRESET --brdf BRDF -o OUT --quiet EXTRA…`, which must succeed.
+fn shade(input: &Path, preset: &str, brdf: &str, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "normalmap",
+        s(input),
+        "--preset",
+        preset,
+        "--brdf",
+        brdf,
+        "-o",
+        s(out),
+        "--quiet",
+    ];
+    args.extend_from_slice(extra);
+    ok(&args)
+}
+
 // ---------------------------------------------------------------------------------------------
 // The independent float64 evaluation of the report's formulas (tp-assignment.md).
 
@@ -213,17 +230,7 @@ fn tp_images_match_an_independent_float64_evaluation_to_one_level() {
         let Some(input) = shared_normal_map(name) else { return };
         for brdf in BRDFS {
             let out = dir.path(&format!("{name}-{brdf}.png"));
-            ok(&[
-                "normalmap",
-                s(&input),
-                "--preset",
-                "tp",
-                "--brdf",
-                brdf,
-                "-o",
-                s(&out),
-                "--quiet",
-            ]);
+            shade(&input, "tp", brdf, &out, &[]);
             let ours = image::open(&out).unwrap();
             assert_eq!(
                 ours.color(),
@@ -390,17 +397,7 @@ fn tp_degenerate_pixels_in_an_image_never_produce_nan() {
     img.save(&input).unwrap();
     for brdf in BRDFS {
         let out = dir.path(&format!("{brdf}.exr"));
-        ok(&[
-            "normalmap",
-            s(&input),
-            "--preset",
-            "tp",
-            "--brdf",
-            brdf,
-            "-o",
-            s(&out),
-            "--quiet",
-        ]);
+        shade(&input, "tp", brdf, &out, &[]);
         let l = image::open(&out).unwrap().into_rgb32f();
         for (i, p) in l.pixels().enumerate() {
             assert!(
@@ -554,17 +551,7 @@ fn scene_file_gives_the_same_image_as_the_command_line() {
     );
     let (a, b) = (dir.path("a.png"), dir.path("b.png"));
     ok(&["normalmap", s(&scene), "-o", s(&a), "--quiet"]);
-    ok(&[
-        "normalmap",
-        s(&input),
-        "--preset",
-        "tp",
-        "--brdf",
-        "cook-torrance",
-        "-o",
-        s(&b),
-        "--quiet",
-    ]);
+    shade(&input, "tp", "cook-torrance", &b, &[]);
     assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
     // --brdf on the command line replaces the file's brdf.
     let c = dir.path("c.png");
@@ -615,19 +602,7 @@ fn image_does_not_depend_on_the_thread_count() {
     let (c, d) = (dir.path("c.png"), dir.path("d.exr"));
     for (png, exr, threads) in [(&a, &b, "1"), (&c, &d, "3")] {
         for out in [png, exr] {
-            ok(&[
-                "normalmap",
-                s(&input),
-                "--preset",
-                "tp",
-                "--brdf",
-                "cook-torrance",
-                "-o",
-                s(out),
-                "--threads",
-                threads,
-                "--quiet",
-            ]);
+            shade(&input, "tp", "cook-torrance", out, &["--threads", threads]);
         }
     }
     assert_eq!(std::fs::read(a).unwrap(), std::fs::read(c).unwrap());
@@ -746,17 +721,7 @@ fn bad_images_are_refused_with_one_line() {
         &["flat.png", "divides by zero"],
     );
     let out = dir.path("flat-physical.png");
-    ok(&[
-        "normalmap",
-        s(&flat),
-        "--preset",
-        "physical",
-        "--brdf",
-        "lambert",
-        "-o",
-        s(&out),
-        "--quiet",
-    ]);
+    shade(&flat, "physical", "lambert", &out, &[]);
 }
 
 #[test]
@@ -825,28 +790,8 @@ fn sixteen_bit_images_shade_like_their_eight_bit_originals() {
     img16.save(&p16).unwrap();
     for preset in ["tp", "physical"] {
         let (o8, o16) = (dir.path("o8.exr"), dir.path("o16.exr"));
-        ok(&[
-            "normalmap",
-            s(&p8),
-            "--preset",
-            preset,
-            "--brdf",
-            "cook-torrance",
-            "-o",
-            s(&o8),
-            "--quiet",
-        ]);
-        ok(&[
-            "normalmap",
-            s(&p16),
-            "--preset",
-            preset,
-            "--brdf",
-            "cook-torrance",
-            "-o",
-            s(&o16),
-            "--quiet",
-        ]);
+        shade(&p8, preset, "cook-torrance", &o8, &[]);
+        shade(&p16, preset, "cook-torrance", &o16, &[]);
         assert_eq!(
             image::open(&o8).unwrap().into_rgb32f(),
             image::open(&o16).unwrap().into_rgb32f(),
