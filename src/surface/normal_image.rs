@@ -18,6 +18,7 @@ use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec3};
 use image::{DynamicImage, ImageFormat, ImageReader};
+use rayon::prelude::*;
 
 use crate::error::{InputError, InputResult};
 use crate::film::MAX_PIXELS;
@@ -184,11 +185,18 @@ impl NormalImage {
         }
     }
 
-    /// Smallest and largest RGB value over every pixel, in [0, 1].
+    /// Smallest and largest RGB value over every pixel, in [0, 1] (a parallel scan).
     pub fn rgb_range(&self) -> (f32, f32) {
-        fn range<S: Sample + Ord>(s: &[[S; 4]]) -> Option<(f32, f32)> {
-            let lo = s.iter().map(|p| p[0].min(p[1]).min(p[2])).min()?;
-            let hi = s.iter().map(|p| p[0].max(p[1]).max(p[2])).max()?;
+        fn range<S: Sample>(s: &[[S; 4]]) -> Option<(f32, f32)> {
+            let first = s.first()?[0];
+            let (lo, hi) = s
+                .par_chunks(4096)
+                .map(|chunk| {
+                    chunk.iter().fold((first, first), |(lo, hi), p| {
+                        (lo.min(p[0]).min(p[1]).min(p[2]), hi.max(p[0]).max(p[1]).max(p[2]))
+                    })
+                })
+                .reduce(|| (first, first), |a, b| (a.0.min(b.0), a.1.max(b.1)));
             Some((lo.unit(), hi.unit()))
         }
         match &self.samples {
