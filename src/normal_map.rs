@@ -70,14 +70,7 @@ pub fn shade_image(
     let start = Instant::now();
     let shader = shader(scene, plan.convention);
     let (surface_ns, shading_ns, points) = (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
-    // Zeroed in parallel (background pixels stay 0), written in place by rayon.
-    let mut pixels = Vec::with_capacity(image.pixel_count());
-    pixels.par_extend(rayon::iter::repeat_n(Vec3::ZERO, image.pixel_count()));
-    let mut out = Image {
-        width: image.width,
-        height: image.height,
-        pixels,
-    };
+    let mut out = Image::new(image.width, image.height);
     out.pixels
         .par_chunks_mut(image.width as usize)
         .enumerate()
