@@ -7,7 +7,7 @@ vectorised over the whole image the way a numpy user would write them: one array
 term, every pixel (background included) computed, float64 throughout.
 
 Input: a .npy array of shape (H, W, 3), dtype uint8 (the normal image's RGB, as decoded by the
-bench). Output: one line `numpy_shade_seconds_median=<s>` on stdout, and optionally (--save) the
+bench). Output: lines `numpy_shade_seconds_median=<s>` and `numpy_shade_seconds_min=<s>` on stdout, and optionally (--save) the
 radiance L_o of the last run as a float64 .npy so the bench can check both implementations agree.
 
     python3 benches/normalmap_numpy.py IMAGE.npy --brdf cook-torrance --repeats 5 [--save OUT.npy]
@@ -101,6 +101,7 @@ def main():
     if args.save:
         np.save(args.save, lo)
     print(f"numpy_shade_seconds_median={sorted(times)[len(times) // 2]:.6f}")
+    print(f"numpy_shade_seconds_min={min(times):.6f}")
     print(f"numpy_version={np.__version__}")
 
 
