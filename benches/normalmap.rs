@@ -16,6 +16,8 @@ use pointshade::film::Image;
 use pointshade::normal_map::{image_surface, shade_image};
 use pointshade::plan::RenderPlan;
 use pointshade::scene::normal_map::{ModelName, NormalMapScene, Preset};
+use pointshade::shading::brdf::LocalDots;
+use pointshade::shading::convention::assignment_dots;
 use pointshade::surface::normal_image::NormalImage;
 
 /// Median and minimum of a set of times.
@@ -125,6 +127,38 @@ fn run_numpy(npy: &Path, out: &Path, repeats: usize, ours: &Image) -> Option<Num
     })
 }
 
+/// The BRDF's share of the shading: `Material::eval` alone on the LocalDots of every shaded
+/// pixel (formed beforehand, as the shader forms them), one thread.
+fn time_material_eval(scene: &NormalMapScene, image: &NormalImage, repeats: usize) -> Times {
+    let surface = image_surface(scene, image).expect("normal.png has a range");
+    let mut points = Vec::new();
+    for row in 0..image.height {
+        surface.row_points(image, row, &mut points);
+    }
+    let dots: Vec<LocalDots<f32>> = points
+        .iter()
+        .filter_map(|(_, sp)| {
+            let ls = scene.lights[0].sample(sp.position)?;
+            let n = sp.shading_normal.to_array();
+            let a = assignment_dots(n, (-ls.wi).to_array(), sp.to_viewer.to_array(), true);
+            a.half_vector.then_some(a.dots)
+        })
+        .collect();
+    let mut out = vec![[0.0f32; 3]; dots.len()];
+    Times::of(
+        (0..repeats)
+            .map(|_| {
+                let t = Instant::now();
+                for (o, d) in out.iter_mut().zip(&dots) {
+                    *o = scene.material.eval(d);
+                }
+                std::hint::black_box(&mut out);
+                t.elapsed().as_secs_f64()
+            })
+            .collect(),
+    )
+}
+
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
     let repeats = if quick { 5 } else { 21 };
@@ -167,6 +201,7 @@ fn main() {
     let one_thread = time_shading(1);
     let all_threads = time_shading(all);
     let (ours, stats) = shade();
+    let eval_only = time_material_eval(&scene, &image, repeats);
 
     let tmp = std::env::temp_dir().join(format!("pointshade-bench-nm-{}", std::process::id()));
     std::fs::create_dir_all(&tmp).unwrap();
@@ -220,6 +255,7 @@ fn main() {
         );
     }
     row("pointshade shading, 1 thread", one_thread);
+    row("  of which Material::eval alone (the BRDF), 1 thread", eval_only);
     row(&format!("pointshade shading, {all} threads"), all_threads);
     row("pointshade normalmap process (decode + shade + encode)", process);
     match &numpy {
