@@ -2,7 +2,8 @@
 //!
 //! L_o = Σ_lights f_r(ω_i, ω_o) · E_light · cos θ_i · V, summed in light order (deterministic).
 //! Sidedness follows the material: one-sided (Mitsuba's convention) contributes only where
-//! n_s·ω_i > 0 and n_s·ω_o > 0; two-sided first turns both normals towards the viewer. Lights
+//! n_s·ω_i > 0 and n_s·ω_o > 0; two-sided first turns both normals towards the viewer (when the
+//! shading normal faces away from it, as Mitsuba's `twosided` does). Lights
 //! behind the surface are skipped before any shadow ray is traced.
 
 use glam::Vec3;
@@ -10,7 +11,7 @@ use glam::Vec3;
 use crate::shading::brdf::LocalDots;
 use crate::shading::light::Light;
 use crate::shading::material::Material;
-use crate::shading::shadow::{Occluder, ShadowRay};
+use crate::shading::shadow::{Occluder, ShadowOffset, ShadowRay};
 use crate::surface::SurfacePoint;
 
 /// Everything shading needs besides the point itself.
@@ -23,6 +24,8 @@ pub struct Shader<'a, O: Occluder> {
     pub occluder: Option<&'a O>,
     /// Length unit of the shadow-ray offset (scene size / 256).
     pub scene_unit: f32,
+    /// How shadow rays leave the surface.
+    pub shadow_offset: ShadowOffset,
 }
 
 impl<O: Occluder> Shader<'_, O> {
@@ -33,7 +36,9 @@ impl<O: Occluder> Shader<'_, O> {
         let material = &self.materials[sp.material as usize];
         let wo = sp.to_viewer;
         let (mut ng, mut ns) = (sp.geometric_normal, sp.shading_normal);
-        if material.two_sided && ng.dot(wo) < 0.0 {
+        // Two-sided: face the viewer, decided by the shading normal as Mitsuba's `twosided` does
+        // (so silhouettes of smooth meshes never turn black).
+        if material.two_sided && ns.dot(wo) < 0.0 {
             ng = -ng;
             ns = -ns;
         }
@@ -65,7 +70,7 @@ impl<O: Occluder> Shader<'_, O> {
             };
             if let Some(occluder) = self.occluder {
                 *shadow_rays += 1;
-                let ray = ShadowRay::towards_light(sp.position, ng, ls.wi, ls.distance, self.scene_unit);
+                let ray = ShadowRay::new(self.shadow_offset, sp.position, ng, ls.wi, ls.distance, self.scene_unit);
                 if occluder.occluded(&ray) {
                     continue;
                 }
