@@ -120,7 +120,7 @@ impl Bvh {
     #[inline]
     pub fn intersect(&self, origin: Vec3, direction: Vec3, t_max: f32) -> Option<Hit> {
         let origin = Vec3A::from(origin * self.scale);
-        let direction = Vec3A::from(direction);
+        let direction = without_negative_zeros(direction);
         let shear = WatertightRay::new(origin, direction);
         let ray = Ray::new(origin, direction, 0.0, t_max * self.scale);
         let mut hit = obvhs::ray::RayHit::none();
@@ -147,7 +147,7 @@ impl Bvh {
     #[inline]
     pub fn any_hit(&self, origin: Vec3, direction: Vec3, t_max: f32) -> bool {
         let origin = Vec3A::from(origin * self.scale);
-        let direction = Vec3A::from(direction);
+        let direction = without_negative_zeros(direction);
         let shear = WatertightRay::new(origin, direction);
         let ray = Ray::new(origin, direction, 0.0, t_max * self.scale);
         !self.cwbvh.ray_traverse_miss(ray, |r, leaf| {
@@ -179,6 +179,18 @@ impl Occluder for Bvh {
     fn occluded(&self, ray: &ShadowRay) -> bool {
         self.any_hit(ray.origin, ray.direction, ray.t_max)
     }
+}
+
+/// `direction` with every −0.0 component turned into +0.0 (x + 0.0 does exactly that and leaves
+/// every other value unchanged).
+///
+/// obvhs's CWBVH traversal orders children by the direction's octant, taken from `d < 0` (false
+/// for −0.0), but intersects node slabs with 1/d (−∞ for −0.0): the two disagree and whole
+/// subtrees are culled. Directions like −(0, −a, −a) of a light are common, so this is not rare:
+/// Mitsuba validation caught shadows missing under a directional light.
+#[inline(always)]
+fn without_negative_zeros(direction: Vec3) -> Vec3A {
+    Vec3A::from(direction) + Vec3A::ZERO
 }
 
 /// 2^e such that the scene's bounding-box diagonal times it is in [128, 256), limited so that no
@@ -272,6 +284,22 @@ mod tests {
                     "offset {offset}: acne at {on}"
                 );
             }
+        }
+    }
+
+    #[test]
+    fn directions_with_negative_zero_components_find_their_hits() {
+        // A quad in the plane z = 2, off the axis so the ray starts beside it in x; directions
+        // with −0.0 components (e.g. the negation of a light's direction) must hit as +0.0 does.
+        let mut mesh = quad(0.0, 1.0, Vec3::ZERO);
+        mesh.transform(glam::Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2));
+        mesh.append(quad(-3.0, 5.0, Vec3::ZERO), 0); // a large floor so the BVH has several nodes
+        let bvh = Bvh::build(&mesh, BvhPreset::DEFAULT);
+        for d in [Vec3::new(-0.0, -0.0, 1.0), Vec3::new(-0.0, 0.0, -1.0), Vec3::new(0.3, -0.0, 0.9).normalize()] {
+            let from = Vec3::new(0.2, 0.1, 0.0) - d * 5.0;
+            let plus = Vec3::new(d.x + 0.0, d.y + 0.0, d.z + 0.0);
+            assert_eq!(bvh.intersect(from, d, 100.0), bvh.intersect(from, plus, 100.0), "{d:?}");
+            assert!(bvh.any_hit(from, d, 100.0), "{d:?}");
         }
     }
 
