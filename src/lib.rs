@@ -16,3 +16,4 @@ pub mod render;
 pub mod scene;
 pub mod shading;
 pub mod surface;
+pub mod validation;

@@ -295,7 +295,11 @@ mod tests {
         mesh.transform(glam::Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2));
         mesh.append(quad(-3.0, 5.0, Vec3::ZERO), 0); // a large floor so the BVH has several nodes
         let bvh = Bvh::build(&mesh, BvhPreset::DEFAULT);
-        for d in [Vec3::new(-0.0, -0.0, 1.0), Vec3::new(-0.0, 0.0, -1.0), Vec3::new(0.3, -0.0, 0.9).normalize()] {
+        for d in [
+            Vec3::new(-0.0, -0.0, 1.0),
+            Vec3::new(-0.0, 0.0, -1.0),
+            Vec3::new(0.3, -0.0, 0.9).normalize(),
+        ] {
             let from = Vec3::new(0.2, 0.1, 0.0) - d * 5.0;
             let plus = Vec3::new(d.x + 0.0, d.y + 0.0, d.z + 0.0);
             assert_eq!(bvh.intersect(from, d, 100.0), bvh.intersect(from, plus, 100.0), "{d:?}");

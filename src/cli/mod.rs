@@ -3,8 +3,11 @@
 //! Every subcommand returns `Result<(), InputError>`; [`main`] prints an error as one line
 //! (`error: FILE: problem`) and exits with code 2.
 
+mod compare;
+mod export_mitsuba;
 mod progress;
 mod render;
+mod validate;
 
 use std::process::ExitCode;
 
@@ -23,6 +26,12 @@ struct Cli {
 enum Command {
     /// Render a scene (.toml) or a bare mesh (.obj) to PNG (8-bit sRGB) or EXR (linear float32).
     Render(render::RenderArgs),
+    /// Write a scene as Mitsuba 3 XML (meshes referenced, not copied).
+    ExportMitsuba(export_mitsuba::ExportArgs),
+    /// Compare two linear images (EXR) pixel by pixel: error metrics, worst pixels, heat map.
+    Compare(compare::CompareArgs),
+    /// Render scenes with pointshade and Mitsuba 3, compare pixel by pixel, write an HTML report.
+    Validate(validate::ValidateArgs),
 }
 
 /// Parses the command line, runs the subcommand, and maps errors to exit code 2.
@@ -30,6 +39,9 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(args),
+        Command::ExportMitsuba(args) => export_mitsuba::run(args),
+        Command::Compare(args) => compare::run(args),
+        Command::Validate(args) => validate::run(args),
     };
     finish(result)
 }
