@@ -60,6 +60,27 @@ pub fn markdown(results: &[SceneValidation]) -> String {
             );
         }
     }
+    let checks: Vec<_> = results
+        .iter()
+        .filter_map(|r| r.plugin_check.as_ref().map(|c| (r, c)))
+        .collect();
+    if !checks.is_empty() {
+        let _ = writeln!(
+            s,
+            "\nThe BSDF plugin against Mitsuba's own BSDFs (pixel centres, every material through the plugin):\n"
+        );
+        let _ = writeln!(s, "| scene | within {TOLERANCE:.0e} | mean rel. error |");
+        let _ = writeln!(s, "|---|---|---|");
+        for (r, c) in checks {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {:.1e} |",
+                r.name,
+                percent(c.within_tolerance),
+                c.mean_relative_error
+            );
+        }
+    }
     s
 }
 
@@ -147,6 +168,14 @@ pub fn html(results: &[SceneValidation]) -> String {
                 .join("; "),
         );
         s.push_str("</p>\n");
+        if let Some(c) = &r.plugin_check {
+            let _ = writeln!(
+                s,
+                "<p>Plugin check: Mitsuba with pointshade's BSDF plugin for every material against Mitsuba's own BSDFs: {} within {TOLERANCE:.0e}, mean relative error {:.2e}.</p>",
+                percent(c.within_tolerance),
+                c.mean_relative_error
+            );
+        }
         for run in &r.runs {
             let captions = [
                 "pointshade",
