@@ -8,7 +8,11 @@
 //!   floating point, so nothing is lost; distances come back divided by the same factor.
 //! - **Leaf-ordered triangles.** Triangle vertices are copied in the order the BVH's leaves
 //!   reference them, so traversal reads memory linearly and needs no index indirection.
+//! - **No lost subtrees.** obvhs's traversal stack has 32 entries and overwrites silently when
+//!   full; the build measures the BVH's depth and traverses deep BVHs with a growable stack
+//!   ([`traversal`]).
 
+pub mod traversal;
 pub mod triangle;
 
 use std::time::{Duration, Instant};
@@ -18,6 +22,7 @@ use obvhs::{cwbvh::CwBvh, ray::Ray, BvhBuildParams};
 
 use crate::scene::mesh::TriangleMesh;
 use crate::shading::shadow::{Occluder, ShadowRay};
+pub use traversal::TraversalStack;
 use triangle::WatertightRay;
 
 /// The obvhs build presets, from fastest build to best traversal.
@@ -82,6 +87,10 @@ pub struct Bvh {
     leaf_to_triangle: Vec<u32>,
     /// World → BVH space factor (a power of two).
     scale: f32,
+    /// Deepest inner node below the root.
+    depth: u32,
+    /// The traversal stack `depth` calls for.
+    stack: TraversalStack,
     /// Time spent building.
     pub build_time: Duration,
 }
@@ -107,13 +116,35 @@ impl Bvh {
             })
             .collect();
         let leaf_to_triangle = cwbvh.primitive_indices.clone();
+        let depth = traversal::max_inner_depth(&cwbvh);
         Bvh {
             cwbvh,
             leaf_triangles,
             leaf_to_triangle,
             scale,
+            depth,
+            stack: traversal::stack_for_depth(depth),
             build_time: start.elapsed(),
         }
+    }
+
+    /// The same BVH traversed with `stack` instead of the one its depth calls for. Forcing
+    /// [`TraversalStack::Fixed`] on a deep BVH loses hits: the stability report and the tests
+    /// use it to show that they do.
+    pub fn with_stack(mut self, stack: TraversalStack) -> Self {
+        self.stack = stack;
+        self
+    }
+
+    /// Deepest inner node below the root (root = 0); obvhs's fixed stack handles up to
+    /// [`traversal::FIXED_STACK_MAX_DEPTH`].
+    pub fn depth(&self) -> u32 {
+        self.depth
+    }
+
+    /// The traversal stack in use.
+    pub fn stack(&self) -> TraversalStack {
+        self.stack
     }
 
     /// Closest hit along `origin + t·direction`, 0 < t < t_max (world units; `direction` unit).
@@ -124,11 +155,15 @@ impl Bvh {
         let shear = WatertightRay::new(origin, direction);
         let ray = Ray::new(origin, direction, 0.0, t_max * self.scale);
         let mut hit = obvhs::ray::RayHit::none();
-        let found = self.cwbvh.ray_traverse(ray, &mut hit, |r, leaf| {
+        let test = |r: &Ray, leaf: usize| {
             shear
                 .intersect(&self.leaf_triangles[leaf], r.tmax)
                 .map_or(f32::INFINITY, |h| h.t)
-        });
+        };
+        let found = match self.stack {
+            TraversalStack::Fixed => self.cwbvh.ray_traverse(ray, &mut hit, test),
+            TraversalStack::Growable => traversal::closest_hit(&self.cwbvh, ray, &mut hit, test),
+        };
         if !found {
             return None;
         }
@@ -150,11 +185,15 @@ impl Bvh {
         let direction = Vec3A::from(direction);
         let shear = WatertightRay::new(origin, direction);
         let ray = Ray::new(origin, direction, 0.0, t_max * self.scale);
-        !self.cwbvh.ray_traverse_miss(ray, |r, leaf| {
+        let test = |r: &Ray, leaf: usize| {
             shear
                 .intersect(&self.leaf_triangles[leaf], r.tmax)
                 .map_or(f32::INFINITY, |h| h.t)
-        })
+        };
+        match self.stack {
+            TraversalStack::Fixed => !self.cwbvh.ray_traverse_miss(ray, test),
+            TraversalStack::Growable => traversal::any_hit(&self.cwbvh, ray, test),
+        }
     }
 
     /// Number of primitives the BVH references (triangles, plus duplicates from pre-splitting).
