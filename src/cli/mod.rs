@@ -5,6 +5,7 @@
 
 mod progress;
 mod render;
+mod stability;
 
 use std::process::ExitCode;
 
@@ -23,20 +24,24 @@ struct Cli {
 enum Command {
     /// Render a scene (.toml) or a bare mesh (.obj) to PNG (8-bit sRGB) or EXR (linear float32).
     Render(render::RenderArgs),
+    /// Check numerical stability on stiff and extreme inputs (f32 vs f64, watertight rays,
+    /// shadows at extreme scales, extreme lights); exit code 1 if any case fails.
+    Stability(stability::StabilityArgs),
 }
 
 /// Parses the command line, runs the subcommand, and maps errors to exit code 2.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Render(args) => render::run(args),
+        Command::Render(args) => render::run(args).map(|()| ExitCode::SUCCESS),
+        Command::Stability(args) => stability::run(args),
     };
     finish(result)
 }
 
-fn finish(result: Result<(), InputError>) -> ExitCode {
+fn finish(result: Result<ExitCode, InputError>) -> ExitCode {
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::from(2)
