@@ -25,14 +25,16 @@ pub fn scene_mesh(p: ProceduralMesh) -> TriangleMesh {
 }
 
 /// The unit cube with every face fanned from its centre over edge points that crowd
-/// geometrically towards the corners (spacing down to 1e-6): a closed mesh of slivers whose
+/// geometrically towards the corners (spacing down to 2^-20 ≈ 1e-6): a closed mesh of slivers whose
 /// smallest angles are ~1e-6 rad. Edge points are shared by the two faces of each edge.
 pub fn sliver_cube() -> TriangleMesh {
-    // Parameters along an edge: 0, 1e-6, 1e-5, …, 0.1, 0.5, 0.9, …, 1 − 1e-6, 1.
+    // Parameters along an edge: 0, 2^-20, …, 2^-2, 0.5, 1 − 2^-2, …, 1 − 2^-20, 1 — all exact, and
+    // 1 − t exact too, so both faces of an edge compute bit-identical points.
+    let ks = [20, 17, 14, 10, 6, 2];
     let mut ts = vec![0.0f32];
-    ts.extend((0..6).rev().map(|k| 10f32.powi(-(k as i32) - 1)));
+    ts.extend(ks.iter().map(|&k| 2f32.powi(-k)));
     ts.push(0.5);
-    ts.extend((0..6).map(|k| 1.0 - 10f32.powi(-(k as i32) - 1)));
+    ts.extend(ks.iter().rev().map(|&k| 1.0 - 2f32.powi(-k)));
     ts.push(1.0);
     let mut positions: Vec<Vec3> = Vec::new();
     let mut index_of = std::collections::HashMap::new();
