@@ -100,9 +100,22 @@ impl Bvh {
     pub fn build(mesh: &TriangleMesh, preset: BvhPreset) -> Bvh {
         let start = Instant::now();
         let scale = world_to_bvh_scale(mesh);
-        let triangles: Vec<obvhs::triangle::Triangle> = (0..mesh.triangle_count())
-            .map(|t| {
-                let [v0, v1, v2] = mesh.triangle_positions(t).map(|p| Vec3A::from(p * scale));
+        // Triangles without area (exactly zero cross product: repeated or collinear vertices) have
+        // no normal and nothing to show; rounding in the sheared ray space could still report
+        // hits on them, so they are left out of the BVH (unless nothing else is left).
+        let mut kept: Vec<u32> = (0..mesh.triangle_count() as u32)
+            .filter(|&t| {
+                let [a, b, c] = mesh.triangle_positions(t as usize);
+                (b - a).cross(c - a) != Vec3::ZERO
+            })
+            .collect();
+        if kept.is_empty() {
+            kept = (0..mesh.triangle_count() as u32).collect();
+        }
+        let triangles: Vec<obvhs::triangle::Triangle> = kept
+            .iter()
+            .map(|&t| {
+                let [v0, v1, v2] = mesh.triangle_positions(t as usize).map(|p| Vec3A::from(p * scale));
                 obvhs::triangle::Triangle { v0, v1, v2 }
             })
             .collect();
@@ -117,7 +130,7 @@ impl Bvh {
                 [t.v0, t.v1, t.v2]
             })
             .collect();
-        let leaf_to_triangle = cwbvh.primitive_indices.clone();
+        let leaf_to_triangle = cwbvh.primitive_indices.iter().map(|&i| kept[i as usize]).collect();
         let depth = traversal::max_inner_depth(&cwbvh);
         Bvh {
             cwbvh,

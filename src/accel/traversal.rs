@@ -170,7 +170,8 @@ mod tests {
 
     /// Nested triangles around one point, each level 1/r smaller, with a cluster of four
     /// smaller triangles beside each level on the diagonal through the centre: PLOC builds a
-    /// chain over them (their Morton codes tie), so the BVH is deep. Returns the mesh.
+    /// chain over them (their Morton codes tie), so the BVH is deep (600 levels at r = 1.02: D = 75;
+    /// sizes stay above the BVH's leaf padding, which would otherwise merge the small ones).
     fn nested_levels(levels: usize, r: f32) -> TriangleMesh {
         let mut mesh = TriangleMesh::default();
         let c = Vec3::splat(0.5);
@@ -223,7 +224,7 @@ mod tests {
     #[test]
     #[cfg_attr(debug_assertions, ignore = "obvhs's builder asserts depth < 32 in debug builds")]
     fn deep_bvh_is_detected_and_its_growable_traversal_finds_every_crossing() {
-        let mesh = nested_levels(40, 2.0);
+        let mesh = nested_levels(600, 1.02);
         let bvh = Bvh::build(&mesh, BvhPreset::DEFAULT);
         assert!(
             bvh.depth() > FIXED_STACK_MAX_DEPTH,

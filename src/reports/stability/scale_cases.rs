@@ -132,13 +132,15 @@ pub fn run(notes: &mut Vec<String>) -> Vec<Case> {
     notes.push(format!(
         "contact scene: {WIDTH}x{HEIGHT}, {black} black pixels in the reference (shadows and background)"
     ));
+    // Not tried: small scenes far away (scale 1e-2 at 1e5 is 8 ulps of f32 across: the geometry
+    // itself cannot be represented, whatever the shadow rays do).
     let settings = [
         (1e-6f32, 0.0f32),
         (1e-3, 0.0),
         (1e3, 0.0),
         (1e6, 0.0),
         (1.0, 1e5),
-        (1e-2, 1e5),
+        (10.0, 1e5),
     ];
     settings
         .iter()
