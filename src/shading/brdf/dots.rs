@@ -55,7 +55,8 @@ impl<R: Real> LocalDots<R> {
     ///
     /// ω_i + ω_o is formed once and its length taken directly, rather than as √(2 + 2 ω_i·ω_o):
     /// that form cancels catastrophically as ω_i → −ω_o, this one keeps full relative precision.
-    /// i·h is clamped to [0, 1] against rounding (it is |ω_i + ω_o|/2 ≥ 0 in exact arithmetic);
+    /// i·h is computed as |ω_i + ω_o|/2, which it equals for unit ω_i, ω_o: symmetric in the two
+    /// directions by construction (so every model is exactly reciprocal), clamped to ≤ 1;
     /// n·h to [−1, 1] and sin²θ_h to [0, 1].
     #[inline(always)]
     pub fn from_unit_vectors(n: [R; 3], wi: [R; 3], wo: [R; 3]) -> Option<Self> {
@@ -78,7 +79,7 @@ impl<R: Real> LocalDots<R> {
             n_dot_o: dot(n, wo) * inv_n,
             n_dot_h: (dot(n, sum) * (inv * inv_n)).max(-R::one()).min(R::one()),
             sin2_h,
-            i_dot_h: (dot(wi, sum) * inv).max(R::zero()).min(R::one()),
+            i_dot_h: (len * R::lit(0.5)).min(R::one()),
         })
     }
 
