@@ -143,7 +143,6 @@ mod tests {
     use crate::accel::triangle::WatertightRay;
     use crate::accel::{Bvh, BvhPreset};
     use crate::scene::mesh::TriangleMesh;
-    use glam::Vec3;
     use obvhs::faststack::{FastStack, StackStack};
 
     #[test]
@@ -168,34 +167,9 @@ mod tests {
         );
     }
 
-    /// Nested triangles around one point, each level 1/r smaller, with a cluster of four
-    /// smaller triangles beside each level on the diagonal through the centre: PLOC builds a
-    /// chain over them (their Morton codes tie), so the BVH is deep (600 levels at r = 1.02: D = 75;
-    /// sizes stay above the BVH's leaf padding, which would otherwise merge the small ones).
-    fn nested_levels(levels: usize, r: f32) -> TriangleMesh {
-        let mut mesh = TriangleMesh::default();
-        let c = Vec3::splat(0.5);
-        let u = Vec3::ONE.normalize();
-        let mut add = |at: Vec3, e: f32| {
-            let k = mesh.positions.len() as u32;
-            mesh.positions.extend([
-                at + e * Vec3::new(-1.0, -1.0, -0.5),
-                at + e * Vec3::new(1.0, -0.5, 0.3),
-                at + e * Vec3::new(-0.2, 1.0, 0.4),
-            ]);
-            mesh.normals.extend([Vec3::Z; 3]);
-            mesh.triangles.push([k, k + 1, k + 2]);
-            mesh.material_of_triangle.push(0);
-        };
-        let mut size = 0.2f32;
-        for _ in 0..levels {
-            add(c, size);
-            for j in 0..4 {
-                add(c + u * 2.5 * size, size * (0.3 + 0.02 * j as f32));
-            }
-            size /= r;
-        }
-        mesh
+    /// The adversarial chain the stability report uses: 600 levels give depth 75.
+    fn nested_levels(levels: usize) -> TriangleMesh {
+        crate::reports::stability::geometry_cases::nested_chain(levels)
     }
 
     /// Every triangle the ray crosses, by traversal (`growable` or obvhs's fixed stack) and by
@@ -224,7 +198,7 @@ mod tests {
     #[test]
     #[cfg_attr(debug_assertions, ignore = "obvhs's builder asserts depth < 32 in debug builds")]
     fn deep_bvh_is_detected_and_its_growable_traversal_finds_every_crossing() {
-        let mesh = nested_levels(600, 1.02);
+        let mesh = nested_levels(600);
         let bvh = Bvh::build(&mesh, BvhPreset::DEFAULT);
         assert!(
             bvh.depth() > FIXED_STACK_MAX_DEPTH,
@@ -247,7 +221,7 @@ mod tests {
 
     #[test]
     fn both_stacks_find_the_same_crossings_on_shallow_bvhs() {
-        let mesh = nested_levels(6, 1.5);
+        let mesh = nested_levels(6);
         let bvh = Bvh::build(&mesh, BvhPreset::DEFAULT);
         assert_eq!(bvh.stack(), TraversalStack::Fixed);
         let centre = Vec3A::splat(0.5) * bvh.scale;
