@@ -61,12 +61,7 @@ impl<O: Occluder> Shader<'_, O> {
                 }
             } else {
                 // Lambert reads no dot product: skip the half vector.
-                LocalDots {
-                    n_dot_i: cos_i,
-                    n_dot_o: cos_o,
-                    n_dot_h: 0.0,
-                    i_dot_h: 0.0,
-                }
+                LocalDots::from_cosines(cos_i, cos_o, 0.0, 0.0)
             };
             if let Some(occluder) = self.occluder {
                 *shadow_rays += 1;
