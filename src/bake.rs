@@ -4,8 +4,8 @@
 //! One camera ray through the centre of each pixel (a normal image stores one normal per pixel:
 //! averaging normals over samples would make them shorter at silhouettes, so the film's spp and
 //! sampler are not used). The normal written is the shading normal the shader would use — turned
-//! towards the viewer for two-sided materials, as the shader turns it — expressed in the camera's
-//! frame: x to the right of the image, y up, z towards the viewer.
+//! towards the viewer for two-sided materials when it faces away, as the shader turns it —
+//! expressed in the camera's frame: x to the right of the image, y up, z towards the viewer.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -48,7 +48,7 @@ pub fn bake_normals(scene: &Scene, bvh: &Bvh) -> Result<BakedNormals, String> {
             };
             let sp = surface_point(&scene.mesh, &hit, ray.direction, false);
             let mut n = sp.shading_normal;
-            if scene.materials[sp.material as usize].two_sided && sp.geometric_normal.dot(sp.to_viewer) < 0.0 {
+            if scene.materials[sp.material as usize].two_sided && n.dot(sp.to_viewer) < 0.0 {
                 n = -n;
             }
             // Image right is −left; towards the viewer is −forward.

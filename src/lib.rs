@@ -17,6 +17,8 @@ pub mod normal_map;
 pub mod output;
 pub mod plan;
 pub mod render;
+pub mod reports;
 pub mod scene;
 pub mod shading;
 pub mod surface;
+pub mod validation;

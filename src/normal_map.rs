@@ -56,6 +56,7 @@ fn shader<'a>(scene: &'a NormalMapScene, convention: ShadingConvention) -> Shade
         lights: &scene.lights,
         occluder: None,
         scene_unit: 1.0,
+        shadow_offset: Default::default(),
         convention,
     }
 }

@@ -9,7 +9,7 @@
 //!   [0.98, 0.82, 0.76], n = 5; the assignment's shading convention and min-max 8-bit output.
 //! - `physical` (the default): a point light with inverse-square falloff above-left in front of
 //!   the image, an orthographic view along −z, the scene-file material defaults with the report's
-//!   albedo; physical shading, sRGB PNG with exposure or linear EXR.
+//!   albedo but one-sided; physical shading, sRGB PNG with exposure or linear EXR.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -115,8 +115,11 @@ impl Preset {
                 },
                 cook_torrance: CookTorrance::ASSIGNMENT,
             },
+            // One-sided: a decoded normal facing away from the viewer (noise at silhouettes, the
+            // near-black surround of normal.png) shades black instead of being turned around.
             Preset::Physical => MaterialDefaults {
                 albedo: REPORT_ALBEDO,
+                two_sided: false,
                 ..MaterialDefaults::SCENE
             },
         }

@@ -87,23 +87,19 @@ pub fn assignment_dots<R: Real>(
     };
     if !(len > R::zero()) {
         return AssignmentDots {
-            dots: LocalDots {
-                n_dot_i,
-                n_dot_o,
-                n_dot_h: R::zero(),
-                i_dot_h: R::zero(),
-            },
+            dots: LocalDots::from_cosines(n_dot_i, n_dot_o, R::zero(), R::zero()),
             half_vector: false,
         };
     }
     let inv = len.recip();
+    // sin²θ_h = (1 − c)(1 + c) from the clamped c: the report's D is a function of that c.
     AssignmentDots {
-        dots: LocalDots {
+        dots: LocalDots::from_cosines(
             n_dot_i,
             n_dot_o,
-            n_dot_h: clamp01(dot(n, sum) * inv),
-            i_dot_h: clamp01(dot(wi, sum) * inv),
-        },
+            clamp01(dot(n, sum) * inv),
+            clamp01(dot(wi, sum) * inv),
+        ),
         half_vector: true,
     }
 }

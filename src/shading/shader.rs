@@ -3,10 +3,11 @@
 //! L_o = Σ_lights f_r(ω_i, ω_o) · E_light · cos θ_i · V, summed in light order (deterministic).
 //! Under the physical convention, sidedness follows the material: one-sided (Mitsuba's
 //! convention) contributes only where n_s·ω_i > 0 and n_s·ω_o > 0; two-sided first turns both
-//! normals towards the viewer. Lights behind the surface are skipped before any shadow ray is
-//! traced. Under the assignment convention (the normal-map `tp` preset, see
-//! [`ShadingConvention`]) the same sum is formed from clamped dot products instead. Either way
-//! f_r is [`Material::eval`]: the convention changes the inputs, never the BRDF.
+//! normals towards the viewer (when the shading normal faces away from it, as Mitsuba's
+//! `twosided` does). Lights behind the surface are skipped before any shadow ray is traced.
+//! Under the assignment convention (the normal-map `tp` preset, see [`ShadingConvention`]) the
+//! same sum is formed from clamped dot products instead. Either way f_r is [`Material::eval`]:
+//! the convention changes the inputs, never the BRDF.
 
 use glam::Vec3;
 
@@ -14,7 +15,7 @@ use crate::shading::brdf::LocalDots;
 use crate::shading::convention::{assignment_dots, ShadingConvention};
 use crate::shading::light::Light;
 use crate::shading::material::Material;
-use crate::shading::shadow::{Occluder, ShadowRay};
+use crate::shading::shadow::{Occluder, ShadowOffset, ShadowRay};
 use crate::surface::SurfacePoint;
 
 /// Everything shading needs besides the point itself.
@@ -29,6 +30,8 @@ pub struct Shader<'a, O: Occluder> {
     pub scene_unit: f32,
     /// How directions and dot products are formed (the plan decides).
     pub convention: ShadingConvention,
+    /// How shadow rays leave the surface.
+    pub shadow_offset: ShadowOffset,
 }
 
 impl<O: Occluder> Shader<'_, O> {
@@ -47,7 +50,9 @@ impl<O: Occluder> Shader<'_, O> {
         let material = &self.materials[sp.material as usize];
         let wo = sp.to_viewer;
         let (mut ng, mut ns) = (sp.geometric_normal, sp.shading_normal);
-        if material.two_sided && ng.dot(wo) < 0.0 {
+        // Two-sided: face the viewer, decided by the shading normal as Mitsuba's `twosided` does
+        // (so silhouettes of smooth meshes never turn black).
+        if material.two_sided && ns.dot(wo) < 0.0 {
             ng = -ng;
             ns = -ns;
         }
@@ -70,16 +75,11 @@ impl<O: Occluder> Shader<'_, O> {
                 }
             } else {
                 // Lambert reads no dot product: skip the half vector.
-                LocalDots {
-                    n_dot_i: cos_i,
-                    n_dot_o: cos_o,
-                    n_dot_h: 0.0,
-                    i_dot_h: 0.0,
-                }
+                LocalDots::from_cosines(cos_i, cos_o, 0.0, 0.0)
             };
             if let Some(occluder) = self.occluder {
                 *shadow_rays += 1;
-                let ray = ShadowRay::towards_light(sp.position, ng, ls.wi, ls.distance, self.scene_unit);
+                let ray = ShadowRay::new(self.shadow_offset, sp.position, ng, ls.wi, ls.distance, self.scene_unit);
                 if occluder.occluded(&ray) {
                     continue;
                 }
