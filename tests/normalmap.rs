@@ -292,6 +292,34 @@ fn all_finite(v: Vec3) -> bool {
 }
 
 #[test]
+fn single_pixel_function_is_the_image_path() {
+    use pointshade::normal_map::{image_surface, shade_image};
+    use pointshade::plan::RenderPlan;
+    use pointshade::surface::normal_image::NormalImage;
+    let Some(input) = shared_normal_map("nmap2.png") else {
+        return;
+    };
+    let image = NormalImage::load(&input).unwrap();
+    for brdf in ModelName::ALL {
+        let scene = NormalMapScene::from_preset(&input, Preset::Tp, brdf);
+        let surface = image_surface(&scene, &image).unwrap();
+        let plan = RenderPlan::for_normal_map(&scene, &image, "test");
+        let (shaded, _) = shade_image(&scene, &plan, &image, &surface);
+        let scaling = TpScaling::of(&image).unwrap();
+        for row in 0..image.height {
+            for col in 0..image.width {
+                let (rgb, _) = image.pixel((row * image.width + col) as usize);
+                assert_eq!(
+                    shade_tp_pixel(&scene, scaling, rgb, row, col),
+                    shaded.get(col, row),
+                    "{brdf:?} ({col}, {row})"
+                );
+            }
+        }
+    }
+}
+
+#[test]
 fn tp_background_and_zero_normals_shade_to_zero() {
     let full = TpScaling::new(0.0, 1.0).unwrap();
     let from_tenth = TpScaling::new(0.1, 0.9).unwrap();
