@@ -4,12 +4,16 @@
 //! [`scene`] (loading) → [`plan`] (which stages this scene needs) → [`accel`] (BVH) →
 //! [`surface`] (camera rays → [`surface::SurfacePoint`]s) → [`shading`] (BRDFs, lights,
 //! shadow rays) → [`film`] (samples → pixels) → [`output`] (PNG / EXR files).
-//! [`render`] drives the stages; see ARCHITECTURE.md.
+//! [`render`] drives the stages; see ARCHITECTURE.md. [`normal_map`] drives the normal-map mode
+//! (pixels of a normal image → surface points → the same shader) and [`bake`] its inverse (a
+//! mesh scene's normals → a normal image).
 
 pub mod accel;
+pub mod bake;
 pub mod cli;
 pub mod error;
 pub mod film;
+pub mod normal_map;
 pub mod output;
 pub mod plan;
 pub mod render;

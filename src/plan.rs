@@ -4,8 +4,12 @@
 //! `--explain` prints it — every stage kept or skipped, with the reason, and the rays of each kind.
 
 use std::fmt::Write as _;
+use std::path::Path;
 
+use crate::scene::normal_map::{NormalMapScene, Preset};
 use crate::scene::Scene;
+use crate::shading::convention::ShadingConvention;
+use crate::surface::normal_image::NormalImage;
 
 /// An extra image written beside the render.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -80,6 +84,8 @@ pub struct RenderPlan {
     pub primary_rays: u64,
     /// Upper bound on shadow rays (one per primary hit and light in front of the surface).
     pub max_shadow_rays: u64,
+    /// How the shader forms its dot products.
+    pub convention: ShadingConvention,
 }
 
 impl RenderPlan {
@@ -173,29 +179,96 @@ impl RenderPlan {
             stages,
             primary_rays,
             max_shadow_rays,
+            convention: ShadingConvention::Physical,
+        }
+    }
+
+    /// The plan for shading `image` as `scene` says (normal-map mode): surface points come from
+    /// the image's pixels, so there is no BVH and no ray of any kind. `output` describes the
+    /// output encoding.
+    pub fn for_normal_map(scene: &NormalMapScene, image: &NormalImage, output: &str) -> Self {
+        let mut stages = Vec::new();
+        let mut decide = |stage, kept: bool, why: String| {
+            stages.push(StageDecision { stage, kept, why });
+            kept
+        };
+        let (w, h) = (image.width, image.height);
+        let decoding = match scene.preset {
+            Preset::Tp => {
+                "n = (c − min)/(max − min) over all RGB values, used as is; background max(rgb) ≤ 4/255; \
+                 x = (row, col, 0) in pixels"
+            }
+            Preset::Physical => {
+                "n = normalise(2c − 1); background alpha = 0 or rgb = 0; x on the plane z = 0, image height 2 units"
+            }
+        };
+        decide(
+            "normal image → surface points",
+            true,
+            format!(
+                "{w}x{h} {}-bit image, {} preset: {decoding}",
+                image.bit_depth(),
+                scene.preset.name(),
+            ),
+        );
+        decide(
+            "bvh + primary rays",
+            false,
+            "normal-map mode: every surface point comes from a pixel, there is no geometry to trace".into(),
+        );
+        decide(
+            "shadow rays",
+            false,
+            "normal-map mode: a normal image has no geometry that could occlude a light".into(),
+        );
+        let specular = decide(
+            "specular BRDF terms",
+            scene.material.has_specular(),
+            format!("material '{}' is {}", scene.material.name, scene.material.model_name()),
+        );
+        let convention = scene.preset.convention();
+        decide("shading convention", true, convention.describe().into());
+        decide("output", true, output.into());
+        RenderPlan {
+            trace_rays: false,
+            shadows: false,
+            specular,
+            uvs: false,
+            aovs: Vec::new(),
+            stages,
+            primary_rays: 0,
+            max_shadow_rays: 0,
+            convention,
         }
     }
 
     /// The plan as text, for `--explain`.
     pub fn explain(&self, scene: &Scene) -> String {
-        let mut s = String::new();
         let f = &scene.film;
-        let _ = writeln!(s, "plan for {}", scene.source.display());
-        let _ = writeln!(
-            s,
-            "  film: {}x{}, {} spp, {} sampler",
-            f.width,
-            f.height,
-            f.spp,
-            f.sampler.name()
+        let film = format!("{}x{}, {} spp, {} sampler", f.width, f.height, f.spp, f.sampler.name());
+        self.explain_with(&scene.source, &film, &scene.notes)
+    }
+
+    /// The normal-map plan as text, for `--explain`.
+    pub fn explain_normal_map(&self, scene: &NormalMapScene, image: &NormalImage) -> String {
+        let film = format!(
+            "{}x{}, one surface point per non-background pixel",
+            image.width, image.height
         );
-        for note in &scene.notes {
+        self.explain_with(&scene.source, &film, &scene.notes)
+    }
+
+    fn explain_with(&self, source: &Path, film: &str, notes: &[String]) -> String {
+        let mut s = String::new();
+        let _ = writeln!(s, "plan for {}", source.display());
+        let _ = writeln!(s, "  film: {film}");
+        for note in notes {
             let _ = writeln!(s, "  note: {note}");
         }
         for d in &self.stages {
             let _ = writeln!(
                 s,
-                "  [{}] {:<20} {}",
+                "  [{}] {:<29} {}",
                 if d.kept { "run " } else { "skip" },
                 d.stage,
                 d.why

@@ -90,6 +90,7 @@ pub fn render(
         lights: &scene.lights,
         occluder: if plan.shadows { bvh } else { None },
         scene_unit: bvh.map_or(1.0, Bvh::scene_unit),
+        convention: plan.convention,
         shadow_offset: scene.shadow_offset,
     };
 

@@ -3,8 +3,10 @@
 //! Every subcommand returns `Result<(), InputError>`; [`main`] prints an error as one line
 //! (`error: FILE: problem`) and exits with code 2.
 
+mod bake;
 mod compare;
 mod export_mitsuba;
+mod normalmap;
 mod progress;
 mod render;
 mod stability;
@@ -27,6 +29,10 @@ struct Cli {
 enum Command {
     /// Render a scene (.toml) or a bare mesh (.obj) to PNG (8-bit sRGB) or EXR (linear float32).
     Render(render::RenderArgs),
+    /// Shade a normal image (PNG) or a [normal_map] scene file: presets tp (the NPM3D TP4 report) and physical.
+    Normalmap(normalmap::NormalMapArgs),
+    /// Write a mesh scene's camera-space normals as an RGBA PNG normal image (the assignment's format).
+    Bake(bake::BakeArgs),
     /// Write a scene as Mitsuba 3 XML (meshes referenced, not copied).
     ExportMitsuba(export_mitsuba::ExportArgs),
     /// Compare two linear images (EXR) pixel by pixel: error metrics, worst pixels, heat map.
@@ -43,6 +49,8 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(args).map(|()| ExitCode::SUCCESS),
+        Command::Normalmap(args) => normalmap::run(args).map(|()| ExitCode::SUCCESS),
+        Command::Bake(args) => bake::run(args).map(|()| ExitCode::SUCCESS),
         Command::ExportMitsuba(args) => export_mitsuba::run(args).map(|()| ExitCode::SUCCESS),
         Command::Compare(args) => compare::run(args).map(|()| ExitCode::SUCCESS),
         Command::Validate(args) => validate::run(args).map(|()| ExitCode::SUCCESS),

@@ -1,7 +1,10 @@
 //! Output: images to files. PNG is 8-bit sRGB with exposure and clamping; EXR is linear float32
 //! RGB, untouched. All files of a render are encoded in memory first, written to temporary
 //! files beside their targets and renamed only when every one of them is written, so a failure
-//! never leaves partial output behind.
+//! never leaves partial output behind. [`assignment`] holds the NPM3D assignment's formats
+//! (min-max 8-bit renders, RGBA normal images).
+
+pub mod assignment;
 
 use std::io::Cursor;
 use std::path::{Path, PathBuf};

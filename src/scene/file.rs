@@ -2,7 +2,9 @@
 //!
 //! Parsing is strict: unknown keys, wrong types and unknown names are errors with the file, line
 //! and column. Each section is kept with its span so that checks made after parsing (a NaN, an
-//! unknown material name) also point at the right place.
+//! unknown material name) also point at the right place. Normal-map scene files (a
+//! `[normal_map]` section) share the light and material sections and are read by
+//! [`super::normal_map`].
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -25,6 +27,8 @@ use crate::surface::camera::{CameraSpec, FovAxis, Projection};
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SceneFile {
+    /// Only to say that such a file is for `pointshade normalmap`.
+    normal_map: Option<Spanned<toml::Table>>,
     film: Option<Spanned<FilmSection>>,
     camera: Option<Spanned<CameraSection>>,
     render: Option<RenderSection>,
@@ -101,7 +105,7 @@ struct RenderSection {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct LightSection {
+pub(super) struct LightSection {
     #[serde(rename = "type")]
     kind: LightType,
     position: Option<[f32; 3]>,
@@ -110,8 +114,7 @@ struct LightSection {
     color: [f32; 3],
     #[serde(default = "one")]
     intensity: f32,
-    #[serde(default)]
-    falloff: FalloffName,
+    falloff: Option<FalloffName>,
     inner_cone: Option<f32>,
     outer_cone: Option<f32>,
 }
@@ -131,17 +134,16 @@ enum LightType {
     Spot,
 }
 
-#[derive(Deserialize, Default)]
+#[derive(Deserialize)]
 #[serde(rename_all = "kebab-case")]
 enum FalloffName {
-    #[default]
     InverseSquare,
     None,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct MaterialSection {
+pub(super) struct MaterialSection {
     #[serde(default)]
     model: ModelName,
     albedo: Option<[f32; 3]>,
@@ -162,13 +164,86 @@ struct MaterialSection {
     k: Option<[f32; 3]>,
 }
 
-#[derive(Deserialize, Default, PartialEq)]
+/// A material model, as named in scene files and on the command line.
+#[derive(Deserialize, Default, PartialEq, Eq, Clone, Copy, Debug)]
 #[serde(rename_all = "kebab-case")]
-enum ModelName {
+pub enum ModelName {
+    /// Lambert diffuse only.
     #[default]
     Lambert,
+    /// Lambert + Blinn-Phong.
     BlinnPhong,
+    /// Lambert + Cook-Torrance.
     CookTorrance,
+}
+
+impl ModelName {
+    /// Every model, in documentation order.
+    pub const ALL: [ModelName; 3] = [ModelName::Lambert, ModelName::BlinnPhong, ModelName::CookTorrance];
+
+    /// The name used in scene files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            ModelName::Lambert => "lambert",
+            ModelName::BlinnPhong => "blinn-phong",
+            ModelName::CookTorrance => "cook-torrance",
+        }
+    }
+}
+
+impl std::str::FromStr for ModelName {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        ModelName::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| format!("unknown BRDF '{s}' (expected lambert, blinn-phong or cook-torrance)"))
+    }
+}
+
+/// What the keys a material section leaves out default to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MaterialDefaults {
+    /// Diffuse colour.
+    pub albedo: [f32; 3],
+    /// Diffuse weight.
+    pub kd: f32,
+    /// Two-sided or one-sided.
+    pub two_sided: bool,
+    /// The Blinn-Phong lobe of a `blinn-phong` material.
+    pub blinn_phong: BlinnPhong,
+    /// The Cook-Torrance lobe of a `cook-torrance` material.
+    pub cook_torrance: CookTorrance,
+}
+
+impl MaterialDefaults {
+    /// The defaults of mesh scene files (README.md, "Scene files").
+    pub const SCENE: MaterialDefaults = MaterialDefaults {
+        albedo: [0.8; 3],
+        kd: 1.0,
+        two_sided: true,
+        blinn_phong: BlinnPhong {
+            ks: 1.0,
+            shininess: 32.0,
+            color: [1.0; 3],
+        },
+        cook_torrance: CookTorrance::ASSIGNMENT,
+    };
+
+    /// A material of `model` with every parameter at its default.
+    pub fn material(&self, name: &str, model: ModelName) -> Material {
+        Material {
+            name: name.to_string(),
+            albedo: self.albedo,
+            kd: self.kd,
+            two_sided: self.two_sided,
+            specular: match model {
+                ModelName::Lambert => Specular::None,
+                ModelName::BlinnPhong => Specular::BlinnPhong(self.blinn_phong),
+                ModelName::CookTorrance => Specular::CookTorrance(self.cook_torrance),
+            },
+        }
+    }
 }
 
 #[derive(Deserialize)]
@@ -209,6 +284,12 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
     })?;
     let dir = path.parent().unwrap_or(Path::new("."));
 
+    if let Some(nm) = &file.normal_map {
+        return Err(at(
+            nm.span(),
+            "a scene with a [normal_map] section is shaded by `pointshade normalmap`, not `render`".into(),
+        ));
+    }
     let film = match &file.film {
         Some(f) => film_settings(f.get_ref()).map_err(|m| at(f.span(), m))?,
         None => FilmSettings::default(),
@@ -218,7 +299,7 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
     let mut materials = Vec::new();
     let mut index_of = BTreeMap::new();
     for (name, section) in &file.material {
-        let m = material(name, section.get_ref())
+        let m = material(name, section.get_ref(), &MaterialDefaults::SCENE)
             .map_err(|(span, m)| at(span.unwrap_or(section.span()), format!("material '{name}': {m}")))?;
         index_of.insert(name.clone(), materials.len() as u32);
         materials.push(m);
@@ -298,7 +379,7 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
     } else {
         file.light
             .iter()
-            .map(|l| light(l.get_ref()).map_err(|m| at(l.span(), m)))
+            .map(|l| light(l.get_ref(), Falloff::InverseSquare).map_err(|m| at(l.span(), m)))
             .collect::<InputResult<_>>()?
     };
     if file.object.is_empty() {
@@ -323,7 +404,7 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
 }
 
 /// 1-based line and column of byte `offset`.
-fn line_col(text: &str, offset: usize) -> (usize, usize) {
+pub(super) fn line_col(text: &str, offset: usize) -> (usize, usize) {
     let before = &text[..offset.min(text.len())];
     let line = before.matches('\n').count() + 1;
     let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
@@ -338,7 +419,8 @@ fn names(index_of: &BTreeMap<String, u32>) -> String {
     }
 }
 
-fn resolve(dir: &Path, file: &str) -> PathBuf {
+/// `file` relative to the directory `dir` of the scene file (absolute paths unchanged).
+pub(super) fn resolve(dir: &Path, file: &str) -> PathBuf {
     let p = Path::new(file);
     if p.is_absolute() {
         p.to_path_buf()
@@ -367,7 +449,8 @@ fn film_settings(f: &FilmSection) -> Result<FilmSettings, String> {
     Ok(s)
 }
 
-fn vec3(name: &str, v: [f32; 3]) -> Result<Vec3, String> {
+/// A finite vector, or an error naming the key.
+pub(super) fn vec3(name: &str, v: [f32; 3]) -> Result<Vec3, String> {
     let v = Vec3::from(v);
     if v.is_finite() {
         Ok(v)
@@ -404,7 +487,8 @@ fn camera(c: &CameraSection) -> Result<CameraSpec, String> {
     Ok(spec)
 }
 
-fn light(l: &LightSection) -> Result<Light, String> {
+/// The light a `[[light]]` section describes; `falloff` when the section does not say.
+pub(super) fn light(l: &LightSection, default_falloff: Falloff) -> Result<Light, String> {
     let color = vec3("color", l.color)?;
     if color.min_element() < 0.0 {
         return Err(format!("light color must be ≥ 0, got {color}"));
@@ -440,8 +524,9 @@ fn light(l: &LightSection) -> Result<Light, String> {
         }
     };
     let falloff = match l.falloff {
-        FalloffName::InverseSquare => Falloff::InverseSquare,
-        FalloffName::None => Falloff::None,
+        None => default_falloff,
+        Some(FalloffName::InverseSquare) => Falloff::InverseSquare,
+        Some(FalloffName::None) => Falloff::None,
     };
     Ok(Light {
         kind,
@@ -450,13 +535,16 @@ fn light(l: &LightSection) -> Result<Light, String> {
     })
 }
 
-type Located = (Option<std::ops::Range<usize>>, String);
+/// An error with the span of the value it is about, when narrower than the section.
+pub(super) type Located = (Option<std::ops::Range<usize>>, String);
 
-fn material(name: &str, m: &MaterialSection) -> Result<Material, Located> {
+/// The material a `[material.NAME]` section describes, missing keys taken from `defaults`.
+pub(super) fn material(name: &str, m: &MaterialSection, defaults: &MaterialDefaults) -> Result<Material, Located> {
     let plain = |msg: String| (None, msg);
-    let mut material = Material::lambert(name, m.albedo.unwrap_or([0.8; 3]));
-    material.kd = m.kd.unwrap_or(1.0);
-    material.two_sided = m.two_sided.unwrap_or(true);
+    let mut material = defaults.material(name, m.model);
+    material.albedo = m.albedo.unwrap_or(material.albedo);
+    material.kd = m.kd.unwrap_or(material.kd);
+    material.two_sided = m.two_sided.unwrap_or(material.two_sided);
     let unused_for = |keys: &[(&str, bool)], model: &str| -> Result<(), Located> {
         match keys.iter().find(|(_, present)| *present) {
             Some((key, _)) => Err(plain(format!("key '{key}' does not apply to the {model} model"))),
@@ -482,15 +570,16 @@ fn material(name: &str, m: &MaterialSection) -> Result<Material, Located> {
         }
         ModelName::BlinnPhong => {
             unused_for(&ct_keys, "blinn-phong")?;
+            let d = defaults.blinn_phong;
             material.specular = Specular::BlinnPhong(BlinnPhong {
-                ks: m.ks.unwrap_or(1.0),
-                shininess: m.shininess.unwrap_or(32.0),
-                color: m.specular_color.unwrap_or([1.0; 3]),
+                ks: m.ks.unwrap_or(d.ks),
+                shininess: m.shininess.unwrap_or(d.shininess),
+                color: m.specular_color.unwrap_or(d.color),
             });
         }
         ModelName::CookTorrance => {
             unused_for(&bp_keys, "cook-torrance")?;
-            let d = CookTorrance::default();
+            let d = defaults.cook_torrance;
             let mut ct = CookTorrance {
                 alpha: m.roughness.unwrap_or(d.alpha),
                 metallic: m.metallic.unwrap_or(d.metallic),

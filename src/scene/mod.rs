@@ -7,6 +7,7 @@
 pub mod file;
 pub mod framing;
 pub mod mesh;
+pub mod normal_map;
 pub mod obj;
 pub mod procedural;
 

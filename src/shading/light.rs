@@ -63,7 +63,7 @@ impl Light {
     /// The light seen from `p`, or `None` when it sends nothing there: outside a spot's cone, or
     /// at the light's own position (d = 0, where the direction is undefined; such a point is
     /// documented to receive no light rather than an infinite amount).
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, p: Vec3) -> Option<LightSample> {
         match self.kind {
             LightKind::Directional { direction } => Some(LightSample {
@@ -89,6 +89,7 @@ impl Light {
         }
     }
 
+    #[inline(always)]
     fn positional(&self, p: Vec3, position: Vec3, factor: f32) -> Option<LightSample> {
         let offset = position - p;
         let distance = offset.length();
@@ -105,7 +106,7 @@ impl Light {
         // inf·0 = NaN can arise downstream.
         let irradiance = (self.power * (factor * falloff.min(f32::MAX))).min(Vec3::splat(f32::MAX));
         Some(LightSample {
-            wi: offset / distance,
+            wi: offset * distance.recip(),
             distance,
             irradiance,
         })

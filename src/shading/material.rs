@@ -43,21 +43,26 @@ pub struct CookTorrance {
     pub k: [f32; 3],
 }
 
-impl Default for CookTorrance {
+impl CookTorrance {
     /// The assignment's model and parameters: GGX, Schlick–Smith, Schlick; α = 0.7, metallic,
     /// specular colour [0.98, 0.82, 0.76], n = 5. η and κ default to Mitsuba's "none" (F ≡ 1).
+    pub const ASSIGNMENT: CookTorrance = CookTorrance {
+        alpha: 0.7,
+        d: MicrofacetDistribution::Ggx,
+        g: MaskingShadowing::SchlickSmith,
+        f: FresnelTerm::Schlick,
+        metallic: true,
+        specular_color: [0.98, 0.82, 0.76],
+        ior: 5.0,
+        eta: [0.0; 3],
+        k: [1.0; 3],
+    };
+}
+
+impl Default for CookTorrance {
+    /// [`CookTorrance::ASSIGNMENT`].
     fn default() -> Self {
-        Self {
-            alpha: 0.7,
-            d: MicrofacetDistribution::Ggx,
-            g: MaskingShadowing::SchlickSmith,
-            f: FresnelTerm::Schlick,
-            metallic: true,
-            specular_color: [0.98, 0.82, 0.76],
-            ior: 5.0,
-            eta: [0.0; 3],
-            k: [1.0; 3],
-        }
+        Self::ASSIGNMENT
     }
 }
 

@@ -1,14 +1,18 @@
 //! The shader: outgoing radiance of a [`SurfacePoint`] under every light, with shadow rays.
 //!
 //! L_o = Σ_lights f_r(ω_i, ω_o) · E_light · cos θ_i · V, summed in light order (deterministic).
-//! Sidedness follows the material: one-sided (Mitsuba's convention) contributes only where
-//! n_s·ω_i > 0 and n_s·ω_o > 0; two-sided first turns both normals towards the viewer (when the
-//! shading normal faces away from it, as Mitsuba's `twosided` does). Lights
-//! behind the surface are skipped before any shadow ray is traced.
+//! Under the physical convention, sidedness follows the material: one-sided (Mitsuba's
+//! convention) contributes only where n_s·ω_i > 0 and n_s·ω_o > 0; two-sided first turns both
+//! normals towards the viewer (when the shading normal faces away from it, as Mitsuba's
+//! `twosided` does). Lights behind the surface are skipped before any shadow ray is traced.
+//! Under the assignment convention (the normal-map `tp` preset, see [`ShadingConvention`]) the
+//! same sum is formed from clamped dot products instead. Either way f_r is [`Material::eval`]:
+//! the convention changes the inputs, never the BRDF.
 
 use glam::Vec3;
 
 use crate::shading::brdf::LocalDots;
+use crate::shading::convention::{assignment_dots, ShadingConvention};
 use crate::shading::light::Light;
 use crate::shading::material::Material;
 use crate::shading::shadow::{Occluder, ShadowOffset, ShadowRay};
@@ -24,6 +28,8 @@ pub struct Shader<'a, O: Occluder> {
     pub occluder: Option<&'a O>,
     /// Length unit of the shadow-ray offset (scene size / 256).
     pub scene_unit: f32,
+    /// How directions and dot products are formed (the plan decides).
+    pub convention: ShadingConvention,
     /// How shadow rays leave the surface.
     pub shadow_offset: ShadowOffset,
 }
@@ -33,6 +39,14 @@ impl<O: Occluder> Shader<'_, O> {
     /// Always finite and non-negative (the BRDF module guarantees it for f_r, lights for E).
     #[inline]
     pub fn shade(&self, sp: &SurfacePoint, shadow_rays: &mut u64) -> Vec3 {
+        match self.convention {
+            ShadingConvention::Physical => self.shade_physical(sp, shadow_rays),
+            ShadingConvention::Assignment => self.shade_assignment(sp),
+        }
+    }
+
+    #[inline(always)]
+    fn shade_physical(&self, sp: &SurfacePoint, shadow_rays: &mut u64) -> Vec3 {
         let material = &self.materials[sp.material as usize];
         let wo = sp.to_viewer;
         let (mut ng, mut ns) = (sp.geometric_normal, sp.shading_normal);
@@ -74,6 +88,30 @@ impl<O: Occluder> Shader<'_, O> {
             radiance += f * ls.irradiance * cos_i;
         }
         // Every term is finite and ≥ 0; only the sum of saturated lights could reach infinity.
+        radiance.min(Vec3::splat(f32::MAX))
+    }
+
+    /// The assignment's L_o = Σ L_i · f(ω_i, ω_o) · (n·ω_i) with ω_i from the light towards the
+    /// point, n as given and every dot product clamped to [0, 1] ([`assignment_dots`]). No sides
+    /// and no shadow rays (the plan never pairs this convention with an occluder). Where ω_i + ω_o
+    /// = 0 the half vector is undefined and only the diffuse part k_d·albedo/π is added.
+    #[inline(always)]
+    fn shade_assignment(&self, sp: &SurfacePoint) -> Vec3 {
+        let material = &self.materials[sp.material as usize];
+        let n = sp.shading_normal.to_array();
+        let wo = sp.to_viewer.to_array();
+        let specular = material.has_specular();
+        let mut radiance = Vec3::ZERO;
+        for light in self.lights {
+            let Some(ls) = light.sample(sp.position) else { continue };
+            let a = assignment_dots(n, (-ls.wi).to_array(), wo, specular);
+            let f = if a.half_vector {
+                material.eval(&a.dots)
+            } else {
+                material.diffuse()
+            };
+            radiance += Vec3::from(f) * ls.irradiance * a.dots.n_dot_i;
+        }
         radiance.min(Vec3::splat(f32::MAX))
     }
 }

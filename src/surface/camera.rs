@@ -150,6 +150,11 @@ impl Camera {
     pub fn forward(&self) -> Vec3 {
         self.forward
     }
+
+    /// The camera's orthonormal frame (left, up, forward), as Mitsuba's `look_at` builds it.
+    pub fn frame(&self) -> (Vec3, Vec3, Vec3) {
+        (self.left, self.up, self.forward)
+    }
 }
 
 #[cfg(test)]

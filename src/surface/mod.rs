@@ -1,9 +1,10 @@
 //! Surface points: what the shader shades, wherever it came from.
 //!
-//! A [`SurfacePoint`] is made from a camera ray's hit ([`primary`]) today and from a pixel of a
-//! normal image in the normal-map mode; neither it nor the shader knows which.
+//! A [`SurfacePoint`] is made from a camera ray's hit ([`primary`]) or from a pixel of a normal
+//! image ([`normal_image`], the normal-map mode); neither it nor the shader knows which.
 
 pub mod camera;
+pub mod normal_image;
 pub mod primary;
 
 use glam::{Vec2, Vec3};
@@ -15,7 +16,9 @@ pub struct SurfacePoint {
     pub position: Vec3,
     /// Unit normal of the flat surface element (for shadow-ray offsets and sidedness).
     pub geometric_normal: Vec3,
-    /// Unit normal used for shading (interpolated vertex normals, or a normal-map texel).
+    /// Normal used for shading (interpolated vertex normals, or a normal image's pixel): unit
+    /// length, except under the assignment convention (the `tp` preset), which uses the image's
+    /// scaled colour as it is.
     pub shading_normal: Vec3,
     /// Texture coordinates; zero unless the scene's plan asks for them.
     pub uv: Vec2,

@@ -11,6 +11,7 @@ use glam::Vec3;
 use super::{num, rel_err, Case, REL_TOL};
 use crate::accel::{Bvh, BvhPreset};
 use crate::scene::procedural;
+use crate::shading::convention::ShadingConvention;
 use crate::shading::light::{Falloff, Light, LightKind};
 use crate::shading::material::Material;
 use crate::shading::shader::Shader;
@@ -66,6 +67,7 @@ fn shade<O: Occluder>(sp: &SurfacePoint, lights: &[Light], occluder: Option<&O>,
         occluder,
         scene_unit: unit,
         shadow_offset: Default::default(),
+        convention: ShadingConvention::Physical,
     };
     shader.shade(sp, &mut 0).x as f64
 }

@@ -1,0 +1,285 @@
+//! Normal-map speed: pointshade's `tp` shading of normal.png with Cook-Torrance against a
+//! straightforward numpy float64 implementation of the same formulas
+//! (`benches/normalmap_numpy.py`), measured in the same run, plus the whole `pointshade
+//! normalmap` process (decode + shade + encode) timed as a process.
+//!
+//! `cargo bench --bench normalmap` prints a table of medians (`--quick`: fewer repeats). The
+//! numpy part needs python3 with numpy; without them it says SKIPPED loudly and the ratios are
+//! not printed. Both implementations' L_o are compared, so the times are for the same result.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Instant;
+
+use pointshade::film::Image;
+use pointshade::normal_map::{image_surface, shade_image};
+use pointshade::plan::RenderPlan;
+use pointshade::scene::normal_map::{ModelName, NormalMapScene, Preset};
+use pointshade::shading::brdf::LocalDots;
+use pointshade::shading::convention::assignment_dots;
+use pointshade::surface::normal_image::NormalImage;
+
+/// Median and minimum of a set of times.
+#[derive(Clone, Copy)]
+struct Times {
+    median: f64,
+    best: f64,
+}
+
+impl Times {
+    fn of(mut v: Vec<f64>) -> Times {
+        v.sort_by(f64::total_cmp);
+        Times {
+            median: v[v.len() / 2],
+            best: v[0],
+        }
+    }
+}
+
+/// Writes the image's 8-bit RGB as a (H, W, 3) uint8 .npy file for the numpy script.
+fn write_npy_u8(path: &Path, image: &NormalImage) {
+    let header = format!(
+        "{{'descr': '|u1', 'fortran_order': False, 'shape': ({}, {}, 3), }}",
+        image.height, image.width
+    );
+    let mut header = header.into_bytes();
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(b' ');
+    }
+    header.push(b'\n');
+    let mut f = std::fs::File::create(path).expect("temporary .npy");
+    f.write_all(b"\x93NUMPY\x01\x00").unwrap();
+    f.write_all(&(header.len() as u16).to_le_bytes()).unwrap();
+    f.write_all(&header).unwrap();
+    let raw: Vec<u8> = (0..image.pixel_count())
+        .flat_map(|i| image.pixel(i).0.map(|v| (v * 255.0).round() as u8))
+        .collect();
+    f.write_all(&raw).unwrap();
+}
+
+/// Reads a little-endian float64 .npy written by numpy (version 1 header).
+fn read_npy_f64(path: &Path) -> Option<Vec<f64>> {
+    let bytes = std::fs::read(path).ok()?;
+    let header_len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    let header = std::str::from_utf8(&bytes[10..10 + header_len]).ok()?;
+    if !header.contains("'<f8'") || header.contains("'fortran_order': True") {
+        return None;
+    }
+    Some(
+        bytes[10 + header_len..]
+            .chunks_exact(8)
+            .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+            .collect(),
+    )
+}
+
+struct Numpy {
+    times: Times,
+    max_rel_diff: f64,
+    version: String,
+}
+
+/// Runs the numpy script on `npy`; `None` (after a loud SKIPPED) when python3/numpy are absent.
+fn run_numpy(npy: &Path, out: &Path, repeats: usize, ours: &Image) -> Option<Numpy> {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/normalmap_numpy.py");
+    let result = Command::new("python3")
+        .arg(&script)
+        .arg(npy)
+        .args(["--brdf", "cook-torrance", "--repeats", &repeats.to_string(), "--save"])
+        .arg(out)
+        .output();
+    let output = match result {
+        Ok(o) if o.status.success() => o,
+        Ok(o) => {
+            eprintln!(
+                "\n*** SKIPPED: the numpy comparison: {} failed (is numpy installed? `pip install numpy`):\n{}",
+                script.display(),
+                String::from_utf8_lossy(&o.stderr).lines().last().unwrap_or("")
+            );
+            return None;
+        }
+        Err(e) => {
+            eprintln!("\n*** SKIPPED: the numpy comparison: cannot run python3: {e}");
+            return None;
+        }
+    };
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let field = |key: &str| stdout.lines().find_map(|l| l.strip_prefix(key)).map(str::to_string);
+    let times = Times {
+        median: field("numpy_shade_seconds_median=")?.parse().ok()?,
+        best: field("numpy_shade_seconds_min=")?.parse().ok()?,
+    };
+    let version = field("numpy_version=").unwrap_or_default();
+    let theirs = read_npy_f64(out)?;
+    let peak = theirs.iter().cloned().fold(0.0, f64::max);
+    let max_rel_diff = ours
+        .pixels
+        .iter()
+        .flat_map(|p| p.to_array())
+        .zip(&theirs)
+        .map(|(a, b)| (a as f64 - b).abs() / peak)
+        .fold(0.0, f64::max);
+    Some(Numpy {
+        times,
+        max_rel_diff,
+        version,
+    })
+}
+
+/// The BRDF's share of the shading: `Material::eval` alone on the LocalDots of every shaded
+/// pixel (formed beforehand, as the shader forms them), one thread.
+fn time_material_eval(scene: &NormalMapScene, image: &NormalImage, repeats: usize) -> Times {
+    let surface = image_surface(scene, image).expect("normal.png has a range");
+    let mut points = Vec::new();
+    for row in 0..image.height {
+        surface.row_points(image, row, &mut points);
+    }
+    let dots: Vec<LocalDots<f32>> = points
+        .iter()
+        .filter_map(|(_, sp)| {
+            let ls = scene.lights[0].sample(sp.position)?;
+            let n = sp.shading_normal.to_array();
+            let a = assignment_dots(n, (-ls.wi).to_array(), sp.to_viewer.to_array(), true);
+            a.half_vector.then_some(a.dots)
+        })
+        .collect();
+    let mut out = vec![[0.0f32; 3]; dots.len()];
+    Times::of(
+        (0..repeats)
+            .map(|_| {
+                let t = Instant::now();
+                for (o, d) in out.iter_mut().zip(&dots) {
+                    *o = scene.material.eval(d);
+                }
+                std::hint::black_box(&mut out);
+                t.elapsed().as_secs_f64()
+            })
+            .collect(),
+    )
+}
+
+fn main() {
+    let quick = std::env::args().any(|a| a == "--quick");
+    let repeats = if quick { 5 } else { 51 };
+    let process_repeats = if quick { 3 } else { 11 };
+    let numpy_repeats = if quick { 3 } else { 7 };
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/normalmaps/normal.png");
+    if !path.is_file() {
+        eprintln!(
+            "*** SKIPPED: {} is missing; the normal-map benchmark needs the shared test data",
+            path.display()
+        );
+        return;
+    }
+    let image = NormalImage::load(&path).expect("normal.png decodes");
+    let scene = NormalMapScene::from_preset(&path, Preset::Tp, ModelName::CookTorrance);
+    let plan = RenderPlan::for_normal_map(&scene, &image, "benchmark");
+    // What numpy's shade() does too: the tp scaling's global min and max, then every pixel.
+    let shade = || {
+        let surface = image_surface(&scene, &image).expect("normal.png has a range");
+        shade_image(&scene, &plan, &image, &surface)
+    };
+
+    let time_shading = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            // Warm-up for a second: short runs on a cold core measure the clock ramping up, not
+            // the code (about 1.5x slower here); numpy's runs are long enough not to need it.
+            let warm = Instant::now();
+            while warm.elapsed().as_secs_f64() < 1.0 {
+                std::hint::black_box(shade());
+            }
+            let times: Vec<f64> = (0..repeats)
+                .map(|_| {
+                    let t = Instant::now();
+                    let shaded = shade();
+                    let s = t.elapsed().as_secs_f64();
+                    std::hint::black_box(shaded);
+                    s
+                })
+                .collect();
+            Times::of(times)
+        })
+    };
+    let all = rayon::current_num_threads();
+    let one_thread = time_shading(1);
+    let all_threads = time_shading(all);
+    let (ours, stats) = shade();
+    let eval_only = time_material_eval(&scene, &image, repeats);
+
+    let tmp = std::env::temp_dir().join(format!("pointshade-bench-nm-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    let out_png: PathBuf = tmp.join("out.png");
+    let process: Vec<f64> = (0..process_repeats + 1)
+        .map(|_| {
+            let t = Instant::now();
+            let status = Command::new(env!("CARGO_BIN_EXE_pointshade"))
+                .arg("normalmap")
+                .arg(&path)
+                .args(["--preset", "tp", "--brdf", "cook-torrance", "--quiet", "-o"])
+                .arg(&out_png)
+                .status()
+                .expect("pointshade runs");
+            assert!(status.success());
+            t.elapsed().as_secs_f64()
+        })
+        .skip(1) // the first run warms the file cache
+        .collect();
+    let process = Times::of(process);
+
+    let npy = tmp.join("normal-rgb.npy");
+    write_npy_u8(&npy, &image);
+    let numpy = run_numpy(&npy, &tmp.join("numpy-lo.npy"), numpy_repeats, &ours);
+    let _ = std::fs::remove_dir_all(&tmp);
+
+    println!(
+        "normal.png {}x{} ({} shaded points), tp preset, Cook-Torrance; medians of {repeats} runs \
+         ({process_repeats} processes, {numpy_repeats} numpy runs)",
+        image.width, image.height, stats.surface_points
+    );
+    println!(
+        "{:<58} {:>10} {:>14} {:>10} {:>12}",
+        "what", "median ms", "numpy / this", "best ms", "best ratio"
+    );
+    let row = |what: &str, t: Times| {
+        let ratio = |ours: f64, theirs: f64| format!("{:.1}x", theirs / ours);
+        let (median_ratio, best_ratio) = numpy.as_ref().map_or(("-".into(), "-".into()), |n| {
+            (ratio(t.median, n.times.median), ratio(t.best, n.times.best))
+        });
+        println!(
+            "{what:<58} {:>10.3} {median_ratio:>14} {:>10.3} {best_ratio:>12}",
+            t.median * 1e3,
+            t.best * 1e3
+        );
+    };
+    if let Some(n) = &numpy {
+        row(
+            &format!("numpy {} float64 shading (benches/normalmap_numpy.py)", n.version),
+            n.times,
+        );
+    }
+    row("pointshade shading, 1 thread", one_thread);
+    row("  of which Material::eval alone (the BRDF), 1 thread", eval_only);
+    row(&format!("pointshade shading, {all} threads"), all_threads);
+    row("pointshade normalmap process (decode + shade + encode)", process);
+    match &numpy {
+        Some(n) => {
+            println!(
+                "numpy and pointshade L_o agree to {:.1e} of the peak (f32 vs f64)",
+                n.max_rel_diff
+            );
+            let verdict = |ok: bool| if ok { "met" } else { "NOT MET" };
+            let (numpy, shading) = (n.times.median, all_threads.median);
+            println!(
+                "targets (medians): shading ≥ 100x faster than numpy: {} ({:.0}x); \
+                 whole process faster than numpy's shading: {} ({:.1}x)",
+                verdict(numpy / shading >= 100.0),
+                numpy / shading,
+                verdict(process.median < numpy),
+                numpy / process.median
+            );
+        }
+        None => println!("*** SKIPPED: numpy comparison (see above): ratios not measured"),
+    }
+}

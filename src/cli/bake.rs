@@ -1,0 +1,81 @@
+//! `pointshade bake`: a mesh scene → BVH → one camera ray per pixel centre → its camera-space
+//! normals as an RGBA PNG in the NPM3D assignment's format (see [`crate::bake`]).
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use crate::accel::{Bvh, BvhPreset};
+use crate::bake::bake_normals;
+use crate::cli::option_error;
+use crate::error::InputError;
+use crate::output::assignment::encode_normal_png;
+use crate::output::{write_all_or_nothing, Format};
+use crate::scene;
+
+/// Arguments of `pointshade bake`.
+#[derive(clap::Args)]
+pub struct BakeArgs {
+    /// Scene file (.toml) or mesh (.obj).
+    scene: PathBuf,
+    /// Output normal image (.png).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Image width in pixels.
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height in pixels.
+    #[arg(long)]
+    height: Option<u32>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// No summary.
+    #[arg(long, short)]
+    quiet: bool,
+}
+
+/// Runs `pointshade bake`.
+pub fn run(args: BakeArgs) -> Result<(), InputError> {
+    let start = Instant::now();
+    if Format::of(&args.output)? != Format::Png {
+        return Err(InputError::new(
+            &args.output,
+            "a baked normal image is written as PNG (the assignment's format)",
+        ));
+    }
+    if args.threads == Some(0) {
+        return Err(option_error("--threads", "must be at least 1"));
+    }
+    let mut scene = scene::load(&args.scene)?;
+    let f = &mut scene.film;
+    f.width = args.width.unwrap_or(f.width);
+    f.height = args.height.unwrap_or(f.height);
+    f.validate().map_err(|e| InputError::new(&args.scene, e))?;
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| option_error("--threads", e))?;
+    let baked = pool.install(|| {
+        let bvh = Bvh::build(&scene.mesh, BvhPreset::DEFAULT);
+        bake_normals(&scene, &bvh)
+    });
+    let baked = baked.map_err(|e| InputError::new(&args.scene, e))?;
+    let bytes =
+        encode_normal_png(baked.width, baked.height, &baked.normals).map_err(|e| InputError::new(&args.output, e))?;
+    write_all_or_nothing(&[(args.output.clone(), bytes)])?;
+    if !args.quiet {
+        eprintln!(
+            "baked {}x{} camera-space normals ({} pixels hit, {} rays) in {:.2} s → {}",
+            baked.width,
+            baked.height,
+            baked.hits(),
+            baked.normals.len(),
+            start.elapsed().as_secs_f64(),
+            args.output.display()
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,159 @@
+//! Shading conventions: how the shader turns a surface point and a light into the dot products
+//! the BRDF reads. The BRDF itself ([`Material::eval`]) is the same under every convention.
+//!
+//! - [`ShadingConvention::Physical`] (every mesh render, the normal-map `physical` preset): unit
+//!   normals, ω_i towards the light, the material's sidedness (one- or two-sided) decides where a
+//!   light contributes.
+//! - [`ShadingConvention::Assignment`] (the normal-map `tp` preset): the conventions behind the
+//!   NPM3D TP4 report's images, reproduced on purpose — the normal is used as given (the image's
+//!   min-max-scaled colour, not unit length), ω_i points *from the light towards the point*, ω_o
+//!   towards the viewer, and every dot product is clamped to [0, 1] instead of testing sides.
+//!   With the lights' `Falloff::None` (L_i = colour × intensity) this is the report's
+//!   L_o = L_i · f(ω_i, ω_o) · (n·ω_i).
+//!
+//! [`Material::eval`]: crate::shading::material::Material::eval
+
+use super::brdf::{LocalDots, Real};
+
+/// Which convention the shader follows; chosen once per render by the plan.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShadingConvention {
+    /// Physical: unit normals, ω_i towards the light, sidedness from the material.
+    Physical,
+    /// The NPM3D TP4 assignment: normals as given, ω_i from the light, dots clamped to [0, 1].
+    Assignment,
+}
+
+impl ShadingConvention {
+    /// A short description for `--explain`.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Self::Physical => "physical: unit normals, ω_i towards the light, material sidedness",
+            Self::Assignment => {
+                "assignment (tp): normals used as given, ω_i from the light towards the point, \
+                 every dot product clamped to [0, 1]"
+            }
+        }
+    }
+}
+
+/// The dot products of the assignment's convention at one point for one light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AssignmentDots<R> {
+    /// n·ω_i, n·ω_o, n·ω_h, ω_i·ω_h, each clamped to [0, 1]; the last two are 0 when there is no
+    /// half vector.
+    pub dots: LocalDots<R>,
+    /// Whether ω_h was formed: false when it was not asked for (a Lambert material reads no half
+    /// vector) and when ω_i + ω_o = 0, where ω_h = (ω_i + ω_o)/‖ω_i + ω_o‖ is 0/0 — the light
+    /// and the viewer lie on the same ray from the point. Without it the shader adds only the
+    /// diffuse part (a specular lobe has no half vector to be evaluated at; see README.md).
+    pub half_vector: bool,
+}
+
+#[inline(always)]
+fn dot<R: Real>(a: [R; 3], b: [R; 3]) -> R {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+#[inline(always)]
+fn clamp01<R: Real>(v: R) -> R {
+    // max/min return the other operand for NaN, so a NaN product (impossible for finite inputs)
+    // would become 0 rather than reach the image.
+    v.max(R::zero()).min(R::one())
+}
+
+/// The assignment's dot products for normal `n` (used as given, any length), `wi_from_light`
+/// (unit, from the light towards the point, as the report writes ω_i) and `wo` (unit or zero,
+/// from the point towards the viewer); the half-vector products only `with_half_vector`.
+/// Generic over [`Real`] so the stability checks can run the shader's own arithmetic in f64.
+///
+/// ω_h = (ω_i + ω_o)/‖ω_i + ω_o‖ with the sum formed once and its own length taken (no
+/// √(2 + 2 ω_i·ω_o), which cancels as ω_i → −ω_o); a zero or NaN length means no half vector.
+#[inline(always)]
+pub fn assignment_dots<R: Real>(
+    n: [R; 3],
+    wi_from_light: [R; 3],
+    wo: [R; 3],
+    with_half_vector: bool,
+) -> AssignmentDots<R> {
+    let wi = wi_from_light;
+    let n_dot_i = clamp01(dot(n, wi));
+    let n_dot_o = clamp01(dot(n, wo));
+    let sum = [wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]];
+    let len = if with_half_vector {
+        dot(sum, sum).sqrt()
+    } else {
+        R::zero()
+    };
+    if !(len > R::zero()) {
+        return AssignmentDots {
+            dots: LocalDots::from_cosines(n_dot_i, n_dot_o, R::zero(), R::zero()),
+            half_vector: false,
+        };
+    }
+    let inv = len.recip();
+    // sin²θ_h = (1 − c)(1 + c) from the clamped c: the report's D is a function of that c.
+    AssignmentDots {
+        dots: LocalDots::from_cosines(
+            n_dot_i,
+            n_dot_o,
+            clamp01(dot(n, sum) * inv),
+            clamp01(dot(wi, sum) * inv),
+        ),
+        half_vector: true,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn products_are_clamped_and_the_normal_is_not_normalised() {
+        // n of length > 1 (as a min-max-scaled colour can be): n·ω_i = 1.2 is clamped to 1.
+        let n = [0.0, 0.0, 1.2f64];
+        let d = assignment_dots(n, [0.0, 0.0, 1.0], [0.0, 0.6, 0.8], true);
+        assert!(d.half_vector);
+        assert_eq!(d.dots.n_dot_i, 1.0);
+        assert!((d.dots.n_dot_o - 0.96).abs() < 1e-15, "1.2 · 0.8");
+        // ω_h = (0, 0.6, 1.8)/‖·‖: n·ω_h = 1.2·1.8/√3.6 = 1.138… → clamped to 1.
+        assert_eq!(d.dots.n_dot_h, 1.0);
+        let ih = 1.8 / 3.6f64.sqrt();
+        assert!((d.dots.i_dot_h - ih).abs() < 1e-15);
+        // Negative products become 0.
+        let back = assignment_dots([0.0, 0.0, -1.0f32], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0], true);
+        assert_eq!(
+            (back.dots.n_dot_i, back.dots.n_dot_o, back.dots.n_dot_h),
+            (0.0, 0.0, 0.0)
+        );
+    }
+
+    #[test]
+    fn opposite_light_and_view_directions_have_no_half_vector() {
+        let d = assignment_dots([0.3, 0.4, 0.5f32], [0.0, 0.6, 0.8], [0.0, -0.6, -0.8], true);
+        assert!(!d.half_vector);
+        assert_eq!((d.dots.n_dot_h, d.dots.i_dot_h), (0.0, 0.0));
+        assert!((d.dots.n_dot_i - 0.64).abs() < 1e-6);
+        assert_eq!(d.dots.n_dot_o, 0.0);
+    }
+
+    #[test]
+    fn zero_normal_and_zero_view_direction_give_finite_zeros() {
+        let d = assignment_dots([0.0f32; 3], [0.6, 0.0, 0.8], [0.0, 0.0, 1.0], true);
+        assert_eq!(d.dots.n_dot_i, 0.0);
+        assert_eq!(d.dots.n_dot_h, 0.0);
+        // ω_o = 0 (the viewer at the point): ω_h = ω_i.
+        let d = assignment_dots([0.0, 0.0, 1.0f32], [0.6, 0.0, 0.8], [0.0; 3], true);
+        assert!(d.half_vector);
+        assert_eq!(d.dots.n_dot_o, 0.0);
+        assert!((d.dots.i_dot_h - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn lambert_asks_for_no_half_vector() {
+        let d = assignment_dots([0.0, 0.0, 1.0f64], [0.0, 0.6, 0.8], [0.0, 0.0, 1.0], false);
+        assert!(!d.half_vector);
+        assert!((d.dots.n_dot_i - 0.8).abs() < 1e-15);
+        assert_eq!((d.dots.n_dot_h, d.dots.i_dot_h), (0.0, 0.0));
+    }
+}

@@ -1,0 +1,579 @@
+//! Normal images: each pixel of a PNG that stores a normal becomes a [`SurfacePoint`].
+//!
+//! This is the normal-map mode's counterpart of [`super::primary`]: where a mesh render finds a
+//! surface point with a camera ray and a BVH, here the point is read off a pixel — no geometry,
+//! no rays. What the shader receives is the same [`SurfacePoint`] either way. How a colour
+//! becomes a normal, where the pixel sits in space and where the viewer is depend on the preset:
+//!
+//! | | `tp` (the NPM3D TP4 report) | `physical` |
+//! |---|---|---|
+//! | normal | (c − min)/(max − min), one global min and max over all RGB values, used as is | normalise(2c − 1) |
+//! | background | max(r, g, b) ≤ 4/255: n = 0, no surface point | alpha = 0, or r = g = b = 0 |
+//! | position | (row, column, 0), in pixels | image plane z = 0, centred, image height = 2 units, +x right, +y up |
+//!
+//! ω_o comes from a [`Viewer`]: a direction (orthographic) or a position (ω_o = (x_c − x)/‖x_c − x‖).
+
+use std::io::Cursor;
+use std::path::{Path, PathBuf};
+
+use glam::{Vec2, Vec3};
+use image::{DynamicImage, ImageFormat, ImageReader};
+use rayon::prelude::*;
+
+use crate::error::{InputError, InputResult};
+use crate::film::MAX_PIXELS;
+use crate::surface::SurfacePoint;
+
+/// The 8-bit signature every PNG file starts with.
+const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
+
+/// `tp` background: pixels whose largest RGB value is at most 4/255 of full scale (the data's
+/// README: the assignment treats them as background, n = 0). In normal.png that is the black
+/// surround (values 0–3), 65.5% of the pixels.
+pub const TP_BACKGROUND_LEVEL: f32 = 4.0 / 255.0;
+
+/// A decoded normal image: its RGBA samples as stored in the file (alpha at full scale where the
+/// file has none). Kept as integers — 4 bytes a pixel for 8-bit images — and converted to
+/// [0, 1] per pixel by [`Sample::unit`], which is cheaper than reading four floats a pixel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NormalImage {
+    /// The file it was read from (for messages).
+    pub source: PathBuf,
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Row-major RGBA samples.
+    pub samples: Samples,
+    /// Whether the file has an alpha channel.
+    pub has_alpha: bool,
+}
+
+/// Row-major RGBA samples at the file's bit depth.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Samples {
+    /// 8 bits per channel.
+    Eight(Vec<[u8; 4]>),
+    /// 16 bits per channel.
+    Sixteen(Vec<[u16; 4]>),
+}
+
+/// An integer sample of a PNG channel.
+pub trait Sample: Copy + Send + Sync + Ord {
+    /// Zero.
+    const ZERO: Self;
+    /// The largest value whose [`Sample::unit`] is ≤ [`TP_BACKGROUND_LEVEL`] (4/255 of full
+    /// scale), so the tp background test can run on the integers.
+    const TP_BACKGROUND_MAX: Self;
+    /// The value in [0, 1]: v / (2^bits − 1), correctly rounded.
+    fn unit(self) -> f32;
+}
+
+/// v / 255 for every 8-bit value, computed once (at compile time) by exact division.
+const UNIT8: [f32; 256] = {
+    let mut t = [0.0f32; 256];
+    let mut v = 0;
+    while v < 256 {
+        t[v] = v as f32 / 255.0;
+        v += 1;
+    }
+    t
+};
+
+impl Sample for u8 {
+    const ZERO: u8 = 0;
+    const TP_BACKGROUND_MAX: u8 = 4;
+    #[inline(always)]
+    fn unit(self) -> f32 {
+        UNIT8[self as usize]
+    }
+}
+
+impl Sample for u16 {
+    const ZERO: u16 = 0;
+    const TP_BACKGROUND_MAX: u16 = 4 * 257;
+    #[inline(always)]
+    fn unit(self) -> f32 {
+        self as f32 / 65535.0
+    }
+}
+
+/// Colour in [0, 1] and alpha in [0, 1] of an RGBA sample.
+#[inline(always)]
+fn unit_rgba<S: Sample>(p: [S; 4]) -> ([f32; 3], f32) {
+    ([p[0].unit(), p[1].unit(), p[2].unit()], p[3].unit())
+}
+
+impl NormalImage {
+    /// Reads and decodes the PNG at `path`.
+    pub fn load(path: &Path) -> InputResult<NormalImage> {
+        let bytes = std::fs::read(path).map_err(|e| InputError::new(path, format!("cannot read: {e}")))?;
+        Self::decode(path, &bytes)
+    }
+
+    /// Decodes PNG bytes. RGB and RGBA at 8 or 16 bits are accepted (palette images arrive as
+    /// RGB(A)); greyscale is refused — one channel cannot hold a direction — as is anything that
+    /// is not a PNG, an empty image or one larger than a render may be.
+    pub fn decode(source: &Path, bytes: &[u8]) -> InputResult<NormalImage> {
+        let err = |problem: String| InputError::new(source, problem);
+        if !bytes.starts_with(PNG_SIGNATURE) {
+            return Err(err("not a PNG file (a normal image must be an RGB or RGBA PNG)".into()));
+        }
+        let mut reader = ImageReader::with_format(Cursor::new(bytes), ImageFormat::Png);
+        let mut limits = image::Limits::default();
+        limits.max_image_width = Some(65536);
+        limits.max_image_height = Some(65536);
+        reader.limits(limits);
+        let img = reader.decode().map_err(|e| err(format!("cannot decode PNG: {e}")))?;
+        let (width, height) = (img.width(), img.height());
+        if width == 0 || height == 0 {
+            return Err(err(format!("the image is empty ({width}×{height})")));
+        }
+        if width as u64 * height as u64 > MAX_PIXELS {
+            return Err(err(format!(
+                "{width}×{height} is too large (at most {MAX_PIXELS} pixels)"
+            )));
+        }
+        let image = |samples, has_alpha| NormalImage {
+            source: source.to_path_buf(),
+            width,
+            height,
+            samples,
+            has_alpha,
+        };
+        Ok(match img {
+            DynamicImage::ImageRgb8(b) => image(
+                Samples::Eight(b.pixels().map(|p| [p[0], p[1], p[2], u8::MAX]).collect()),
+                false,
+            ),
+            DynamicImage::ImageRgba8(b) => image(Samples::Eight(b.pixels().map(|p| p.0).collect()), true),
+            DynamicImage::ImageRgb16(b) => image(
+                Samples::Sixteen(b.pixels().map(|p| [p[0], p[1], p[2], u16::MAX]).collect()),
+                false,
+            ),
+            DynamicImage::ImageRgba16(b) => image(Samples::Sixteen(b.pixels().map(|p| p.0).collect()), true),
+            DynamicImage::ImageLuma8(_)
+            | DynamicImage::ImageLumaA8(_)
+            | DynamicImage::ImageLuma16(_)
+            | DynamicImage::ImageLumaA16(_) => {
+                return Err(err(
+                    "greyscale PNG: a normal image needs three colour channels (RGB or RGBA)".into(),
+                ))
+            }
+            other => return Err(err(format!("unsupported PNG colour type {:?}", other.color()))),
+        })
+    }
+
+    /// Number of pixels.
+    pub fn pixel_count(&self) -> usize {
+        self.width as usize * self.height as usize
+    }
+
+    /// Bits per channel in the file (8 or 16).
+    pub fn bit_depth(&self) -> u8 {
+        match self.samples {
+            Samples::Eight(_) => 8,
+            Samples::Sixteen(_) => 16,
+        }
+    }
+
+    /// Colour and alpha of pixel `index` (row-major), each in [0, 1].
+    pub fn pixel(&self, index: usize) -> ([f32; 3], f32) {
+        match &self.samples {
+            Samples::Eight(s) => unit_rgba(s[index]),
+            Samples::Sixteen(s) => unit_rgba(s[index]),
+        }
+    }
+
+    /// Smallest and largest RGB value over every pixel, in [0, 1] (a parallel, vectorised scan).
+    pub fn rgb_range(&self) -> (f32, f32) {
+        fn range<S: Sample>(s: &[[S; 4]]) -> Option<(f32, f32)> {
+            let first = s.first()?[0];
+            let (lo, hi) = s
+                .par_chunks(4096)
+                .map(|chunk| {
+                    // Element-wise min/max over blocks of 16 pixels (64 samples, alpha included
+                    // and left out at the end): fixed-size loops the compiler packs into vector
+                    // min/max instructions.
+                    const BLOCK: usize = 16;
+                    let (mut lo, mut hi) = ([first; 4 * BLOCK], [first; 4 * BLOCK]);
+                    let blocks = chunk.chunks_exact(BLOCK);
+                    let rest = blocks.remainder();
+                    for block in blocks {
+                        for (k, &v) in block.as_flattened().iter().enumerate() {
+                            lo[k] = lo[k].min(v);
+                            hi[k] = hi[k].max(v);
+                        }
+                    }
+                    for (k, &v) in rest.as_flattened().iter().enumerate() {
+                        lo[k] = lo[k].min(v);
+                        hi[k] = hi[k].max(v);
+                    }
+                    let rgb = |k: &usize| k % 4 != 3;
+                    let lo = (0..4 * BLOCK).filter(rgb).map(|k| lo[k]).min().unwrap_or(first);
+                    let hi = (0..4 * BLOCK).filter(rgb).map(|k| hi[k]).max().unwrap_or(first);
+                    (lo, hi)
+                })
+                .reduce(|| (first, first), |a, b| (a.0.min(b.0), a.1.max(b.1)));
+            Some((lo.unit(), hi.unit()))
+        }
+        match &self.samples {
+            Samples::Eight(s) => range(s),
+            Samples::Sixteen(s) => range(s),
+        }
+        .unwrap_or((0.0, 0.0))
+    }
+}
+
+/// The `tp` preset's scaling: n = (c − min)/(max − min) with one min and max over every RGB value
+/// of the image. Only constructible with min < max, so the division is always defined.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TpScaling {
+    min: f32,
+    max: f32,
+    inv_range: f32,
+}
+
+impl TpScaling {
+    /// The scaling for an image whose RGB values span [`min`, `max`]; an error unless
+    /// min < max, both finite (max − min = 0 would divide by zero: such an image is one flat
+    /// colour and holds no normal information).
+    pub fn new(min: f32, max: f32) -> Result<TpScaling, String> {
+        if !(max > min && min.is_finite() && max.is_finite()) {
+            return Err(format!(
+                "every RGB value is {min}: the tp preset's scaling (c − min)/(max − min) divides by zero"
+            ));
+        }
+        // max − min ≥ one ulp of max > 0, and ≥ 1/65535 for values read from a PNG: finite.
+        Ok(TpScaling {
+            min,
+            max,
+            inv_range: 1.0 / (max - min),
+        })
+    }
+
+    /// The scaling of `image`'s RGB values (see [`TpScaling::new`]).
+    pub fn of(image: &NormalImage) -> Result<TpScaling, String> {
+        let (min, max) = image.rgb_range();
+        Self::new(min, max)
+    }
+
+    /// Smallest RGB value of the image, in [0, 1].
+    pub fn min(&self) -> f32 {
+        self.min
+    }
+
+    /// Largest RGB value of the image, in [0, 1].
+    pub fn max(&self) -> f32 {
+        self.max
+    }
+}
+
+/// How a pixel's colour becomes a normal, and which pixels are background.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum NormalDecoding {
+    /// `tp`: the min-max-scaled colour as is; background (n = 0) at max(r, g, b) ≤ 4/255.
+    MinMax(TpScaling),
+    /// `physical`: n = normalise(2c − 1); background where alpha = 0 or r = g = b = 0.
+    Signed,
+}
+
+impl NormalDecoding {
+    /// The normal stored in colour `rgb` with opacity `alpha`, or `None` for background.
+    ///
+    /// `MinMax`: max − min > 0 is guaranteed by [`TpScaling::new`]. `Signed`: 2c − 1 can only be
+    /// the zero vector for c = (½, ½, ½), which no 8- or 16-bit value encodes exactly; if it does
+    /// occur the pixel has no direction and is background too (never a NaN from 0/0).
+    #[inline(always)]
+    pub fn normal(self, rgb: [f32; 3], alpha: f32) -> Option<Vec3> {
+        match self {
+            NormalDecoding::MinMax(s) => {
+                if rgb[0].max(rgb[1]).max(rgb[2]) <= TP_BACKGROUND_LEVEL {
+                    return None;
+                }
+                Some((Vec3::from(rgb) - Vec3::splat(s.min)) * s.inv_range)
+            }
+            NormalDecoding::Signed => {
+                if alpha == 0.0 || rgb == [0.0; 3] {
+                    return None;
+                }
+                let n = (Vec3::from(rgb) * 2.0 - Vec3::ONE).normalize_or_zero();
+                (n != Vec3::ZERO).then_some(n)
+            }
+        }
+    }
+}
+
+/// Where the pixels of a normal image sit in space.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PixelPositions {
+    /// `tp`: pixel (row r, column c) is x = (r, c, 0), in pixels.
+    RowColumn,
+    /// `physical`: the image plane z = 0, centred on the origin, the image's height 2 units (so
+    /// a pixel is 2/H wide), +x to the right, +y up; a pixel's position is its centre.
+    ImagePlane,
+}
+
+/// Where the viewer is, which gives ω_o.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Viewer {
+    /// Orthographic: ω_o is this unit vector everywhere.
+    Direction(Vec3),
+    /// A viewer at this position: ω_o = (x_c − x)/‖x_c − x‖, or 0 at x = x_c (documented: a
+    /// viewer at the point sees n·ω_o = 0).
+    Position(Vec3),
+}
+
+impl Viewer {
+    /// The orthographic view of the `physical` preset: looking down −z, so ω_o = +z.
+    pub const ALONG_Z: Viewer = Viewer::Direction(Vec3::Z);
+
+    /// ω_o at `x`.
+    #[inline(always)]
+    pub fn to_viewer(self, x: Vec3) -> Vec3 {
+        match self {
+            Viewer::Direction(d) => d,
+            Viewer::Position(c) => (c - x).normalize_or_zero(),
+        }
+    }
+}
+
+/// Turns pixels of one image into surface points: decoding, positions and viewer together.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ImageSurface {
+    /// Colour → normal.
+    pub decoding: NormalDecoding,
+    /// Pixel → position.
+    pub positions: PixelPositions,
+    /// Position → ω_o.
+    pub viewer: Viewer,
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Index of the material every point gets.
+    pub material: u32,
+}
+
+impl ImageSurface {
+    /// Position of pixel (`col`, `row`).
+    #[inline(always)]
+    pub fn position(&self, col: u32, row: u32) -> Vec3 {
+        match self.positions {
+            PixelPositions::RowColumn => Vec3::new(row as f32, col as f32, 0.0),
+            PixelPositions::ImagePlane => {
+                let size = 2.0 / self.height as f32;
+                Vec3::new(
+                    (col as f32 + 0.5 - 0.5 * self.width as f32) * size,
+                    (0.5 * self.height as f32 - row as f32 - 0.5) * size,
+                    0.0,
+                )
+            }
+        }
+    }
+
+    /// The surface point of pixel (`col`, `row`) with colour `rgb` and opacity `alpha` (1 for
+    /// images without alpha), or `None` for background. The geometric normal is the image
+    /// plane's, +z, facing the camera that took the image.
+    #[inline(always)]
+    pub fn point(&self, col: u32, row: u32, rgb: [f32; 3], alpha: f32) -> Option<SurfacePoint> {
+        let shading_normal = self.decoding.normal(rgb, alpha)?;
+        let position = self.position(col, row);
+        Some(SurfacePoint {
+            position,
+            geometric_normal: Vec3::Z,
+            shading_normal,
+            uv: Vec2::ZERO,
+            material: self.material,
+            to_viewer: self.viewer.to_viewer(position),
+        })
+    }
+
+    /// Appends the surface points of row `row` of `image` to `out`, with their columns.
+    #[inline]
+    pub fn row_points(&self, image: &NormalImage, row: u32, out: &mut Vec<(u32, SurfacePoint)>) {
+        let range = row as usize * self.width as usize..(row as usize + 1) * self.width as usize;
+        match &image.samples {
+            Samples::Eight(s) => self.push_points(&s[range], row, out),
+            Samples::Sixteen(s) => self.push_points(&s[range], row, out),
+        }
+    }
+
+    #[inline(always)]
+    fn push_points<S: Sample>(&self, samples: &[[S; 4]], row: u32, out: &mut Vec<(u32, SurfacePoint)>) {
+        // The background rules of `NormalDecoding::normal`, tested on the integer samples first
+        // (the same decision for every value: see the tests), so that background pixels — most
+        // of a typical normal image — cost no conversion. `point` still applies the rule itself.
+        match self.decoding {
+            NormalDecoding::MinMax(_) => {
+                self.push_foreground(samples, row, out, |p| p[0].max(p[1]).max(p[2]) > S::TP_BACKGROUND_MAX)
+            }
+            NormalDecoding::Signed => self.push_foreground(samples, row, out, |p| {
+                p[3] != S::ZERO && (p[0] != S::ZERO || p[1] != S::ZERO || p[2] != S::ZERO)
+            }),
+        }
+    }
+
+    #[inline(always)]
+    fn push_foreground<S: Sample>(
+        &self,
+        samples: &[[S; 4]],
+        row: u32,
+        out: &mut Vec<(u32, SurfacePoint)>,
+        foreground: impl Fn([S; 4]) -> bool,
+    ) {
+        for (col, &p) in samples.iter().enumerate() {
+            if !foreground(p) {
+                continue;
+            }
+            let (rgb, alpha) = unit_rgba(p);
+            if let Some(sp) = self.point(col as u32, row, rgb, alpha) {
+                out.push((col as u32, sp));
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn png(img: DynamicImage) -> Vec<u8> {
+        let mut bytes = Cursor::new(Vec::new());
+        img.write_to(&mut bytes, ImageFormat::Png).unwrap();
+        bytes.into_inner()
+    }
+
+    #[test]
+    fn eight_and_sixteen_bit_images_decode_to_the_same_values() {
+        let rgba8 = image::RgbaImage::from_fn(3, 2, |x, y| image::Rgba([x as u8 * 100, y as u8 * 200, 255, 128]));
+        let rgba16 = image::ImageBuffer::<image::Rgba<u16>, _>::from_fn(3, 2, |x, y| {
+            image::Rgba([x as u16 * 100 * 257, y as u16 * 200 * 257, 65535, 128 * 257])
+        });
+        let a = NormalImage::decode(Path::new("a.png"), &png(rgba8.into())).unwrap();
+        let b = NormalImage::decode(Path::new("b.png"), &png(rgba16.into())).unwrap();
+        assert_eq!((a.bit_depth(), b.bit_depth()), (8, 16));
+        for i in 0..6 {
+            assert_eq!(a.pixel(i), b.pixel(i), "v/255 = 257v/65535");
+        }
+        assert_eq!(a.pixel(5), ([200.0 / 255.0, 200.0 / 255.0, 1.0], 128.0 / 255.0));
+        assert!(a.has_alpha);
+        let rgb = NormalImage::decode(Path::new("c.png"), &png(image::RgbImage::new(2, 2).into())).unwrap();
+        assert_eq!((rgb.has_alpha, rgb.pixel(3).1), (false, 1.0));
+    }
+
+    #[test]
+    fn eight_bit_table_is_exact_division() {
+        for v in 0..=255u8 {
+            assert_eq!(v.unit(), v as f32 / 255.0);
+        }
+        assert_eq!(4u8.unit(), TP_BACKGROUND_LEVEL);
+        assert_eq!(1028u16.unit(), TP_BACKGROUND_LEVEL, "4/255 of full scale at 16 bits");
+    }
+
+    #[test]
+    fn integer_background_tests_agree_with_the_float_rule() {
+        for v in 0..=255u8 {
+            assert_eq!(v <= u8::TP_BACKGROUND_MAX, v.unit() <= TP_BACKGROUND_LEVEL, "{v}");
+            assert_eq!(v == u8::ZERO, v.unit() == 0.0);
+        }
+        for v in 0..=u16::MAX {
+            assert_eq!(v <= u16::TP_BACKGROUND_MAX, v.unit() <= TP_BACKGROUND_LEVEL, "{v}");
+            assert_eq!(v == u16::ZERO, v.unit() == 0.0);
+        }
+    }
+
+    #[test]
+    fn greyscale_and_non_png_inputs_are_refused() {
+        let grey = image::GrayImage::from_pixel(4, 4, image::Luma([9]));
+        let e = NormalImage::decode(Path::new("g.png"), &png(grey.into())).unwrap_err();
+        assert!(e.problem.contains("greyscale"), "{e}");
+        let e = NormalImage::decode(Path::new("j.png"), b"\xff\xd8\xff\xe0 JFIF").unwrap_err();
+        assert!(e.problem.contains("not a PNG"), "{e}");
+        let mut truncated = png(image::RgbImage::new(8, 8).into());
+        truncated.truncate(40);
+        let e = NormalImage::decode(Path::new("t.png"), &truncated).unwrap_err();
+        assert!(e.problem.contains("cannot decode PNG"), "{e}");
+    }
+
+    #[test]
+    fn tp_scaling_is_global_and_refuses_constant_images() {
+        let img = NormalImage {
+            source: "x.png".into(),
+            width: 2,
+            height: 1,
+            samples: Samples::Eight(vec![[51, 102, 153, 255], [76, 204, 127, 255]]),
+            has_alpha: false,
+        };
+        let s = TpScaling::of(&img).unwrap();
+        assert_eq!((s.min(), s.max()), (0.2, 0.8));
+        let n = NormalDecoding::MinMax(s).normal([0.2, 0.5, 0.8], 1.0).unwrap();
+        assert!((n - Vec3::new(0.0, 0.5, 1.0)).abs().max_element() < 1e-6);
+        let flat = NormalImage {
+            samples: Samples::Sixteen(vec![[300; 4]; 2]),
+            ..img
+        };
+        assert!(TpScaling::of(&flat).unwrap_err().contains("divides by zero"));
+        assert!(TpScaling::new(0.3, 0.3).is_err());
+        // Many pixels (whole blocks and a remainder), the extremes in different channels and
+        // blocks, alpha outside the RGB range: alpha must not count.
+        let many = NormalImage {
+            width: 37,
+            height: 3,
+            samples: Samples::Eight(
+                (0..111u32)
+                    .map(|i| match i {
+                        40 => [90, 12, 90, 0],
+                        77 => [90, 90, 201, 255],
+                        _ => [90, 60 + (i % 7) as u8, 100, if i % 2 == 0 { 0 } else { 255 }],
+                    })
+                    .collect(),
+            ),
+            has_alpha: true,
+            source: "m.png".into(),
+        };
+        assert_eq!(many.rgb_range(), (12.0 / 255.0, 201.0 / 255.0));
+        assert!(TpScaling::new(0.0, f32::NAN).is_err());
+    }
+
+    #[test]
+    fn tp_background_is_the_near_black_surround() {
+        let d = NormalDecoding::MinMax(TpScaling::new(0.0, 1.0).unwrap());
+        assert_eq!(d.normal([4.0 / 255.0, 3.0 / 255.0, 0.0], 1.0), None);
+        assert!(d.normal([5.0 / 255.0, 0.0, 0.0], 1.0).is_some());
+    }
+
+    #[test]
+    fn signed_decoding_normalises_and_masks_background() {
+        let d = NormalDecoding::Signed;
+        let n = d.normal([1.0, 0.5, 1.0], 1.0).unwrap();
+        assert!((n - Vec3::new(1.0, 0.0, 1.0).normalize()).length() < 1e-6);
+        assert_eq!(d.normal([0.0; 3], 1.0), None, "RGB exactly 0");
+        assert_eq!(d.normal([0.5, 0.5, 1.0], 0.0), None, "alpha 0");
+        assert_eq!(d.normal([0.5; 3], 1.0), None, "2c − 1 = 0 has no direction");
+    }
+
+    #[test]
+    fn positions_follow_each_preset() {
+        let s = ImageSurface {
+            decoding: NormalDecoding::Signed,
+            positions: PixelPositions::RowColumn,
+            viewer: Viewer::Position(Vec3::new(1.0, 300.0, 1.0)),
+            width: 4,
+            height: 2,
+            material: 0,
+        };
+        assert_eq!(s.position(3, 1), Vec3::new(1.0, 3.0, 0.0));
+        let p = ImageSurface {
+            positions: PixelPositions::ImagePlane,
+            ..s
+        };
+        // Height 2 units: pixels 1 unit wide; the image spans x ∈ [−2, 2], y ∈ [−1, 1].
+        assert_eq!(p.position(0, 0), Vec3::new(-1.5, 0.5, 0.0));
+        assert_eq!(p.position(3, 1), Vec3::new(1.5, -0.5, 0.0));
+        let sp = s.point(3, 1, [1.0, 0.5, 1.0], 1.0).unwrap();
+        let wo = (Vec3::new(1.0, 300.0, 1.0) - Vec3::new(1.0, 3.0, 0.0)).normalize();
+        assert!((sp.to_viewer - wo).length() < 1e-7);
+        assert_eq!(Viewer::Position(Vec3::ONE).to_viewer(Vec3::ONE), Vec3::ZERO);
+    }
+}
