@@ -21,7 +21,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Render a scene (.toml) or a bare mesh (.obj) to PNG (8-bit sRGB) or EXR (linear float32).
+    /// Render a scene (.toml), a bare mesh (.obj) or a glTF file (.gltf, .glb) to PNG (8-bit sRGB)
+    /// or EXR (linear float32).
     Render(render::RenderArgs),
 }
 

@@ -297,6 +297,7 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
         camera,
         lights,
         materials,
+        textures: Vec::new(),
         mesh,
         shadows: file.render.and_then(|r| r.shadows).unwrap_or(true),
         notes,

@@ -2,12 +2,17 @@
 //! module's terms.
 //!
 //! f_r(ω_i, ω_o) = k_d·albedo/π + f_s(ω_i, ω_o), as in the assignment; `kd = 0` gives a purely
-//! specular material. This is the only place the terms are combined, for every mode.
+//! specular material. The glTF metallic-roughness model (`gltf-pbr`) is the exception: its
+//! diffuse part is weighted by 1 − F, so it replaces the sum (see [`GltfPbr`]). This is the only
+//! place the terms are combined, for every mode.
+
+use glam::{Vec2, Vec3};
 
 use crate::shading::brdf::{
-    blinn_phong, fresnel_conductor, fresnel_schlick, fresnel_schlick_sg, lambert, schlick_f0_dielectric, FresnelTerm,
-    LocalDots, MaskingShadowing, MicrofacetDistribution, Real,
+    blinn_phong, fresnel_conductor, fresnel_schlick, fresnel_schlick_sg, ggx_d, lambert, schlick_f0_dielectric,
+    FresnelTerm, LocalDots, MaskingShadowing, MicrofacetDistribution, Real,
 };
+use crate::shading::texture::{ColorSpace, TextureImage, TextureRef};
 
 /// Blinn-Phong specular lobe: f_s = ks · color · (n·ω_h)^shininess.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -61,6 +66,77 @@ impl Default for CookTorrance {
     }
 }
 
+/// A glTF normal texture: tangent-space normals (+X along +u, +Y "up" = against +v, +Z out of
+/// the surface), whose X and Y are multiplied by `scale`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NormalTexture {
+    /// The texture (linear).
+    pub texture: TextureRef,
+    /// glTF's `normalTexture.scale`.
+    pub scale: f32,
+}
+
+/// The textures of a glTF metallic-roughness material; each is optional.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PbrTextures {
+    /// sRGB base colour; RGB multiplies the base colour factor (`Material::albedo`).
+    pub base_color: Option<TextureRef>,
+    /// Linear; blue multiplies the metallic factor, green the roughness factor.
+    pub metallic_roughness: Option<TextureRef>,
+    /// Tangent-space normals; applied by the surface stage (`surface::normal_texture`).
+    pub normal: Option<NormalTexture>,
+    /// sRGB; multiplies the emissive factor.
+    pub emissive: Option<TextureRef>,
+}
+
+impl PbrTextures {
+    /// Whether any texture changes the BRDF parameters (base colour or metallic-roughness).
+    pub fn varies_brdf(&self) -> bool {
+        self.base_color.is_some() || self.metallic_roughness.is_some()
+    }
+
+    /// Every texture reference, for renumbering images.
+    pub fn refs_mut(&mut self) -> impl Iterator<Item = &mut TextureRef> {
+        [
+            self.base_color.as_mut(),
+            self.metallic_roughness.as_mut(),
+            self.normal.as_mut().map(|n| &mut n.texture),
+            self.emissive.as_mut(),
+        ]
+        .into_iter()
+        .flatten()
+    }
+}
+
+/// glTF 2.0 metallic-roughness material, the reference BRDF of the glTF specification
+/// (Appendix B), with base colour = `Material::albedo`:
+///
+/// f = (1 − F)·c_diff/π + F·D·V, with c_diff = base·(1 − metallic), F0 = lerp(0.04, base,
+/// metallic), F = Schlick(F0, ω_i·ω_h), D = GGX(α), V = height-correlated Smith visibility
+/// G/(4 (n·ω_i)(n·ω_o)), α = roughness².
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GltfPbr {
+    /// Metallic factor in [0, 1].
+    pub metallic: f32,
+    /// Perceptual roughness factor in [0, 1] (α = roughness²).
+    pub roughness: f32,
+    /// Emitted radiance (emissive factor), added to the reflected radiance.
+    pub emissive: [f32; 3],
+    /// Textures that modulate the factors.
+    pub textures: PbrTextures,
+}
+
+/// The BRDF parameters of a `gltf-pbr` material at one surface point, textures applied.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PbrPoint {
+    /// Linear base colour.
+    pub base_color: [f32; 3],
+    /// Metalness in [0, 1].
+    pub metallic: f32,
+    /// Microfacet roughness α = roughness².
+    pub alpha: f32,
+}
+
 /// The specular part of a material.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Specular {
@@ -70,6 +146,8 @@ pub enum Specular {
     BlinnPhong(BlinnPhong),
     /// Cook-Torrance.
     CookTorrance(CookTorrance),
+    /// glTF metallic-roughness: the whole BRDF, diffuse included (k_d is not used).
+    GltfPbr(GltfPbr),
 }
 
 /// A surface's reflectance: k_d·albedo/π plus a specular lobe.
@@ -110,6 +188,57 @@ impl Material {
             Specular::None => "lambert",
             Specular::BlinnPhong(_) => "blinn-phong",
             Specular::CookTorrance(_) => "cook-torrance",
+            Specular::GltfPbr(_) => "gltf-pbr",
+        }
+    }
+
+    /// A two-sided glTF metallic-roughness material with constant parameters.
+    pub fn gltf_pbr(name: &str, base_color: [f32; 3], metallic: f32, roughness: f32) -> Self {
+        Self {
+            specular: Specular::GltfPbr(GltfPbr {
+                metallic,
+                roughness,
+                emissive: [0.0; 3],
+                textures: PbrTextures::default(),
+            }),
+            ..Self::lambert(name, base_color)
+        }
+    }
+
+    /// The glTF textures of this material, if it is a `gltf-pbr` one.
+    pub fn pbr_textures(&self) -> Option<&PbrTextures> {
+        match &self.specular {
+            Specular::GltfPbr(p) => Some(&p.textures),
+            _ => None,
+        }
+    }
+
+    /// Mutable access to the glTF textures (to renumber images when scenes are assembled).
+    pub fn pbr_textures_mut(&mut self) -> Option<&mut PbrTextures> {
+        match &mut self.specular {
+            Specular::GltfPbr(p) => Some(&mut p.textures),
+            _ => None,
+        }
+    }
+
+    /// Whether the material emits light (a `gltf-pbr` material with a non-zero emissive factor).
+    pub fn emits(&self) -> bool {
+        matches!(&self.specular, Specular::GltfPbr(p) if p.emissive.iter().any(|&e| e > 0.0))
+    }
+
+    /// Emitted radiance at texture coordinates `uvs` (sets 0 and 1): the emissive factor times
+    /// the emissive texture when `images` are given (the plan samples textures), else the factor.
+    #[inline]
+    pub fn emission(&self, uvs: [Vec2; 2], images: Option<&[TextureImage]>) -> Vec3 {
+        let Specular::GltfPbr(p) = &self.specular else {
+            return Vec3::ZERO;
+        };
+        let factor = Vec3::from(p.emissive);
+        match (p.textures.emissive, images) {
+            (Some(t), Some(images)) => {
+                factor * t.sample(images, uvs[t.tex_coord as usize], ColorSpace::Srgb).truncate()
+            }
+            _ => factor,
         }
     }
 
@@ -136,6 +265,7 @@ impl Material {
                 let s = ct.eval(dots);
                 [0, 1, 2].map(|c| d[c] + s[c])
             }
+            Specular::GltfPbr(p) => p.constant_point(self.albedo).eval(dots),
         }
     }
 
@@ -161,8 +291,77 @@ impl Material {
                 check_color("eta", ct.eta)?;
                 check_color("k", ct.k)?;
             }
+            Specular::GltfPbr(p) => {
+                check_unit("metallic", p.metallic)?;
+                check_unit("roughness", p.roughness)?;
+                check_color("emissive", p.emissive)?;
+                if let Some(n) = &p.textures.normal {
+                    if !n.scale.is_finite() {
+                        return Err(format!("normal texture scale must be finite, got {}", n.scale));
+                    }
+                }
+            }
         }
         Ok(())
+    }
+}
+
+impl GltfPbr {
+    /// The parameters where no texture applies: the factors.
+    #[inline]
+    pub fn constant_point(&self, base_color: [f32; 3]) -> PbrPoint {
+        PbrPoint {
+            base_color,
+            metallic: self.metallic,
+            alpha: self.roughness * self.roughness,
+        }
+    }
+
+    /// The parameters at texture coordinates `uvs` (sets 0 and 1): base colour factor × sRGB
+    /// texture, metallic factor × blue, roughness factor × green of the metallic-roughness
+    /// texture. Texture values lie in [0, 1], so the products stay in the factors' ranges.
+    #[inline]
+    pub fn point_at(&self, base_color: [f32; 3], uvs: [Vec2; 2], images: &[TextureImage]) -> PbrPoint {
+        let mut base = Vec3::from(base_color);
+        if let Some(t) = self.textures.base_color {
+            base *= t.sample(images, uvs[t.tex_coord as usize], ColorSpace::Srgb).truncate();
+        }
+        let (mut metallic, mut roughness) = (self.metallic, self.roughness);
+        if let Some(t) = self.textures.metallic_roughness {
+            let mr = t.sample(images, uvs[t.tex_coord as usize], ColorSpace::Linear);
+            metallic *= mr.z;
+            roughness *= mr.y;
+        }
+        PbrPoint {
+            base_color: base.to_array(),
+            metallic,
+            alpha: roughness * roughness,
+        }
+    }
+}
+
+impl PbrPoint {
+    /// f_r per channel (see [`GltfPbr`]): (1 − F)·lambert(1 − metallic, base) + F·D·V.
+    /// D and V clamp α to `MIN_ALPHA`, so α = 0 (roughness 0) gives a finite spike; V is 0 where
+    /// n·ω_i ≤ 0 or n·ω_o ≤ 0, which leaves the diffuse part to the shader's sidedness test.
+    #[inline(always)]
+    pub fn eval<R: Real>(&self, dots: &LocalDots<R>) -> [R; 3] {
+        let alpha = R::of(self.alpha);
+        let v = MaskingShadowing::SmithGgxCorrelated.visibility(dots.n_dot_i, dots.n_dot_o, alpha);
+        let dv = if v == R::zero() {
+            R::zero()
+        } else {
+            ggx_d(dots.n_dot_h, alpha) * v
+        };
+        let metallic = R::of(self.metallic);
+        // Dielectric F0 of glTF: ior 1.5 → ((1.5 − 1)/(1.5 + 1))² = 0.04.
+        let f0_dielectric = schlick_f0_dielectric(R::lit(1.5));
+        self.base_color.map(|b| {
+            let base = R::of(b);
+            let f0 = f0_dielectric + (base - f0_dielectric) * metallic;
+            let f = fresnel_schlick(f0, dots.i_dot_h);
+            (R::one() - f) * lambert(R::one() - metallic, base) + f * dv
+        })
     }
 }
 
@@ -209,6 +408,14 @@ fn check_non_negative(key: &str, v: f32) -> Result<(), String> {
         Ok(())
     } else {
         Err(format!("{key} must be a finite number ≥ 0, got {v}"))
+    }
+}
+
+fn check_unit(key: &str, v: f32) -> Result<(), String> {
+    if (0.0..=1.0).contains(&v) {
+        Ok(())
+    } else {
+        Err(format!("{key} must be in [0, 1], got {v}"))
     }
 }
 

@@ -1,6 +1,7 @@
 //! The shader: outgoing radiance of a [`SurfacePoint`] under every light, with shadow rays.
 //!
-//! L_o = Σ_lights f_r(ω_i, ω_o) · E_light · cos θ_i · V, summed in light order (deterministic).
+//! L_o = L_e + Σ_lights f_r(ω_i, ω_o) · E_light · cos θ_i · V, summed in light order
+//! (deterministic); L_e is the emitted radiance of glTF materials with an emissive factor.
 //! Sidedness follows the material: one-sided (Mitsuba's convention) contributes only where
 //! n_s·ω_i > 0 and n_s·ω_o > 0; two-sided first turns both normals towards the viewer. Lights
 //! behind the surface are skipped before any shadow ray is traced.
@@ -9,8 +10,9 @@ use glam::Vec3;
 
 use crate::shading::brdf::LocalDots;
 use crate::shading::light::Light;
-use crate::shading::material::Material;
+use crate::shading::material::{Material, Specular};
 use crate::shading::shadow::{Occluder, ShadowRay};
+use crate::shading::texture::TextureImage;
 use crate::surface::SurfacePoint;
 
 /// Everything shading needs besides the point itself.
@@ -23,6 +25,11 @@ pub struct Shader<'a, O: Occluder> {
     pub occluder: Option<&'a O>,
     /// Length unit of the shadow-ray offset (scene size / 256).
     pub scene_unit: f32,
+    /// The scene's decoded texture images when the plan samples material textures; `None`
+    /// otherwise (then no texture is looked up and materials use their constant factors).
+    pub textures: Option<&'a [TextureImage]>,
+    /// Add emitted radiance (the plan found a rendered material that emits).
+    pub emission: bool,
 }
 
 impl<O: Occluder> Shader<'_, O> {
@@ -37,11 +44,23 @@ impl<O: Occluder> Shader<'_, O> {
             ng = -ng;
             ns = -ns;
         }
+        // Emission: seen from the front, or from both sides of a two-sided material.
+        let mut radiance = Vec3::ZERO;
+        if self.emission && ng.dot(wo) > 0.0 {
+            radiance = material.emission([sp.uv, sp.uv1], self.textures);
+        }
         let cos_o = ns.dot(wo);
         if cos_o <= 0.0 {
-            return Vec3::ZERO;
+            return radiance;
         }
-        let mut radiance = Vec3::ZERO;
+        // Textured glTF materials: their BRDF parameters at this point, looked up once for all
+        // lights.
+        let textured = match (self.textures, &material.specular) {
+            (Some(images), Specular::GltfPbr(p)) if p.textures.varies_brdf() => {
+                Some(p.point_at(material.albedo, [sp.uv, sp.uv1], images))
+            }
+            _ => None,
+        };
         for light in self.lights {
             let Some(ls) = light.sample(sp.position) else { continue };
             let cos_i = ns.dot(ls.wi);
@@ -70,7 +89,10 @@ impl<O: Occluder> Shader<'_, O> {
                     continue;
                 }
             }
-            let f = Vec3::from(material.eval(&dots));
+            let f = Vec3::from(match &textured {
+                Some(point) => point.eval(&dots),
+                None => material.eval(&dots),
+            });
             radiance += f * ls.irradiance * cos_i;
         }
         // Every term is finite and ≥ 0; only the sum of saturated lights could reach infinity.

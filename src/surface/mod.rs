@@ -4,6 +4,7 @@
 //! normal image in the normal-map mode; neither it nor the shader knows which.
 
 pub mod camera;
+pub mod normal_texture;
 pub mod primary;
 
 use glam::{Vec2, Vec3};
@@ -17,8 +18,10 @@ pub struct SurfacePoint {
     pub geometric_normal: Vec3,
     /// Unit normal used for shading (interpolated vertex normals, or a normal-map texel).
     pub shading_normal: Vec3,
-    /// Texture coordinates; zero unless the scene's plan asks for them.
+    /// Texture coordinates (set 0); zero unless the scene's plan asks for them.
     pub uv: Vec2,
+    /// Second texture-coordinate set (glTF's `TEXCOORD_1`); zero unless the plan asks for it.
+    pub uv1: Vec2,
     /// Index into the scene's materials.
     pub material: u32,
     /// Unit direction from the point towards the viewer (ω_o).
