@@ -531,6 +531,61 @@ mod tests {
         assert!((ct.fresnel(1.0f64)[1] - 0.04).abs() < 1e-12, "dielectric F0 from ior");
     }
 
+    /// glTF 2.0 Appendix B written out independently in f64, per channel.
+    fn gltf_reference(base: f64, metallic: f64, roughness: f64, d: &LocalDots<f64>) -> f64 {
+        let alpha = roughness * roughness;
+        let a2 = alpha * alpha;
+        let (nl, nv, nh, vh) = (d.n_dot_i, d.n_dot_o, d.n_dot_h, d.i_dot_h);
+        let c_diff = base * (1.0 - metallic);
+        let f0 = 0.04 * (1.0 - metallic) + base * metallic;
+        let f = f0 + (1.0 - f0) * (1.0 - vh).powi(5);
+        let dist = a2 / (PI * (nh * nh * (a2 - 1.0) + 1.0).powi(2));
+        let vis = 0.5 / (nl * (nv * nv * (1.0 - a2) + a2).sqrt() + nv * (nl * nl * (1.0 - a2) + a2).sqrt());
+        (1.0 - f) * c_diff / PI + f * dist * vis
+    }
+
+    #[test]
+    fn gltf_pbr_matches_the_specification_formula() {
+        let base = [0.9f32, 0.5, 0.1];
+        for &(metallic, roughness) in &[(0.0f32, 0.5f32), (1.0, 0.3), (0.4, 0.8), (0.0, 1.0)] {
+            let m = Material::gltf_pbr("g", base, metallic, roughness);
+            assert!(m.has_specular());
+            for d in [
+                dots(0.6, 0.8, 0.95, 0.9),
+                dots(0.2, 0.9, 0.7, 0.5),
+                dots(1.0, 1.0, 1.0, 1.0),
+            ] {
+                let got = m.eval(&d);
+                for c in 0..3 {
+                    let expect = gltf_reference(base[c] as f64, metallic as f64, roughness as f64, &d);
+                    assert!(
+                        (got[c] - expect).abs() < 1e-6 * expect.max(1e-3),
+                        "metallic {metallic} roughness {roughness} channel {c}: {} vs {expect}",
+                        got[c]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn gltf_pbr_extremes_stay_finite_and_metals_have_no_diffuse() {
+        // Roughness 0: α is raised to MIN_ALPHA inside D and V; a finite spike at n·h = 1.
+        let mirror = Material::gltf_pbr("m", [1.0; 3], 1.0, 0.0);
+        let dots32 =
+            |ci: f32, co: f32, nh: f32, ih: f32| dots(ci as f64, co as f64, nh as f64, ih as f64).cast::<f32>();
+        let peak = mirror.eval(&dots32(0.7, 0.7, 1.0, 0.7));
+        assert!(peak.iter().all(|v| v.is_finite() && *v > 1e6), "{peak:?}");
+        assert!(mirror.eval(&dots32(0.7, 0.7, 0.99, 0.7))[0] < 1e-3);
+        // Grazing: V = 0 → only the diffuse part, which a metal does not have.
+        assert_eq!(mirror.eval(&dots32(0.0, 0.7, 0.7, 0.7)), [0.0; 3]);
+        let plastic = Material::gltf_pbr("p", [0.5; 3], 0.0, 0.5);
+        let g = plastic.eval(&dots(0.0f64, 0.7, 0.7, 0.7));
+        let f = 0.04 + 0.96 * 0.3f64.powi(5);
+        assert!((g[0] - (1.0 - f) * 0.5 / PI).abs() < 1e-7, "{g:?}");
+        assert_eq!(plastic.model_name(), "gltf-pbr");
+    }
+
     #[test]
     fn validation_names_the_key() {
         let mut m = Material::lambert("m", [0.5, f32::NAN, 0.5]);
@@ -552,5 +607,9 @@ mod tests {
             color: [1.0; 3],
         });
         assert!(m.validate().unwrap_err().contains("ks"));
+        let mut g = Material::gltf_pbr("g", [0.5; 3], 1.5, 0.5);
+        assert!(g.validate().unwrap_err().contains("metallic"));
+        g = Material::gltf_pbr("g", [0.5; 3], 0.5, f32::NAN);
+        assert!(g.validate().unwrap_err().contains("roughness"));
     }
 }

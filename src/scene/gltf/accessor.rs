@@ -21,10 +21,11 @@ pub fn read_vectors<const N: usize>(
     check_type(d, accessor, what, N, types)?;
     let (ty, normalized) = (accessor.data_type(), accessor.normalized());
     let size = ty.size();
-    let mut out = vec![[0.0; N]; accessor.count()];
-    for_each_element(d, accessor, what, |i, bytes| {
+    let access = check_access(d, accessor, what)?;
+    let mut out = vec![[0.0; N]; access.count];
+    access.for_each(|i, bytes| {
         out[i] = std::array::from_fn(|c| component(&bytes[c * size..(c + 1) * size], ty, normalized));
-    })?;
+    });
     Ok(out)
 }
 
@@ -32,8 +33,9 @@ pub fn read_vectors<const N: usize>(
 pub fn read_indices(d: &GltfDocument, accessor: &Accessor, what: &str) -> InputResult<Vec<u32>> {
     check_type(d, accessor, what, 1, &[DataType::U8, DataType::U16, DataType::U32])?;
     let ty = accessor.data_type();
-    let mut out = vec![0u32; accessor.count()];
-    for_each_element(d, accessor, what, |i, bytes| out[i] = unsigned(bytes, ty))?;
+    let access = check_access(d, accessor, what)?;
+    let mut out = vec![0u32; access.count];
+    access.for_each(|i, bytes| out[i] = unsigned(bytes, ty));
     Ok(out)
 }
 
@@ -56,48 +58,50 @@ fn check_type(d: &GltfDocument, a: &Accessor, what: &str, n: usize, types: &[Dat
     Ok(())
 }
 
-/// Calls `f(i, bytes)` for every element i of the accessor (sparse substitutions after the
-/// base values, so they win), after checking that every byte read lies in its buffer view and
-/// every view in its buffer.
-fn for_each_element(d: &GltfDocument, a: &Accessor, what: &str, mut f: impl FnMut(usize, &[u8])) -> InputResult<()> {
+/// An accessor whose every byte has been checked to lie in its buffer view, and every view in
+/// its buffer, before anything is allocated for its elements.
+struct CheckedAccess<'d> {
+    count: usize,
+    size: usize,
+    /// (view bytes from the accessor's offset, stride), or `None`: the base values are zeros.
+    base: Option<(&'d [u8], usize)>,
+    /// Sparse substitutions: (index bytes, index type, value bytes).
+    sparse: Option<(&'d [u8], DataType, &'d [u8])>,
+}
+
+fn check_access<'d>(d: &'d GltfDocument, a: &Accessor, what: &str) -> InputResult<CheckedAccess<'d>> {
     let (count, size) = (a.count(), a.size());
     let err = |problem: String| d.error(format!("accessor {} ({what}): {problem}", a.index()));
+    let mut access = CheckedAccess {
+        count,
+        size,
+        base: None,
+        sparse: None,
+    };
     if count == 0 {
-        return Ok(());
+        return Ok(access);
     }
-    match a.view() {
-        Some(view) => {
-            let data = view_bytes(d, &view).map_err(err)?;
-            let stride = view.stride().unwrap_or(size);
-            if stride < size {
-                return Err(err(format!(
-                    "byteStride {stride} is smaller than the element size {size}"
-                )));
-            }
-            let end = stride
-                .checked_mul(count - 1)
-                .and_then(|v| v.checked_add(size))
-                .and_then(|v| v.checked_add(a.offset()));
-            match end {
-                Some(end) if end <= data.len() => {}
-                _ => {
-                    return Err(err(format!(
-                        "{count} elements of {size} bytes (stride {stride}) from offset {} run past the end of buffer view {} ({} bytes)",
-                        a.offset(),
-                        view.index(),
-                        data.len()
-                    )))
-                }
-            }
-            for i in 0..count {
-                let start = a.offset() + i * stride;
-                f(i, &data[start..start + size]);
-            }
+    if let Some(view) = a.view() {
+        let data = view_bytes(d, &view).map_err(err)?;
+        let stride = view.stride().unwrap_or(size);
+        if stride < size {
+            return Err(err(format!(
+                "byteStride {stride} is smaller than the element size {size}"
+            )));
         }
-        None => {
-            let zeros = vec![0u8; size];
-            for i in 0..count {
-                f(i, &zeros);
+        let end = stride
+            .checked_mul(count - 1)
+            .and_then(|v| v.checked_add(size))
+            .and_then(|v| v.checked_add(a.offset()));
+        match end {
+            Some(end) if end <= data.len() => access.base = Some((&data[a.offset()..end], stride)),
+            _ => {
+                return Err(err(format!(
+                    "{count} elements of {size} bytes (stride {stride}) from offset {} run past the end of buffer view {} ({} bytes)",
+                    a.offset(),
+                    view.index(),
+                    data.len()
+                )))
             }
         }
     }
@@ -113,22 +117,46 @@ fn for_each_element(d: &GltfDocument, a: &Accessor, what: &str, mut f: impl FnMu
                 "sparse indices of type {index_type:?} (expected unsigned)"
             )));
         }
-        let indices = sparse.indices();
-        let values = sparse.values();
+        let (indices, values) = (sparse.indices(), sparse.values());
         let index_bytes = view_range(d, &indices.view(), indices.offset(), index_type.size(), n).map_err(err)?;
         let value_bytes = view_range(d, &values.view(), values.offset(), size, n).map_err(err)?;
         for k in 0..n {
-            let i = unsigned(
-                &index_bytes[k * index_type.size()..(k + 1) * index_type.size()],
-                index_type,
-            ) as usize;
+            let i = unsigned(&index_bytes[k * index_type.size()..], index_type) as usize;
             if i >= count {
                 return Err(err(format!("sparse index {i} is out of range ({count} elements)")));
             }
-            f(i, &value_bytes[k * size..(k + 1) * size]);
+        }
+        access.sparse = Some((index_bytes, index_type, value_bytes));
+    }
+    Ok(access)
+}
+
+impl CheckedAccess<'_> {
+    /// Calls `f(i, bytes)` for every element i (sparse substitutions after the base values, so
+    /// they win).
+    fn for_each(&self, mut f: impl FnMut(usize, &[u8])) {
+        let size = self.size;
+        match self.base {
+            Some((data, stride)) => {
+                for i in 0..self.count {
+                    f(i, &data[i * stride..i * stride + size]);
+                }
+            }
+            None => {
+                let zeros = vec![0u8; size];
+                for i in 0..self.count {
+                    f(i, &zeros);
+                }
+            }
+        }
+        if let Some((indices, index_type, values)) = self.sparse {
+            let index_size = index_type.size();
+            for k in 0..indices.len() / index_size {
+                let i = unsigned(&indices[k * index_size..], index_type) as usize;
+                f(i, &values[k * size..(k + 1) * size]);
+            }
         }
     }
-    Ok(())
 }
 
 /// The bytes of a buffer view, checked against its buffer's byteLength.
