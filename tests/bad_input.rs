@@ -213,6 +213,11 @@ fn malformed_gltf_and_glb_files() {
         r#"{"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"children": [1]}, {"children": [0]}]}"#,
     );
     c.fails(&cycle, &[], &["cycle.gltf", "reached twice"]);
+    let overflow = c.file(
+        "overflow.gltf",
+        r#"{"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"scale": [1e39, 1, 1]}]}"#,
+    );
+    c.fails(&overflow, &[], &["overflow.gltf", "node 0", "not finite"]);
     let empty = c.file("empty.gltf", r#"{"asset": {"version": "2.0"}}"#);
     c.fails(&empty, &[], &["empty.gltf", "no triangles"]);
 }

@@ -83,6 +83,17 @@ fn every_asset_renders_and_auto_framed_ones_are_whole_in_the_picture() {
 }
 
 #[test]
+fn damaged_helmet_scene_file_of_the_gallery_renders() {
+    if gltf_dir().is_none() {
+        return;
+    }
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/shared/damaged-helmet.toml");
+    let img = render(&scene, &["--width", "64", "--height", "64"]);
+    let covered = img.pixels().filter(|p| lit(p)).count() as f64 / (64.0 * 64.0);
+    assert!(covered > 0.2, "coverage {covered}");
+}
+
+#[test]
 fn duck_and_cameras_use_their_own_cameras() {
     let Some(dir) = gltf_dir() else { return };
     let duck = scene::load(&dir.join("Duck/glTF-Binary/Duck.glb")).unwrap();

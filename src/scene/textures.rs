@@ -115,3 +115,83 @@ fn decode(p: &PendingImage) -> InputResult<TextureImage> {
         texels,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shading::material::{PbrTextures, Specular};
+    use crate::shading::texture::{Filter, TextureRef, Wrap};
+
+    fn reference(image: u32) -> Option<TextureRef> {
+        Some(TextureRef {
+            image,
+            tex_coord: 0,
+            wrap_u: Wrap::Repeat,
+            wrap_v: Wrap::Repeat,
+            filter: Filter::Bilinear,
+        })
+    }
+
+    fn textured(name: &str, base: u32, emissive: u32, emits: bool) -> Material {
+        let mut m = Material::gltf_pbr(name, [1.0; 3], 0.0, 1.0);
+        if let Specular::GltfPbr(p) = &mut m.specular {
+            p.textures = PbrTextures {
+                base_color: reference(base),
+                emissive: reference(emissive),
+                ..Default::default()
+            };
+            p.emissive = if emits { [1.0; 3] } else { [0.0; 3] };
+        }
+        m
+    }
+
+    /// A pending 1×1 PNG of colour `c`, or an unreadable file.
+    fn pending(c: Option<u8>) -> PendingImage {
+        let source = match c {
+            Some(c) => {
+                let mut bytes = std::io::Cursor::new(Vec::new());
+                image::RgbaImage::from_pixel(1, 1, image::Rgba([c, c, c, 255]))
+                    .write_to(&mut bytes, image::ImageFormat::Png)
+                    .unwrap();
+                ImageSource::Bytes(bytes.into_inner())
+            }
+            None => ImageSource::Uri {
+                dir: std::env::temp_dir(),
+                uri: "pointshade-no-such-image.png".into(),
+            },
+        };
+        PendingImage {
+            origin: "test.gltf".into(),
+            label: format!("image {c:?}"),
+            source,
+        }
+    }
+
+    #[test]
+    fn only_images_of_rendered_materials_are_decoded_and_references_renumbered() {
+        // Material 0 (unused) reads the unreadable image 0; material 1 reads images 2 and 1
+        // (emissive, and it emits); material 2 reads image 2 and an emissive image 0 it cannot
+        // show (emissive factor 0).
+        let mut materials = vec![
+            textured("unused", 0, 0, true),
+            textured("a", 2, 1, true),
+            textured("b", 2, 0, false),
+        ];
+        let images = [pending(None), pending(Some(10)), pending(Some(20))];
+        let decoded = decode_used_images(&mut materials, &[1, 2, 1], &images).unwrap();
+        assert_eq!(decoded.len(), 2);
+        assert_eq!(decoded[0].texels, vec![[20, 20, 20, 255]], "first use: image 2");
+        assert_eq!(decoded[1].texels, vec![[10, 10, 10, 255]]);
+        let refs = |m: &Material| {
+            let t = m.pbr_textures().unwrap();
+            (t.base_color.map(|r| r.image), t.emissive.map(|r| r.image))
+        };
+        assert_eq!(refs(&materials[0]), (None, None));
+        assert_eq!(refs(&materials[1]), (Some(0), Some(1)));
+        assert_eq!(refs(&materials[2]), (Some(0), None));
+        // Used, the unreadable image is an error naming it.
+        let mut used = vec![textured("c", 0, 0, false)];
+        let e = decode_used_images(&mut used, &[0], &images).unwrap_err();
+        assert!(e.to_string().contains("pointshade-no-such-image.png"), "{e}");
+    }
+}
