@@ -2,8 +2,9 @@
 //! checked by eye are asserted (cameras, lights, textures used, normal-map orientation, the
 //! metal/roughness grid). When ../shared/data is absent each test prints SKIPPED and returns.
 
+mod support;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use glam::Vec3;
 use pointshade::plan::RenderPlan;
@@ -12,16 +13,7 @@ use pointshade::shading::light::{Falloff, LightKind};
 use pointshade::shading::material::Specular;
 
 fn gltf_dir() -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/gltf");
-    if p.is_dir() {
-        Some(p)
-    } else {
-        eprintln!(
-            "SKIPPED: {} is missing; this test needs the shared test data",
-            p.display()
-        );
-        None
-    }
+    support::shared_data("gltf")
 }
 
 /// Every asset, as CI renders them.
@@ -39,26 +31,11 @@ const ASSETS: [&str; 11] = [
     "Cameras/glTF/Cameras.gltf",
 ];
 
-/// Renders `scene` with the CLI into a temporary PNG and decodes it.
+/// Renders `scene` with the CLI at one sample per pixel.
 fn render(scene: &Path, extra: &[&str]) -> image::RgbImage {
-    let out = std::env::temp_dir().join(format!(
-        "pointshade-gltf-shared-{}-{}.png",
-        std::process::id(),
-        scene.file_stem().unwrap().to_string_lossy()
-    ));
-    let r = Command::new(env!("CARGO_BIN_EXE_pointshade"))
-        .arg("render")
-        .arg(scene)
-        .arg("-o")
-        .arg(&out)
-        .args(["--quiet", "--spp", "1"])
-        .args(extra)
-        .output()
-        .unwrap();
-    assert!(r.status.success(), "{scene:?}: {}", String::from_utf8_lossy(&r.stderr));
-    let img = image::open(&out).unwrap().into_rgb8();
-    let _ = std::fs::remove_file(out);
-    img
+    let mut args = vec!["--spp", "1"];
+    args.extend_from_slice(extra);
+    support::render_png(scene, &args)
 }
 
 fn lit(p: &image::Rgb<u8>) -> bool {
