@@ -13,6 +13,8 @@ pub mod film;
 pub mod output;
 pub mod plan;
 pub mod render;
+pub mod reports;
 pub mod scene;
 pub mod shading;
 pub mod surface;
+pub mod validation;

@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-use crate::accel::Bvh;
+use crate::accel::{Bvh, BvhPreset};
 use crate::film::{sampler::pixel_offsets, Image};
 use crate::plan::{Aov, RenderPlan};
 use crate::scene::Scene;
@@ -36,6 +36,8 @@ pub struct RenderStats {
     pub shading_time: Duration,
     /// Wall-clock time of the whole render stage.
     pub wall_time: Duration,
+    /// Time spent building the BVH (zero when the plan needs none).
+    pub bvh_time: Duration,
 }
 
 /// The result of a render: the image, the requested AOVs and the statistics.
@@ -53,6 +55,14 @@ struct Sample {
     pixel: u32,
     point: SurfacePoint,
     depth: f32,
+}
+
+/// The pipeline after loading: builds the BVH the plan asks for (default preset) and renders.
+pub fn render_scene(scene: &Scene, plan: &RenderPlan, on_tile: &(dyn Fn(u64) + Sync)) -> Result<Rendered, String> {
+    let bvh = plan.trace_rays.then(|| Bvh::build(&scene.mesh, BvhPreset::DEFAULT));
+    let mut rendered = render(scene, plan, bvh.as_ref(), on_tile)?;
+    rendered.stats.bvh_time = bvh.map_or(Duration::ZERO, |b| b.build_time);
+    Ok(rendered)
 }
 
 /// Renders `scene` following `plan`. `bvh` must be present when `plan.trace_rays` is set.
@@ -83,6 +93,7 @@ pub fn render(
         scene_unit: bvh.map_or(1.0, Bvh::scene_unit),
         textures: plan.textures.then_some(scene.textures.as_slice()),
         emission: plan.emission,
+        shadow_offset: scene.shadow_offset,
     };
 
     let tile_results: Vec<TileResult> = tiles
@@ -171,6 +182,7 @@ pub fn render(
         surface_time: Duration::from_nanos(surface_ns.into_inner()),
         shading_time: Duration::from_nanos(shading_ns.into_inner()),
         wall_time: start.elapsed(),
+        bvh_time: Duration::ZERO,
     };
     Ok(Rendered { image, aovs, stats })
 }

@@ -8,7 +8,11 @@
 //!   floating point, so nothing is lost; distances come back divided by the same factor.
 //! - **Leaf-ordered triangles.** Triangle vertices are copied in the order the BVH's leaves
 //!   reference them, so traversal reads memory linearly and needs no index indirection.
+//! - **No lost subtrees.** obvhs's traversal stack has 32 entries and overwrites silently when
+//!   full; the build measures the BVH's depth and traverses deep BVHs with a growable stack
+//!   ([`traversal`]).
 
+pub mod traversal;
 pub mod triangle;
 
 use std::time::{Duration, Instant};
@@ -18,6 +22,7 @@ use obvhs::{cwbvh::CwBvh, ray::Ray, BvhBuildParams};
 
 use crate::scene::mesh::TriangleMesh;
 use crate::shading::shadow::{Occluder, ShadowRay};
+pub use traversal::TraversalStack;
 use triangle::WatertightRay;
 
 /// The obvhs build presets, from fastest build to best traversal.
@@ -82,6 +87,10 @@ pub struct Bvh {
     leaf_to_triangle: Vec<u32>,
     /// World → BVH space factor (a power of two).
     scale: f32,
+    /// Deepest inner node below the root.
+    depth: u32,
+    /// The traversal stack `depth` calls for.
+    stack: TraversalStack,
     /// Time spent building.
     pub build_time: Duration,
 }
@@ -91,13 +100,28 @@ impl Bvh {
     pub fn build(mesh: &TriangleMesh, preset: BvhPreset) -> Bvh {
         let start = Instant::now();
         let scale = world_to_bvh_scale(mesh);
-        let triangles: Vec<obvhs::triangle::Triangle> = (0..mesh.triangle_count())
-            .map(|t| {
-                let [v0, v1, v2] = mesh.triangle_positions(t).map(|p| Vec3A::from(p * scale));
+        // Triangles without area (exactly zero cross product: repeated or collinear vertices) have
+        // no normal and nothing to show; rounding in the sheared ray space could still report
+        // hits on them, so they are left out of the BVH (unless nothing else is left).
+        let mut kept: Vec<u32> = (0..mesh.triangle_count() as u32)
+            .filter(|&t| {
+                let [a, b, c] = mesh.triangle_positions(t as usize);
+                (b - a).cross(c - a) != Vec3::ZERO
+            })
+            .collect();
+        if kept.is_empty() {
+            kept = (0..mesh.triangle_count() as u32).collect();
+        }
+        let triangles: Vec<obvhs::triangle::Triangle> = kept
+            .iter()
+            .map(|&t| {
+                let [v0, v1, v2] = mesh.triangle_positions(t as usize).map(|p| Vec3A::from(p * scale));
                 obvhs::triangle::Triangle { v0, v1, v2 }
             })
             .collect();
-        let cwbvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(&triangles, preset.params(), &mut Duration::default());
+        // Leaf boxes padded by LEAF_PADDING: see `PaddedTriangle`.
+        let padded: Vec<PaddedTriangle> = triangles.iter().map(|t| PaddedTriangle(*t)).collect();
+        let cwbvh = obvhs::cwbvh::builder::build_cwbvh(&padded, preset.params(), &mut Duration::default());
         let leaf_triangles = cwbvh
             .primitive_indices
             .iter()
@@ -106,29 +130,55 @@ impl Bvh {
                 [t.v0, t.v1, t.v2]
             })
             .collect();
-        let leaf_to_triangle = cwbvh.primitive_indices.clone();
+        let leaf_to_triangle = cwbvh.primitive_indices.iter().map(|&i| kept[i as usize]).collect();
+        let depth = traversal::max_inner_depth(&cwbvh);
         Bvh {
             cwbvh,
             leaf_triangles,
             leaf_to_triangle,
             scale,
+            depth,
+            stack: traversal::stack_for_depth(depth),
             build_time: start.elapsed(),
         }
+    }
+
+    /// The same BVH traversed with `stack` instead of the one its depth calls for. Forcing
+    /// [`TraversalStack::Fixed`] on a deep BVH loses hits: the stability report and the tests
+    /// use it to show that they do.
+    pub fn with_stack(mut self, stack: TraversalStack) -> Self {
+        self.stack = stack;
+        self
+    }
+
+    /// Deepest inner node below the root (root = 0); obvhs's fixed stack handles up to
+    /// [`traversal::FIXED_STACK_MAX_DEPTH`].
+    pub fn depth(&self) -> u32 {
+        self.depth
+    }
+
+    /// The traversal stack in use.
+    pub fn stack(&self) -> TraversalStack {
+        self.stack
     }
 
     /// Closest hit along `origin + t·direction`, 0 < t < t_max (world units; `direction` unit).
     #[inline]
     pub fn intersect(&self, origin: Vec3, direction: Vec3, t_max: f32) -> Option<Hit> {
         let origin = Vec3A::from(origin * self.scale);
-        let direction = Vec3A::from(direction);
+        let direction = without_negative_zeros(direction);
         let shear = WatertightRay::new(origin, direction);
         let ray = Ray::new(origin, direction, 0.0, t_max * self.scale);
         let mut hit = obvhs::ray::RayHit::none();
-        let found = self.cwbvh.ray_traverse(ray, &mut hit, |r, leaf| {
+        let test = |r: &Ray, leaf: usize| {
             shear
                 .intersect(&self.leaf_triangles[leaf], r.tmax)
                 .map_or(f32::INFINITY, |h| h.t)
-        });
+        };
+        let found = match self.stack {
+            TraversalStack::Fixed => self.cwbvh.ray_traverse(ray, &mut hit, test),
+            TraversalStack::Growable => traversal::closest_hit(&self.cwbvh, ray, &mut hit, test),
+        };
         if !found {
             return None;
         }
@@ -147,14 +197,18 @@ impl Bvh {
     #[inline]
     pub fn any_hit(&self, origin: Vec3, direction: Vec3, t_max: f32) -> bool {
         let origin = Vec3A::from(origin * self.scale);
-        let direction = Vec3A::from(direction);
+        let direction = without_negative_zeros(direction);
         let shear = WatertightRay::new(origin, direction);
         let ray = Ray::new(origin, direction, 0.0, t_max * self.scale);
-        !self.cwbvh.ray_traverse_miss(ray, |r, leaf| {
+        let test = |r: &Ray, leaf: usize| {
             shear
                 .intersect(&self.leaf_triangles[leaf], r.tmax)
                 .map_or(f32::INFINITY, |h| h.t)
-        })
+        };
+        match self.stack {
+            TraversalStack::Fixed => !self.cwbvh.ray_traverse_miss(ray, test),
+            TraversalStack::Growable => traversal::any_hit(&self.cwbvh, ray, test),
+        }
     }
 
     /// Number of primitives the BVH references (triangles, plus duplicates from pre-splitting).
@@ -178,6 +232,41 @@ impl Occluder for Bvh {
     #[inline]
     fn occluded(&self, ray: &ShadowRay) -> bool {
         self.any_hit(ray.origin, ray.direction, ray.t_max)
+    }
+}
+
+/// `direction` with every −0.0 component turned into +0.0 (x + 0.0 does exactly that and leaves
+/// every other value unchanged).
+///
+/// obvhs's CWBVH traversal orders children by the direction's octant, taken from `d < 0` (false
+/// for −0.0), but intersects node slabs with 1/d (−∞ for −0.0): the two disagree and whole
+/// subtrees are culled. Directions like −(0, −a, −a) of a light are common, so this is not rare:
+/// Mitsuba validation caught shadows missing under a directional light.
+#[inline(always)]
+fn without_negative_zeros(direction: Vec3) -> Vec3A {
+    Vec3A::from(direction) + Vec3A::ZERO
+}
+
+/// Padding added to every triangle's box, in BVH units (the scene is ~256 of them across).
+///
+/// obvhs's slab test rounds, and a triangle's vertex is a corner of its box: a ray through a
+/// shared vertex or edge (exactly what the watertight test catches) can be culled at the box of
+/// the one triangle that claims it, and escape a closed mesh. `pointshade stability` found
+/// about 1 such escape in 1e4 rays aimed at vertices and edges before this padding. The slab
+/// test's position error is a few ulps of the largest coordinate involved (≤ ~512 in BVH space
+/// for rays starting inside the scene: 4·6e-8·512 ≈ 1.2e-4); 2^-12 ≈ 2.4e-4 covers it and costs
+/// nothing measurable (boxes grow by 1e-6 of the scene).
+const LEAF_PADDING: f32 = 1.0 / 4096.0;
+
+/// A triangle whose bounding box is padded by [`LEAF_PADDING`] for the BVH build. (obvhs's
+/// triangle-specific builder, which would pre-split large triangles for the `slow` preset, cannot
+/// take padded boxes; the generic builder ignores `pre_split`.)
+struct PaddedTriangle(obvhs::triangle::Triangle);
+
+impl obvhs::Boundable for PaddedTriangle {
+    fn aabb(&self) -> obvhs::aabb::Aabb {
+        let b = self.0.aabb();
+        obvhs::aabb::Aabb::new(b.min - Vec3A::splat(LEAF_PADDING), b.max + Vec3A::splat(LEAF_PADDING))
     }
 }
 
@@ -272,6 +361,26 @@ mod tests {
                     "offset {offset}: acne at {on}"
                 );
             }
+        }
+    }
+
+    #[test]
+    fn directions_with_negative_zero_components_find_their_hits() {
+        // A quad in the plane z = 2, off the axis so the ray starts beside it in x; directions
+        // with −0.0 components (e.g. the negation of a light's direction) must hit as +0.0 does.
+        let mut mesh = quad(0.0, 1.0, Vec3::ZERO);
+        mesh.transform(glam::Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2));
+        mesh.append(quad(-3.0, 5.0, Vec3::ZERO), 0); // a large floor so the BVH has several nodes
+        let bvh = Bvh::build(&mesh, BvhPreset::DEFAULT);
+        for d in [
+            Vec3::new(-0.0, -0.0, 1.0),
+            Vec3::new(-0.0, 0.0, -1.0),
+            Vec3::new(0.3, -0.0, 0.9).normalize(),
+        ] {
+            let from = Vec3::new(0.2, 0.1, 0.0) - d * 5.0;
+            let plus = Vec3::new(d.x + 0.0, d.y + 0.0, d.z + 0.0);
+            assert_eq!(bvh.intersect(from, d, 100.0), bvh.intersect(from, plus, 100.0), "{d:?}");
+            assert!(bvh.any_hit(from, d, 100.0), "{d:?}");
         }
     }
 

@@ -3,8 +3,12 @@
 //! Every subcommand returns `Result<(), InputError>`; [`main`] prints an error as one line
 //! (`error: FILE: problem`) and exits with code 2.
 
+mod compare;
+mod export_mitsuba;
 mod progress;
 mod render;
+mod stability;
+mod validate;
 
 use std::process::ExitCode;
 
@@ -24,20 +28,33 @@ enum Command {
     /// Render a scene (.toml), a bare mesh (.obj) or a glTF file (.gltf, .glb) to PNG (8-bit sRGB)
     /// or EXR (linear float32).
     Render(render::RenderArgs),
+    /// Write a scene as Mitsuba 3 XML (meshes referenced, not copied).
+    ExportMitsuba(export_mitsuba::ExportArgs),
+    /// Compare two linear images (EXR) pixel by pixel: error metrics, worst pixels, heat map.
+    Compare(compare::CompareArgs),
+    /// Render scenes with pointshade and Mitsuba 3, compare pixel by pixel, write an HTML report.
+    Validate(validate::ValidateArgs),
+    /// Check numerical stability on stiff and extreme inputs (f32 vs f64, watertight rays,
+    /// shadows at extreme scales, extreme lights); exit code 1 if any case fails.
+    Stability(stability::StabilityArgs),
 }
 
 /// Parses the command line, runs the subcommand, and maps errors to exit code 2.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Render(args) => render::run(args),
+        Command::Render(args) => render::run(args).map(|()| ExitCode::SUCCESS),
+        Command::ExportMitsuba(args) => export_mitsuba::run(args).map(|()| ExitCode::SUCCESS),
+        Command::Compare(args) => compare::run(args).map(|()| ExitCode::SUCCESS),
+        Command::Validate(args) => validate::run(args).map(|()| ExitCode::SUCCESS),
+        Command::Stability(args) => stability::run(args),
     };
     finish(result)
 }
 
-fn finish(result: Result<(), InputError>) -> ExitCode {
+fn finish(result: Result<ExitCode, InputError>) -> ExitCode {
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::from(2)

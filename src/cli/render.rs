@@ -1,15 +1,15 @@
 //! `pointshade render`: scene → plan → BVH → render → PNG/EXR (+ AOVs), with a summary.
 
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
-use crate::accel::{Bvh, BvhPreset};
 use crate::cli::option_error;
 use crate::cli::progress::Progress;
 use crate::error::InputError;
 use crate::film::SamplerKind;
 use crate::output::{aov_path, encode, write_all_or_nothing, Format};
 use crate::plan::{Aov, RenderPlan};
+use crate::shading::shadow::ShadowOffset;
 use crate::{render, scene};
 
 /// Arguments of `pointshade render`.
@@ -44,6 +44,10 @@ pub struct RenderArgs {
     /// glTF files: render through camera N of the file (0-based) instead of the first one.
     #[arg(long, value_name = "N")]
     camera: Option<usize>,
+    /// Shadow-ray origin offset: error-bound (default) or mitsuba (Mitsuba 3's fixed epsilon, for
+    /// pixel-exact validation).
+    #[arg(long)]
+    shadow_offset: Option<String>,
     /// Print the render plan: stages kept and skipped, and why.
     #[arg(long)]
     explain: bool,
@@ -73,6 +77,9 @@ pub fn run(args: RenderArgs) -> Result<(), InputError> {
         f.sampler = SamplerKind::parse(name).map_err(|e| option_error("--sampler", e))?;
     }
     f.spp = args.spp.unwrap_or(f.spp);
+    if let Some(name) = &args.shadow_offset {
+        scene.shadow_offset = ShadowOffset::parse(name).map_err(|e| option_error("--shadow-offset", e))?;
+    }
     f.validate().map_err(|e| InputError::new(&args.scene, e))?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
@@ -88,12 +95,11 @@ pub fn run(args: RenderArgs) -> Result<(), InputError> {
         .num_threads(args.threads.unwrap_or(0))
         .build()
         .map_err(|e| option_error("--threads", e))?;
-    let (bvh, rendered) = pool.install(|| {
-        let bvh = plan.trace_rays.then(|| Bvh::build(&scene.mesh, BvhPreset::DEFAULT));
+    let rendered = pool.install(|| {
         let progress = Progress::new(&scene, args.quiet);
-        let rendered = render::render(&scene, &plan, bvh.as_ref(), &|n| progress.tick(n));
+        let rendered = render::render_scene(&scene, &plan, &|n| progress.tick(n));
         progress.finish();
-        (bvh, rendered)
+        rendered
     });
     let rendered = rendered.map_err(|e| InputError::new(&args.scene, e))?;
 
@@ -112,7 +118,7 @@ pub fn run(args: RenderArgs) -> Result<(), InputError> {
 
     if !args.quiet {
         let s = &rendered.stats;
-        let bvh_time = bvh.as_ref().map_or(Duration::ZERO, |b| b.build_time);
+        let bvh_time = s.bvh_time;
         eprintln!(
             "rendered {}x{}, {} spp, {} triangles, {} primary + {} shadow rays in {:.2} s → {}",
             scene.film.width,

@@ -72,6 +72,18 @@ pub fn encode(image: &Image, format: Format, exposure: f32) -> Result<Vec<u8>, S
     Ok(bytes.into_inner())
 }
 
+/// Reads a linear RGB image (EXR, or any format the image crate decodes, taken as is) for
+/// comparisons. Alpha is dropped. Errors name the file.
+pub fn read_linear(path: &Path) -> InputResult<Image> {
+    let bytes = std::fs::read(path).map_err(|e| InputError::new(path, format!("cannot read: {e}")))?;
+    let decoded =
+        image::load_from_memory(&bytes).map_err(|e| InputError::new(path, format!("not a readable image: {e}")))?;
+    let rgb = decoded.into_rgb32f();
+    let (width, height) = rgb.dimensions();
+    let pixels = rgb.pixels().map(|p| glam::Vec3::from(p.0)).collect();
+    Ok(Image { width, height, pixels })
+}
+
 /// Where an AOV of a render written to `out` goes: `out` with `.<aov>.exr` instead of its extension.
 pub fn aov_path(out: &Path, aov: Aov) -> PathBuf {
     let stem = out

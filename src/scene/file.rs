@@ -18,9 +18,10 @@ use crate::scene::gltf::load_gltf;
 use crate::scene::mesh::TriangleMesh;
 use crate::scene::obj::{load_obj, NO_MATERIAL};
 use crate::scene::textures::{decode_used_images, offset_images, PendingImage};
-use crate::scene::{extension, Scene};
+use crate::scene::{extension, Scene, SceneObject};
 use crate::shading::light::{Falloff, Light, LightKind};
 use crate::shading::material::{BlinnPhong, CookTorrance, Material, Specular};
+use crate::shading::shadow::ShadowOffset;
 use crate::surface::camera::{CameraSpec, FovAxis, Projection};
 
 #[derive(Deserialize)]
@@ -97,6 +98,7 @@ enum FovAxisName {
 #[serde(deny_unknown_fields)]
 struct RenderSection {
     shadows: Option<bool>,
+    shadow_offset: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -229,6 +231,7 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
     let mut default_index = None;
     let mut images = Vec::new();
     let mut notes = Vec::new();
+    let mut objects = Vec::new();
     for object in &file.object {
         let o = object.get_ref();
         let mesh_path = resolve(dir, &o.mesh);
@@ -271,10 +274,20 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
                 (None, _) => unreachable!("mesh loaders return valid material indices"),
             };
         }
-        if let Some(t) = &o.transform {
-            part.transform(transform_matrix(t).map_err(|m| at(object.span(), m))?);
+        let transform = match &o.transform {
+            Some(t) => transform_matrix(t).map_err(|m| at(object.span(), m))?,
+            None => Mat4::IDENTITY,
+        };
+        if transform != Mat4::IDENTITY {
+            part.transform(transform);
         }
+        let first = mesh.triangle_count();
         mesh.append(part, 0);
+        objects.push(SceneObject {
+            mesh: mesh_path,
+            transform,
+            triangles: first..mesh.triangle_count(),
+        });
     }
     let textures = decode_used_images(&mut materials, &mesh.material_of_triangle, &images)?;
 
@@ -306,7 +319,12 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
         materials,
         textures,
         mesh,
-        shadows: file.render.and_then(|r| r.shadows).unwrap_or(true),
+        shadows: file.render.as_ref().and_then(|r| r.shadows).unwrap_or(true),
+        shadow_offset: match file.render.as_ref().and_then(|r| r.shadow_offset.as_ref()) {
+            Some(name) => ShadowOffset::parse(name.get_ref()).map_err(|m| at(name.span(), m))?,
+            None => ShadowOffset::default(),
+        },
+        objects,
         notes,
         warnings,
     })

@@ -9,7 +9,7 @@ use glam::Vec3;
 use crate::error::{InputError, InputResult};
 use crate::film::FilmSettings;
 use crate::scene::obj::{load_obj, NO_MATERIAL};
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneObject};
 use crate::shading::light::{Falloff, Light, LightKind};
 use crate::shading::material::Material;
 use crate::surface::camera::{CameraSpec, FovAxis, Projection};
@@ -103,6 +103,7 @@ pub fn scene_for_bare_mesh(path: &Path) -> InputResult<Scene> {
     let (lo, hi) = mesh.bounds().ok_or_else(|| InputError::new(path, "no geometry"))?;
     let camera = frame_bounds(lo, hi);
     let lights = default_lights(lo, hi, &camera);
+    let triangles = 0..mesh.triangle_count();
     Ok(Scene {
         source: path.to_path_buf(),
         film: FilmSettings::default(),
@@ -112,6 +113,12 @@ pub fn scene_for_bare_mesh(path: &Path) -> InputResult<Scene> {
         textures: Vec::new(),
         mesh,
         shadows: true,
+        shadow_offset: Default::default(),
+        objects: vec![SceneObject {
+            mesh: path.to_path_buf(),
+            transform: glam::Mat4::IDENTITY,
+            triangles,
+        }],
         notes: vec![
             "camera: framed automatically on the bounding box".into(),
             "lights: default key + fill lights".into(),

@@ -18,6 +18,7 @@ use crate::error::{InputError, InputResult};
 use crate::film::FilmSettings;
 use crate::shading::light::Light;
 use crate::shading::material::Material;
+use crate::shading::shadow::ShadowOffset;
 use crate::shading::texture::TextureImage;
 use crate::surface::camera::CameraSpec;
 pub use mesh::TriangleMesh;
@@ -42,10 +43,35 @@ pub struct Scene {
     pub mesh: TriangleMesh,
     /// Whether shadow rays are traced.
     pub shadows: bool,
+    /// How shadow rays leave the surface (`mitsuba` only for validation).
+    pub shadow_offset: ShadowOffset,
+    /// Where each part of `mesh` came from (for exporters; rendering uses `mesh` only).
+    pub objects: Vec<SceneObject>,
     /// Decisions made for the user (automatic camera, default light …), shown by `--explain`.
     pub notes: Vec<String>,
     /// Problems that did not stop loading, printed as warnings.
     pub warnings: Vec<String>,
+}
+
+/// One object of a scene: a mesh file placed by a transform, with the triangles it became.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneObject {
+    /// The mesh file.
+    pub mesh: PathBuf,
+    /// Object-to-world transform applied to it.
+    pub transform: glam::Mat4,
+    /// Its triangles in the scene mesh.
+    pub triangles: std::ops::Range<usize>,
+}
+
+impl SceneObject {
+    /// The distinct materials its triangles use, in index order.
+    pub fn materials(&self, mesh: &TriangleMesh) -> Vec<u32> {
+        let mut used: Vec<u32> = mesh.material_of_triangle[self.triangles.clone()].to_vec();
+        used.sort_unstable();
+        used.dedup();
+        used
+    }
 }
 
 /// Choices the command line makes about loading.

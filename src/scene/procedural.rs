@@ -67,6 +67,31 @@ impl ProceduralMesh {
         s
     }
 
+    /// The triangles of one group as a mesh of their own (vertices compacted, no groups).
+    pub fn group(&self, name: &str) -> ProceduralMesh {
+        let mut out = ProceduralMesh::default();
+        let mut remap = vec![u32::MAX; self.positions.len()];
+        for (k, t) in self.triangles.iter().enumerate() {
+            let group = self
+                .groups
+                .iter()
+                .rev()
+                .find(|(_, first)| *first <= k)
+                .map(|(g, _)| g.as_str());
+            if group != Some(name) {
+                continue;
+            }
+            out.triangles.push(t.map(|i| {
+                if remap[i as usize] == u32::MAX {
+                    remap[i as usize] = out.positions.len() as u32;
+                    out.positions.push(self.positions[i as usize]);
+                }
+                remap[i as usize]
+            }));
+        }
+        out
+    }
+
     /// Drops the normals (for testing angle-weighted normals on meshes without them).
     pub fn without_normals(mut self) -> Self {
         self.normals = None;
@@ -394,6 +419,25 @@ pub fn catalogue() -> Vec<(&'static str, String)> {
             "cornell-box.mtl",
             to_mtl(&format!("Cornell box materials\n{note}"), &CORNELL_MATERIALS),
         ),
+        // One file per material, for Mitsuba (its OBJ loader gives a file one BSDF).
+        (
+            "cornell-box-white.obj",
+            cornell_box()
+                .group("white")
+                .to_obj(&format!("Cornell box, white parts\n{note}"), None),
+        ),
+        (
+            "cornell-box-red.obj",
+            cornell_box()
+                .group("red")
+                .to_obj(&format!("Cornell box, red wall\n{note}"), None),
+        ),
+        (
+            "cornell-box-green.obj",
+            cornell_box()
+                .group("green")
+                .to_obj(&format!("Cornell box, green wall\n{note}"), None),
+        ),
     ]
 }
 
@@ -469,6 +513,12 @@ mod tests {
         assert_eq!(text.lines().filter(|l| l.starts_with("f ")).count(), 20);
         assert!(text.contains("f 1//1 12//12 6//6"));
         let c = cornell_box().to_obj("cb", Some("cb.mtl"));
+        let white = cornell_box().group("white");
+        assert_eq!(
+            (white.triangles.len(), white.positions.len()),
+            (26, 52),
+            "floor, ceiling, back wall, two blocks"
+        );
         assert!(c.contains("mtllib cb.mtl") && c.contains("usemtl red"));
     }
 }

@@ -258,7 +258,7 @@ impl Material {
         match &self.specular {
             Specular::None => d,
             Specular::BlinnPhong(bp) => {
-                let s = blinn_phong(R::of(bp.ks), dots.n_dot_h, R::of(bp.shininess));
+                let s = blinn_phong(R::of(bp.ks), dots.n_dot_h, dots.sin2_h, R::of(bp.shininess));
                 [0, 1, 2].map(|c| d[c] + s * R::of(bp.color[c]))
             }
             Specular::CookTorrance(ct) => {
@@ -351,7 +351,7 @@ impl PbrPoint {
         let dv = if v == R::zero() {
             R::zero()
         } else {
-            ggx_d(dots.n_dot_h, alpha) * v
+            ggx_d(dots.n_dot_h, dots.sin2_h, alpha) * v
         };
         let metallic = R::of(self.metallic);
         // Dielectric F0 of glTF: ior 1.5 → ((1.5 − 1)/(1.5 + 1))² = 0.04.
@@ -398,7 +398,7 @@ impl CookTorrance {
         if v == R::zero() {
             return [R::zero(); 3];
         }
-        let dv = self.d.eval(dots.n_dot_h, alpha) * v;
+        let dv = self.d.eval(dots.n_dot_h, dots.sin2_h, alpha) * v;
         self.fresnel(dots.i_dot_h).map(|f| f * dv)
     }
 }
@@ -433,12 +433,7 @@ mod tests {
     use std::f64::consts::PI;
 
     fn dots(ci: f64, co: f64, nh: f64, ih: f64) -> LocalDots<f64> {
-        LocalDots {
-            n_dot_i: ci,
-            n_dot_o: co,
-            n_dot_h: nh,
-            i_dot_h: ih,
-        }
+        LocalDots::from_cosines(ci, co, nh, ih)
     }
 
     #[test]

@@ -3,7 +3,8 @@
 //! L_o = L_e + Σ_lights f_r(ω_i, ω_o) · E_light · cos θ_i · V, summed in light order
 //! (deterministic); L_e is the emitted radiance of glTF materials with an emissive factor.
 //! Sidedness follows the material: one-sided (Mitsuba's convention) contributes only where
-//! n_s·ω_i > 0 and n_s·ω_o > 0; two-sided first turns both normals towards the viewer. Lights
+//! n_s·ω_i > 0 and n_s·ω_o > 0; two-sided first turns both normals towards the viewer (when the
+//! shading normal faces away from it, as Mitsuba's `twosided` does). Lights
 //! behind the surface are skipped before any shadow ray is traced.
 
 use glam::Vec3;
@@ -11,7 +12,7 @@ use glam::Vec3;
 use crate::shading::brdf::LocalDots;
 use crate::shading::light::Light;
 use crate::shading::material::{Material, Specular};
-use crate::shading::shadow::{Occluder, ShadowRay};
+use crate::shading::shadow::{Occluder, ShadowOffset, ShadowRay};
 use crate::shading::texture::TextureImage;
 use crate::surface::SurfacePoint;
 
@@ -30,6 +31,8 @@ pub struct Shader<'a, O: Occluder> {
     pub textures: Option<&'a [TextureImage]>,
     /// Add emitted radiance (the plan found a rendered material that emits).
     pub emission: bool,
+    /// How shadow rays leave the surface.
+    pub shadow_offset: ShadowOffset,
 }
 
 impl<O: Occluder> Shader<'_, O> {
@@ -40,13 +43,15 @@ impl<O: Occluder> Shader<'_, O> {
         let material = &self.materials[sp.material as usize];
         let wo = sp.to_viewer;
         let (mut ng, mut ns) = (sp.geometric_normal, sp.shading_normal);
-        if material.two_sided && ng.dot(wo) < 0.0 {
+        // Two-sided: face the viewer, decided by the shading normal as Mitsuba's `twosided` does
+        // (so silhouettes of smooth meshes never turn black).
+        if material.two_sided && ns.dot(wo) < 0.0 {
             ng = -ng;
             ns = -ns;
         }
-        // Emission: seen from the front, or from both sides of a two-sided material.
+        // Emission: from both sides of a two-sided material, from the front of a one-sided one.
         let mut radiance = Vec3::ZERO;
-        if self.emission && ng.dot(wo) > 0.0 {
+        if self.emission && (material.two_sided || sp.geometric_normal.dot(wo) > 0.0) {
             radiance = material.emission([sp.uv, sp.uv1], self.textures);
         }
         let cos_o = ns.dot(wo);
@@ -75,16 +80,11 @@ impl<O: Occluder> Shader<'_, O> {
                 }
             } else {
                 // Lambert reads no dot product: skip the half vector.
-                LocalDots {
-                    n_dot_i: cos_i,
-                    n_dot_o: cos_o,
-                    n_dot_h: 0.0,
-                    i_dot_h: 0.0,
-                }
+                LocalDots::from_cosines(cos_i, cos_o, 0.0, 0.0)
             };
             if let Some(occluder) = self.occluder {
                 *shadow_rays += 1;
-                let ray = ShadowRay::towards_light(sp.position, ng, ls.wi, ls.distance, self.scene_unit);
+                let ray = ShadowRay::new(self.shadow_offset, sp.position, ng, ls.wi, ls.distance, self.scene_unit);
                 if occluder.occluded(&ray) {
                     continue;
                 }

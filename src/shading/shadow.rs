@@ -71,7 +71,81 @@ pub fn offset_origin(p: Vec3, n: Vec3, scene_unit: f32) -> Vec3 {
     out
 }
 
+/// How shadow-ray origins leave the surface.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ShadowOffset {
+    /// pointshade's default: the error-bound offset of [`offset_origin`], correct at any scale.
+    #[default]
+    ErrorBound,
+    /// Mitsuba 3's fixed epsilon, for pixel-exact validation: the origin moves along the
+    /// geometric normal by (1 + max|p_k|)·2⁻²⁴·1500 and the ray stops at (1 − 10·that epsilon)
+    /// of the distance to the light. It loses contact shadows far from the origin and shows the
+    /// "shadow terminator" on coarse smooth meshes, exactly as Mitsuba does.
+    Mitsuba,
+}
+
+impl ShadowOffset {
+    /// Name in scene files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::ErrorBound => "error-bound",
+            Self::Mitsuba => "mitsuba",
+        }
+    }
+
+    /// Parses a name; the error lists the valid ones.
+    pub fn parse(name: &str) -> Result<Self, String> {
+        match name {
+            "error-bound" => Ok(Self::ErrorBound),
+            "mitsuba" => Ok(Self::Mitsuba),
+            other => Err(format!(
+                "unknown shadow offset '{other}' (expected error-bound or mitsuba)"
+            )),
+        }
+    }
+}
+
+/// Mitsuba's `math::RayEpsilon` = 2⁻²⁴·1500 (mitsuba3.md §3.5).
+const MITSUBA_RAY_EPSILON: f32 = 1500.0 / 16_777_216.0;
+/// Mitsuba's `math::ShadowEpsilon` = 10·RayEpsilon.
+const MITSUBA_SHADOW_EPSILON: f32 = 10.0 * MITSUBA_RAY_EPSILON;
+
 impl ShadowRay {
+    /// The shadow ray from `p` towards a light in direction `wi` at `distance` (infinite for
+    /// directional lights), with the origin offset `offset` asks for.
+    #[inline]
+    pub fn new(offset: ShadowOffset, p: Vec3, ng: Vec3, wi: Vec3, distance: f32, scene_unit: f32) -> Self {
+        match offset {
+            ShadowOffset::ErrorBound => Self::towards_light(p, ng, wi, distance, scene_unit),
+            ShadowOffset::Mitsuba => Self::mitsuba(p, ng, wi, distance),
+        }
+    }
+
+    /// Mitsuba's `spawn_ray_to`: origin p + mag·n toward the light's side, direction re-aimed at
+    /// the light from the moved origin, t_max = |target − origin|·(1 − ShadowEpsilon).
+    #[inline]
+    fn mitsuba(p: Vec3, ng: Vec3, wi: Vec3, distance: f32) -> Self {
+        let n = if ng.dot(wi) >= 0.0 { ng } else { -ng };
+        let magnitude = (1.0 + p.abs().max_element()) * MITSUBA_RAY_EPSILON;
+        let origin = p + n * magnitude;
+        if !distance.is_finite() {
+            return Self {
+                origin,
+                direction: wi,
+                t_max: f32::INFINITY,
+            };
+        }
+        let to_light = p + wi * distance - origin;
+        let length = to_light.length();
+        // length > 0: the light is not at the shaded point (the light rejects d = 0) and the
+        // offset is orders of magnitude smaller than any distance it sends light over.
+        Self {
+            origin,
+            direction: to_light / length,
+            t_max: length * (1.0 - MITSUBA_SHADOW_EPSILON),
+        }
+    }
+
     /// The shadow ray from surface point `p` (geometric normal `ng`) towards a light in direction
     /// `wi` at `distance` (infinite for directional lights).
     #[inline]
@@ -114,6 +188,17 @@ mod tests {
         assert!(far > 0.0 && far < 1.0, "{far}");
         let tiny = offset_origin(Vec3::ZERO, Vec3::Y, 1e-6).y;
         assert!(tiny > 0.0 && tiny < 1e-9, "{tiny}");
+    }
+
+    #[test]
+    fn mitsuba_offset_is_fixed_epsilon_along_the_geometric_normal() {
+        let p = Vec3::new(1e5, 0.0, 0.0);
+        let r = ShadowRay::new(ShadowOffset::Mitsuba, p, Vec3::NEG_Y, Vec3::Y, 10.0, 1.0);
+        // (1 + 1e5)·8.9407e-5 ≈ 8.94 units: far larger than an ulp, as in Mitsuba.
+        assert!((r.origin.y - 8.9407).abs() < 1e-3, "{}", r.origin);
+        assert!((r.t_max - (10.0 - 8.9407) * (1.0 - 8.9407e-4)).abs() < 1e-3);
+        assert_eq!(ShadowOffset::parse("mitsuba"), Ok(ShadowOffset::Mitsuba));
+        assert!(ShadowOffset::parse("fixed").is_err());
     }
 
     #[test]

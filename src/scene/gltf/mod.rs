@@ -24,9 +24,10 @@ use crate::film::FilmSettings;
 use crate::scene::framing::{default_lights, frame_bounds};
 use crate::scene::mesh::TriangleMesh;
 use crate::scene::textures::{decode_used_images, PendingImage};
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneObject};
 use crate::shading::light::Light;
 use crate::shading::material::Material;
+use crate::shading::shadow::ShadowOffset;
 use cameras::GltfCamera;
 use document::SUPPORTED_EXTENSIONS;
 
@@ -159,8 +160,14 @@ pub fn scene_for_gltf(path: &Path, camera: Option<usize>) -> InputResult<Scene> 
         lights,
         materials,
         textures,
+        objects: vec![SceneObject {
+            mesh: path.to_path_buf(),
+            transform: glam::Mat4::IDENTITY,
+            triangles: 0..mesh.triangle_count(),
+        }],
         mesh,
         shadows: true,
+        shadow_offset: ShadowOffset::default(),
         notes,
         warnings: contents.warnings,
     })

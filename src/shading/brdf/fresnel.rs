@@ -48,38 +48,61 @@ pub fn fresnel_schlick_sg<R: Real>(f0: R, i_dot_h: R) -> R {
     f0 + (R::one() - f0) * ((R::lit(-5.55473) * c - R::lit(6.98316)) * c).exp2()
 }
 
-/// Exact unpolarised reflectance of a conductor with complex index η + iκ (relative to the
+/// Largest η and κ [`fresnel_conductor`] uses: beyond it F = 1 to within 4e-8 at normal
+/// incidence (F ≥ 1 − 4η/(η² + κ²)) and closer to 1 at every other angle, while every square in
+/// the formula stays finite in f32.
+pub const MAX_CONDUCTOR_INDEX: f64 = 1e8;
+
+/// Exact unpolarised reflectance of a conductor with complex index m = η + iκ (relative to the
 /// outside medium) at cos θ = c, as Mitsuba's `fresnel_conductor` (after Moeller, "Optics"):
-/// s² = 1 − c², t1 = η² − κ² − s², A = √(t1² + 4η²κ²), a = √(max(0, (A + t1)/2)),
+/// s² = 1 − c², t1 = η² − κ² − s², A = √(t1² + 4η²κ²), a = √((A + t1)/2),
 /// Rs = (A + c² − 2ca)/(A + c² + 2ca), Rp = Rs (A c² + s⁴ − 2ca s²)/(A c² + s⁴ + 2ca s²),
 /// F = (Rs + Rp)/2.
-/// Both denominators are sums of non-negative terms. The first is 0 only when A = 0 and c = 0;
-/// the second only when A·c² = 0 and s = 0, i.e. c = 1 and A = 0. A = 0 means η² − κ² = s²
-/// and ηκ = 0: a lossless medium matching the grazing angle, where the exact reflectance tends
-/// to 1 (total reflection at the critical angle); those points return 1.
+///
+/// Evaluated without cancellation. With w = √(m² − s²) = a + ib: A = a² + b² and ab = ηκ, so
+/// - the larger of a² = (A + t1)/2 and b² = (A − t1)/2 is computed from its formula (a sum of
+///   like-signed terms) and the other as ηκ divided by its root — the textbook (A + t1)/2 cancels
+///   completely for weakly absorbing media (κ → 0 with t1 < 0: a dielectric seen from the
+///   denser side, past the critical angle);
+/// - Rs = ((c − a)² + b²)/((c + a)² + b²) and Rp = Rs ((ac − s²)² + b²c²)/((ac + s²)² + b²c²),
+///   the same quotients written as sums of squares, so a near-perfect index match (F → 0)
+///   keeps its relative precision too.
+///
+/// η and κ are clamped to [0, [`MAX_CONDUCTOR_INDEX`]] (NaN counts as 0). The first denominator
+/// is 0 only when c = a = b = 0, the second only when s = 0 and a = b = 0 (c = 1): both mean
+/// A = 0, i.e. η² − κ² = s² and ηκ = 0, a lossless medium matching the grazing angle, where the
+/// exact reflectance tends to 1 (total reflection at the critical angle); those points return 1.
 #[inline(always)]
 pub fn fresnel_conductor<R: Real>(i_dot_h: R, eta: R, k: R) -> R {
+    let max_index = R::lit(MAX_CONDUCTOR_INDEX);
+    let (eta, k) = (eta.max(R::zero()).min(max_index), k.max(R::zero()).min(max_index));
     let c = i_dot_h.max(R::zero()).min(R::one());
-    let c2 = c * c;
     let s2 = super::microfacet::one_minus_squared(c);
-    let (eta2, k2) = (eta * eta, k * k);
-    let t1 = eta2 - k2 - s2;
-    let a_sq = (t1 * t1 + R::lit(4.0) * eta2 * k2).sqrt();
-    let a = ((a_sq + t1) * R::lit(0.5)).max(R::zero()).sqrt();
-    let two_ca = R::lit(2.0) * c * a;
-    let rs_den = a_sq + c2 + two_ca;
+    let t1 = eta * eta - k * k - s2;
+    let eta_k = eta * k;
+    let a_sq = (t1 * t1 + R::lit(4.0) * eta_k * eta_k).sqrt();
+    let (a, b) = if t1 >= R::zero() {
+        let a = ((a_sq + t1) * R::lit(0.5)).sqrt();
+        // a = 0 only if A = t1 = 0, which needs ηκ = 0.
+        (a, if a > R::zero() { eta_k / a } else { R::zero() })
+    } else {
+        // −t1 > 0, so b > 0.
+        let b = ((a_sq - t1) * R::lit(0.5)).sqrt();
+        (eta_k / b, b)
+    };
+    let b2 = b * b;
+    let rs_den = (c + a) * (c + a) + b2;
     if !(rs_den > R::zero()) {
         return R::one();
     }
-    let rs = (a_sq + c2 - two_ca) / rs_den;
-    let s4 = s2 * s2;
-    let rp_den = a_sq * c2 + s4 + two_ca * s2;
+    let rs = ((c - a) * (c - a) + b2) / rs_den;
+    let (ac, b2c2) = (a * c, b2 * c * c);
+    let rp_den = (ac + s2) * (ac + s2) + b2c2;
     let rp = if rp_den > R::zero() {
-        rs * (a_sq * c2 + s4 - two_ca * s2) / rp_den
+        rs * ((ac - s2) * (ac - s2) + b2c2) / rp_den
     } else {
         rs
     };
-    // Rounding can push the numerators a hair below zero for perfect mirrors.
     ((rs + rp) * R::lit(0.5)).max(R::zero()).min(R::one())
 }
 
@@ -162,7 +185,35 @@ mod tests {
         // η = 1, κ = 0 (no interface): A = 0 at grazing, documented value 1; 0 elsewhere.
         assert_eq!(fresnel_conductor(0.0f32, 1.0, 0.0), 1.0);
         assert!(fresnel_conductor(0.7f32, 1.0, 0.0).abs() < 1e-6);
-        // Degenerate η = κ = 0 at normal incidence: both denominators 0 → documented 1.
+        // Degenerate η = κ = 0 at normal incidence: the second denominator is 0 → Rp = Rs = 1.
         assert_eq!(fresnel_conductor(1.0f32, 0.0, 0.0), 1.0);
+        // Extreme indices clamp to the documented limit 1; NaN counts as 0 (η = κ = 0: F = 1).
+        assert!(fresnel_conductor(0.5f32, 1e30, 1e30) > 1.0 - 1e-7);
+        assert!(fresnel_conductor(0.5f32, f32::NAN, f32::NAN).is_finite());
+    }
+
+    #[test]
+    fn weakly_absorbing_and_matched_media_keep_f32_precision() {
+        // κ → 0 past the critical angle (η < 1), and a near-perfect index match (F ≈ 2.5e-7):
+        // the textbook (A + t1)/2 and A + c² − 2ca cancel in f32, the sums of squares do not.
+        for &(c, eta, k) in &[
+            (0.3f64, 0.5f64, 1e-3f64),
+            (0.2, 0.8, 1e-5),
+            (1.0, 1.001, 0.0),
+            (0.9, 1.0, 1e-4),
+        ] {
+            let (c32, e32, k32) = (c as f32, eta as f32, k as f32);
+            let exact = conductor_complex(c32 as f64, e32 as f64, k32 as f64);
+            let ours64 = fresnel_conductor(c32 as f64, e32 as f64, k32 as f64);
+            let ours32 = fresnel_conductor(c32, e32, k32) as f64;
+            assert!(
+                (ours64 - exact).abs() <= 1e-9 * exact,
+                "f64 c {c} η {eta} κ {k}: {ours64} vs {exact}"
+            );
+            assert!(
+                (ours32 - exact).abs() <= 1e-5 * exact,
+                "f32 c {c} η {eta} κ {k}: {ours32} vs {exact}"
+            );
+        }
     }
 }

@@ -19,12 +19,15 @@ pub enum MicrofacetDistribution {
 named_terms!(MicrofacetDistribution, "D", Ggx => "ggx", Beckmann => "beckmann");
 
 impl MicrofacetDistribution {
-    /// D(n·ω_h) for roughness `alpha`.
+    /// D for a half vector with cosine `n_dot_h` and sine² `sin2_h` (see [`LocalDots`]), for
+    /// roughness `alpha`.
+    ///
+    /// [`LocalDots`]: super::LocalDots
     #[inline(always)]
-    pub fn eval<R: Real>(self, n_dot_h: R, alpha: R) -> R {
+    pub fn eval<R: Real>(self, n_dot_h: R, sin2_h: R, alpha: R) -> R {
         match self {
-            Self::Ggx => ggx_d(n_dot_h, alpha),
-            Self::Beckmann => beckmann_d(n_dot_h, alpha),
+            Self::Ggx => ggx_d(n_dot_h, sin2_h, alpha),
+            Self::Beckmann => beckmann_d(n_dot_h, sin2_h, alpha),
         }
     }
 }
@@ -36,43 +39,62 @@ pub(crate) fn one_minus_squared<R: Real>(c: R) -> R {
     ((R::one() - c) * (R::one() + c)).max(R::zero())
 }
 
-/// GGX (Trowbridge–Reitz):
-/// D = α² / (π (1 + (α² − 1)(n·ω_h)²)²),
-/// evaluated as α² / (π ((1 − c²) + α² c²)²) so that the peak (c → 1) does not cancel.
-/// c is clamped to [0, 1] (a half vector below the surface has no microfacets) and α to
-/// [`MIN_ALPHA`], so the denominator is ≥ π·MIN_ALPHA⁴·… > 0: always finite.
+/// α clamped to [`MIN_ALPHA`, 1] (materials validate α ≤ 1; the clamp keeps direct calls finite),
+/// squared. NaN becomes `MIN_ALPHA` (`max` ignores NaN).
 #[inline(always)]
-pub fn ggx_d<R: Real>(n_dot_h: R, alpha: R) -> R {
-    let c = n_dot_h.max(R::zero()).min(R::one());
-    let a2 = {
-        let a = alpha.max(R::lit(MIN_ALPHA));
-        a * a
-    };
-    let c2 = c * c;
-    let t = one_minus_squared(c) + a2 * c2;
-    // t ≥ min(1, α²)·(sin² + cos²)… > 0: at c = 1, t = α² ≥ 1e-8 (normal in f32).
-    a2 / (R::PI() * t * t)
+fn alpha_squared<R: Real>(alpha: R) -> R {
+    let a = alpha.max(R::lit(MIN_ALPHA)).min(R::one());
+    a * a
 }
 
-/// Beckmann: D = exp(−tan²θ_h / α²) / (π α² cos⁴θ_h), tan²θ_h = (1 − c²)/c².
-/// Zero for c ≤ 0 (the limit: the exponential vanishes faster than cos⁴ does), and zero where the
-/// exponential underflows — which happens before cos⁴ can underflow for α ≤ 1, so no 0/0 arises.
+/// GGX (Trowbridge–Reitz):
+/// D = χ⁺(n·ω_h) α² / (π (1 + (α² − 1)(n·ω_h)²)²),
+/// evaluated as α² / (π (sin²θ_h + α² cos²θ_h)²): both terms of the sum are ≥ 0, and sin²θ_h
+/// comes from [`LocalDots`] with its full relative precision, so the peak (θ_h → 0) does not
+/// cancel. D = 0 for n·ω_h ≤ 0 (microfacet normals lie in the upper hemisphere: χ⁺). α is
+/// raised to [`MIN_ALPHA`]. For consistent inputs (sin² + cos² = 1) the denominator is
+/// ≥ π·min(1, α²)² > 0; the result is also capped at the peak value 1/(πα²), which it never
+/// exceeds mathematically, so inconsistent inputs (sin²θ_h = 0 with a tiny cos θ_h) cannot
+/// divide by zero either.
+///
+/// [`LocalDots`]: super::LocalDots
 #[inline(always)]
-pub fn beckmann_d<R: Real>(n_dot_h: R, alpha: R) -> R {
-    let c = n_dot_h.min(R::one());
-    if !(c > R::zero()) {
+pub fn ggx_d<R: Real>(n_dot_h: R, sin2_h: R, alpha: R) -> R {
+    if !(n_dot_h > R::zero()) {
         return R::zero();
     }
-    let a2 = {
-        let a = alpha.max(R::lit(MIN_ALPHA));
-        a * a
-    };
+    let c = n_dot_h.min(R::one());
+    let s2 = sin2_h.max(R::zero()).min(R::one());
+    let a2 = alpha_squared(alpha);
+    let t = s2 + a2 * c * c;
+    let peak = (R::PI() * a2).recip();
+    (a2 / (R::PI() * t * t)).min(peak)
+}
+
+/// Beckmann: D = χ⁺(n·ω_h) exp(−tan²θ_h / α²) / (π α² cos⁴θ_h), tan²θ_h = sin²θ_h / cos²θ_h,
+/// evaluated as exp(−tan²θ_h/α²)·(1 + tan²θ_h)² / (π α²) (1/cos⁴ = (1 + tan²)²).
+/// Zero for c ≤ 0 (the limit: the exponential vanishes faster than cos⁴ does), where cos²θ_h
+/// underflows, and where the exponential underflows. When it does not, tan²θ_h < 104 α² ≤ 104,
+/// so the factor (1 + tan²)² is below 1.1e4: no overflow and no 0/0 anywhere.
+#[inline(always)]
+pub fn beckmann_d<R: Real>(n_dot_h: R, sin2_h: R, alpha: R) -> R {
+    // Test the raw input: `min` would turn a NaN into 1.
+    if !(n_dot_h > R::zero()) {
+        return R::zero();
+    }
+    let c = n_dot_h.min(R::one());
     let c2 = c * c;
-    let e = (-(one_minus_squared(c) / c2) / a2).exp();
+    if !(c2 > R::zero()) {
+        return R::zero();
+    }
+    let a2 = alpha_squared(alpha);
+    let tan2 = sin2_h.max(R::zero()).min(R::one()) / c2;
+    let e = (-tan2 / a2).exp();
     if e == R::zero() {
         return R::zero();
     }
-    e / (R::PI() * a2 * c2 * c2)
+    let sec2 = R::one() + tan2;
+    e * sec2 * sec2 / (R::PI() * a2)
 }
 
 #[cfg(test)]
@@ -80,19 +102,23 @@ mod tests {
     use super::*;
     use std::f64::consts::PI;
 
+    fn sin2<R: Real>(c: R) -> R {
+        one_minus_squared(c)
+    }
+
     #[test]
     fn ggx_matches_hand_computed_values() {
         // α = 0.5, c = 0.8: α² = 0.25, 1 + (α² − 1)c² = 1 − 0.75·0.64 = 0.52.
-        let d = ggx_d(0.8f64, 0.5);
+        let d = ggx_d(0.8f64, sin2(0.8f64), 0.5);
         assert!((d - 0.25 / (PI * 0.52 * 0.52)).abs() < 1e-12);
         // Peak at c = 1: 1/(π α²).
-        assert!((ggx_d(1.0f64, 0.5) - 1.0 / (PI * 0.25)).abs() < 1e-12);
+        assert!((ggx_d(1.0f64, sin2(1.0f64), 0.5) - 1.0 / (PI * 0.25)).abs() < 1e-12);
         // α = 1 is uniform: 1/π everywhere.
-        assert!((ggx_d(0.3f64, 1.0) - 1.0 / PI).abs() < 1e-12);
+        assert!((ggx_d(0.3f64, sin2(0.3f64), 1.0) - 1.0 / PI).abs() < 1e-12);
         // The assignment's α = 0.7 at c = 0.9.
         let a2 = 0.49;
         let expect = a2 / (PI * (1.0f64 + (a2 - 1.0) * 0.81).powi(2));
-        assert!((ggx_d(0.9f64, 0.7) - expect).abs() < 1e-12);
+        assert!((ggx_d(0.9f64, sin2(0.9f64), 0.7) - expect).abs() < 1e-12);
     }
 
     #[test]
@@ -103,7 +129,7 @@ mod tests {
             let sum: f64 = (0..n)
                 .map(|k| {
                     let t = (k as f64 + 0.5) / n as f64 * PI / 2.0;
-                    ggx_d(t.cos(), alpha) * t.cos() * t.sin() * 2.0 * PI * (PI / 2.0 / n as f64)
+                    ggx_d(t.cos(), sin2(t.cos()), alpha) * t.cos() * t.sin() * 2.0 * PI * (PI / 2.0 / n as f64)
                 })
                 .sum();
             assert!((sum - 1.0).abs() < 1e-3, "α = {alpha}: {sum}");
@@ -115,12 +141,12 @@ mod tests {
         let (c, a) = (0.8f64, 0.3);
         let tan2 = (1.0 - c * c) / (c * c);
         let expect = (-tan2 / (a * a)).exp() / (PI * a * a * c.powi(4));
-        assert!((beckmann_d(c, a) - expect).abs() < 1e-12 * expect);
+        assert!((beckmann_d(c, sin2(c), a) - expect).abs() < 1e-12 * expect);
         let n = 200_000;
         let sum: f64 = (0..n)
             .map(|k| {
                 let t = (k as f64 + 0.5) / n as f64 * PI / 2.0;
-                beckmann_d(t.cos(), a) * t.cos() * t.sin() * 2.0 * PI * (PI / 2.0 / n as f64)
+                beckmann_d(t.cos(), sin2(t.cos()), a) * t.cos() * t.sin() * 2.0 * PI * (PI / 2.0 / n as f64)
             })
             .sum();
         assert!((sum - 1.0).abs() < 1e-3, "{sum}");
@@ -129,17 +155,40 @@ mod tests {
     #[test]
     fn singular_inputs_give_documented_finite_values() {
         // α = 0 is raised to MIN_ALPHA: a finite spike at the peak, 0 elsewhere in f32.
-        assert!((ggx_d(1.0f32, 0.0) as f64 - 1.0 / (PI * 1e-8)).abs() < 1e-6 * 1.0 / (PI * 1e-8));
-        assert!(ggx_d(0.5f32, 0.0) < 1e-7);
+        assert!((ggx_d(1.0f32, sin2(1.0f32), 0.0) as f64 - 1.0 / (PI * 1e-8)).abs() < 1e-6 * 1.0 / (PI * 1e-8));
+        assert!(ggx_d(0.5f32, sin2(0.5f32), 0.0) < 1e-7);
         // Half vector under the surface or at grazing.
-        assert_eq!(beckmann_d(0.0f32, 0.5), 0.0);
-        assert_eq!(beckmann_d(-0.5f32, 0.5), 0.0);
-        assert!(ggx_d(-0.5f32, 0.5).is_finite());
+        assert_eq!(beckmann_d(0.0f32, sin2(0.0f32), 0.5), 0.0);
+        assert_eq!(beckmann_d(-0.5f32, sin2(-0.5f32), 0.5), 0.0);
+        // GGX has χ⁺(n·ω_h): no microfacet normal points below the surface.
+        assert_eq!(ggx_d(-0.5f32, sin2(-0.5f32), 0.5), 0.0);
+        assert_eq!(ggx_d(0.0f32, 1.0, 0.5), 0.0);
         // Beckmann near grazing with small α underflows to 0 instead of 0/0.
-        assert_eq!(beckmann_d(1e-20f32, 1e-4), 0.0);
-        assert_eq!(beckmann_d(1e-30f32, 1.0), 0.0);
+        assert_eq!(beckmann_d(1e-20f32, sin2(1e-20f32), 1e-4), 0.0);
+        assert_eq!(beckmann_d(1e-30f32, sin2(1e-30f32), 1.0), 0.0);
         // NaN roughness never reaches the output as NaN: max(NaN, MIN_ALPHA) = MIN_ALPHA.
-        assert!(ggx_d(0.5f32, f32::NAN).is_finite());
+        assert!(ggx_d(0.5f32, sin2(0.5f32), f32::NAN).is_finite());
+        assert_eq!(ggx_d(f32::NAN, 0.5, 0.5), 0.0);
+        assert_eq!(beckmann_d(f32::NAN, 0.5, 0.5), 0.0);
+        // Inconsistent inputs (sin²θ_h = 0 with a cosine whose square underflows): finite.
+        assert_eq!(ggx_d(1e-30f32, 0.0, 0.5), 1.0 / (std::f32::consts::PI * 0.25));
+        assert_eq!(beckmann_d(1e-30f32, 0.0, 0.5), 0.0);
+        assert!(ggx_d(1e-30f32, f32::NAN, 1e-4).is_finite());
+    }
+
+    #[test]
+    fn narrow_lobes_keep_f32_precision_near_the_peak_given_sin2() {
+        // θ_h = α: 1 − cos²θ_h from the f32 cosine would have lost 3 digits at α = 0.01;
+        // sin²θ_h given directly keeps D within 1e-6 of the f64 value.
+        for alpha in [1e-2f64, 1e-3, 1e-4] {
+            let t = alpha;
+            let (c, s2) = ((t.cos() as f32), (t.sin().powi(2) as f32));
+            for d in MicrofacetDistribution::ALL {
+                let d32 = d.eval(c, s2, alpha as f32) as f64;
+                let d64 = d.eval(c as f64, s2 as f64, alpha);
+                assert!((d32 - d64).abs() <= 1e-6 * d64, "{d:?} α {alpha}: {d32} vs {d64}");
+            }
+        }
     }
 
     #[test]

@@ -20,7 +20,9 @@ mod microfacet;
 mod real;
 
 pub use dots::LocalDots;
-pub use fresnel::{fresnel_conductor, fresnel_schlick, fresnel_schlick_sg, schlick_f0_dielectric, FresnelTerm};
+pub use fresnel::{
+    fresnel_conductor, fresnel_schlick, fresnel_schlick_sg, schlick_f0_dielectric, FresnelTerm, MAX_CONDUCTOR_INDEX,
+};
 pub use lobes::{blinn_phong, lambert};
 pub use masking::{
     g1_schlick, g1_smith_ggx, schlick_k_assignment, schlick_k_karis, smith_ggx_correlated, MaskingShadowing,

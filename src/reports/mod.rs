@@ -1,0 +1,3 @@
+//! Reports: product features that check the renderer and print what they found.
+
+pub mod stability;

@@ -1,0 +1,468 @@
+//! A scene as Mitsuba 3 XML, for rendering references of the same scene.
+//!
+//! Everything is exported with Mitsuba's exact conventions (mitsuba3.md): perspective or
+//! orthographic sensor, `direct` integrator with one emitter sample and no BSDF samples, box
+//! filter, float32 `hdrfilm`, `stratified` sampler without jitter for the grid sampler. Meshes are
+//! referenced, not copied. Materials map to Mitsuba's own BSDFs where one computes exactly
+//! pointshade's model (Lambert → `diffuse`; Cook-Torrance with GGX, separable Smith and conductor
+//! or constant Fresnel and no diffuse part → `roughconductor`), and to the `pointshade` BSDF
+//! plugin (validation/pointshade_bsdf.py, pointshade's formulas re-implemented in Dr.Jit)
+//! otherwise, so every model can be validated. What Mitsuba cannot express is listed in
+//! [`MitsubaExport::differences`] ("no Mitsuba equivalent").
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use glam::{Mat4, Vec3};
+
+use crate::film::SamplerKind;
+use crate::scene::Scene;
+use crate::shading::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
+use crate::shading::light::{Falloff, Light, LightKind};
+use crate::shading::material::{Material, Specular};
+use crate::surface::camera::{FovAxis, Projection};
+
+/// Which BSDFs the export uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum BsdfChoice {
+    /// Mitsuba's own BSDF where one is exact, the plugin elsewhere.
+    #[default]
+    NativeWhereExact,
+    /// The plugin for every material (to check the plugin against Mitsuba's own BSDFs).
+    PluginEverywhere,
+}
+
+/// A scene exported for Mitsuba.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MitsubaExport {
+    /// The scene with all its lights.
+    pub scene: String,
+    /// The scene once per light, each with only that light: Mitsuba picks one light per sample,
+    /// so a deterministic reference renders each and sums the images.
+    pub per_light: Vec<String>,
+    /// Where Mitsuba cannot compute pointshade's model, one line each; empty = exact.
+    pub differences: Vec<String>,
+    /// How each material was mapped (native BSDF or plugin), one line each.
+    pub material_notes: Vec<String>,
+}
+
+/// Mitsuba's default near clip, used where pointshade's is 0 (Mitsuba needs > 0).
+const MITSUBA_NEAR_CLIP: f32 = 0.01;
+
+/// Exports `scene` rendered at `spp` samples with `sampler` (grid → stratified without jitter).
+pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice) -> MitsubaExport {
+    let mut differences = Vec::new();
+    let mut material_notes = Vec::new();
+    let mut body = String::new();
+    let _ = writeln!(body, "{}", integrator());
+    let _ = writeln!(body, "{}", sensor(scene, spp, &mut differences));
+    for (index, m) in scene.materials.iter().enumerate() {
+        let (xml, note) = bsdf(index, m, bsdfs);
+        material_notes.push(format!("{}: {note}", m.name));
+        if let Specular::GltfPbr(p) = &m.specular {
+            differences.push(format!(
+                "material '{}': the BSDF plugin has no gltf-pbr model{}",
+                m.name,
+                if p.textures == Default::default() {
+                    ""
+                } else {
+                    ", and its textures are not exported"
+                }
+            ));
+        }
+        let _ = writeln!(body, "{xml}");
+    }
+    for object in &scene.objects {
+        let used = object.materials(&scene.mesh);
+        let is_obj = crate::scene::extension(&object.mesh).as_deref() == Some("obj");
+        if !is_obj {
+            differences.push(format!(
+                "{}: Mitsuba cannot load this mesh format",
+                object.mesh.display()
+            ));
+            continue;
+        }
+        if used.len() > 1 {
+            differences.push(format!(
+                "{}: {} materials in one OBJ (Mitsuba gives an OBJ file one BSDF)",
+                object.mesh.display(),
+                used.len()
+            ));
+        }
+        let _ = writeln!(
+            body,
+            "{}",
+            shape(&object.mesh, object.transform, used.first().copied().unwrap_or(0))
+        );
+    }
+    let lights: Vec<String> = scene.lights.iter().map(|l| emitter(l, &mut differences)).collect();
+    if !scene.shadows {
+        differences.push("shadows = false (Mitsuba always traces shadow rays)".into());
+    }
+    let document = |emitters: &[String]| {
+        let mut s = String::from("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n");
+        let _ = writeln!(
+            s,
+            "<!-- exported by pointshade from {} -->",
+            xml_escape(&scene.source.display().to_string())
+        );
+        if material_notes.iter().any(|n| n.contains("plugin")) {
+            let _ = writeln!(
+                s,
+                "<!-- materials of type \"pointshade\" need validation/pointshade_bsdf.py registered -->"
+            );
+        }
+        for d in &differences {
+            let _ = writeln!(s, "<!-- no Mitsuba equivalent: {} -->", xml_escape(d));
+        }
+        let _ = writeln!(s, "<scene version=\"3.0.0\">");
+        s.push_str(&body);
+        for e in emitters {
+            let _ = writeln!(s, "{e}");
+        }
+        s.push_str("</scene>\n");
+        s
+    };
+    MitsubaExport {
+        scene: document(&lights),
+        per_light: lights.iter().map(|l| document(std::slice::from_ref(l))).collect(),
+        differences,
+        material_notes,
+    }
+}
+
+fn integrator() -> &'static str {
+    concat!(
+        "  <integrator type=\"direct\">\n",
+        "    <integer name=\"emitter_samples\" value=\"1\"/>\n",
+        "    <integer name=\"bsdf_samples\" value=\"0\"/>\n",
+        "  </integrator>"
+    )
+}
+
+fn v3(v: Vec3) -> String {
+    format!("{}, {}, {}", v.x, v.y, v.z)
+}
+
+fn sensor(scene: &Scene, spp: u32, differences: &mut Vec<String>) -> String {
+    let c = &scene.camera;
+    let f = &scene.film;
+    let near = if c.near_clip > 0.0 {
+        c.near_clip
+    } else {
+        MITSUBA_NEAR_CLIP
+    };
+    // Mitsuba needs a finite far plane: beyond everything in the scene, at least its default.
+    let far = if c.far_clip.is_finite() {
+        c.far_clip
+    } else {
+        let farthest = scene.mesh.bounds().map_or(0.0, |(lo, hi)| {
+            (0..8)
+                .map(|i| {
+                    let corner = Vec3::new(
+                        if i & 1 == 0 { lo.x } else { hi.x },
+                        if i & 2 == 0 { lo.y } else { hi.y },
+                        if i & 4 == 0 { lo.z } else { hi.z },
+                    );
+                    corner.distance(c.position)
+                })
+                .fold(0.0, f32::max)
+        });
+        (2.0 * farthest).max(1e4)
+    };
+    let lookat = format!(
+        "<lookat origin=\"{}\" target=\"{}\" up=\"{}\"/>",
+        v3(c.position),
+        v3(c.look_at),
+        v3(c.up)
+    );
+    let (kind, params, to_world) = match c.projection {
+        Projection::Perspective { fov_degrees, fov_axis } => (
+            "perspective",
+            format!(
+                "    <float name=\"fov\" value=\"{fov_degrees}\"/>\n    <string name=\"fov_axis\" value=\"{}\"/>\n",
+                match fov_axis {
+                    FovAxis::X => "x",
+                    FovAxis::Y => "y",
+                }
+            ),
+            format!("      {lookat}\n"),
+        ),
+        // Mitsuba's orthographic film spans x ∈ [−s, s], y ∈ [−s/aspect, s/aspect] for a to_world
+        // scale s: s = half-height · aspect gives pointshade's half-height `scale`.
+        Projection::Orthographic { scale } => {
+            let s = scale * f.width as f32 / f.height as f32;
+            (
+                "orthographic",
+                String::new(),
+                format!("      <scale x=\"{s}\" y=\"{s}\" z=\"1\"/>\n      {lookat}\n"),
+            )
+        }
+    };
+    let sampler = match f.sampler {
+        SamplerKind::Grid => format!(
+            "    <sampler type=\"stratified\">\n      <integer name=\"sample_count\" value=\"{spp}\"/>\n      <boolean name=\"jitter\" value=\"false\"/>\n    </sampler>\n"
+        ),
+        other => {
+            if other == SamplerKind::Sobol {
+                differences.push("sobol sampler (exported as Mitsuba's independent sampler)".into());
+            }
+            format!(
+                "    <sampler type=\"independent\">\n      <integer name=\"sample_count\" value=\"{spp}\"/>\n      <integer name=\"seed\" value=\"{}\"/>\n    </sampler>\n",
+                f.seed as u32
+            )
+        }
+    };
+    format!(
+        "  <sensor type=\"{kind}\">\n{params}    <float name=\"near_clip\" value=\"{near}\"/>\n    <float name=\"far_clip\" value=\"{far}\"/>\n    <transform name=\"to_world\">\n{to_world}    </transform>\n{sampler}    <film type=\"hdrfilm\">\n      <integer name=\"width\" value=\"{}\"/>\n      <integer name=\"height\" value=\"{}\"/>\n      <string name=\"pixel_format\" value=\"rgb\"/>\n      <string name=\"component_format\" value=\"float32\"/>\n      <rfilter type=\"box\"/>\n    </film>\n  </sensor>",
+        f.width, f.height
+    )
+}
+
+/// Whether Mitsuba's `roughconductor` computes exactly this Cook-Torrance lobe.
+fn is_roughconductor(m: &Material) -> bool {
+    match &m.specular {
+        Specular::CookTorrance(ct) => {
+            m.kd == 0.0
+                && ct.d == MicrofacetDistribution::Ggx
+                && ct.g == MaskingShadowing::SmithGgx
+                && matches!(ct.f, FresnelTerm::Conductor | FresnelTerm::Constant)
+                && ct.specular_color.iter().all(|&c| c <= 1.0)
+        }
+        _ => false,
+    }
+}
+
+fn rgb(name: &str, c: [f32; 3]) -> String {
+    format!("<rgb name=\"{name}\" value=\"{}, {}, {}\"/>", c[0], c[1], c[2])
+}
+
+/// The BSDF of material `index` (id `mat{index}`), and how it was mapped.
+fn bsdf(index: usize, m: &Material, choice: BsdfChoice) -> (String, &'static str) {
+    let diffuse_reflectance = m.albedo.map(|a| a * m.kd);
+    let native = choice == BsdfChoice::NativeWhereExact;
+    let (inner, note) = if native && !m.has_specular() && diffuse_reflectance.iter().all(|&r| r <= 1.0) {
+        (
+            format!(
+                "<bsdf type=\"diffuse\">{}</bsdf>",
+                rgb("reflectance", diffuse_reflectance)
+            ),
+            "Mitsuba diffuse (exact)",
+        )
+    } else if let (true, true, Specular::CookTorrance(ct)) = (native, is_roughconductor(m), &m.specular) {
+        let (eta, k) = match ct.f {
+            FresnelTerm::Conductor => (ct.eta, ct.k),
+            // Mitsuba's "none" conductor: η = 0, κ = 1 gives F ≡ 1, then × specular_reflectance.
+            _ => ([0.0; 3], [1.0; 3]),
+        };
+        (
+            format!(
+                "<bsdf type=\"roughconductor\"><string name=\"distribution\" value=\"ggx\"/><float name=\"alpha\" value=\"{}\"/>{}{}{}</bsdf>",
+                ct.alpha,
+                rgb("eta", eta),
+                rgb("k", k),
+                rgb("specular_reflectance", ct.specular_color)
+            ),
+            "Mitsuba roughconductor (exact)",
+        )
+    } else {
+        (plugin_bsdf(m), "pointshade BSDF plugin (exact by construction)")
+    };
+    let wrapped = if m.two_sided {
+        format!("<bsdf type=\"twosided\">{inner}</bsdf>")
+    } else {
+        inner
+    };
+    // Give the outermost BSDF the id.
+    let with_id = wrapped.replacen("<bsdf type=", &format!("<bsdf id=\"mat{index}\" type="), 1);
+    (format!("  {with_id}"), note)
+}
+
+fn plugin_bsdf(m: &Material) -> String {
+    let mut p = format!(
+        "<bsdf type=\"pointshade\"><string name=\"model\" value=\"{}\"/>{}<float name=\"kd\" value=\"{}\"/>",
+        m.model_name(),
+        rgb("albedo", m.albedo),
+        m.kd
+    );
+    match &m.specular {
+        Specular::None => {}
+        Specular::BlinnPhong(bp) => {
+            let _ = write!(
+                p,
+                "<float name=\"ks\" value=\"{}\"/><float name=\"shininess\" value=\"{}\"/>{}",
+                bp.ks,
+                bp.shininess,
+                rgb("specular_color", bp.color)
+            );
+        }
+        Specular::CookTorrance(ct) => {
+            let _ = write!(
+                p,
+                "<float name=\"alpha\" value=\"{}\"/><string name=\"d\" value=\"{}\"/><string name=\"g\" value=\"{}\"/><string name=\"f\" value=\"{}\"/><boolean name=\"metallic\" value=\"{}\"/><float name=\"ior\" value=\"{}\"/>{}{}{}",
+                ct.alpha,
+                ct.d.name(),
+                ct.g.name(),
+                ct.f.name(),
+                ct.metallic,
+                ct.ior,
+                rgb("specular_color", ct.specular_color),
+                rgb("eta", ct.eta),
+                rgb("k", ct.k)
+            );
+        }
+        Specular::GltfPbr(g) => {
+            let _ = write!(
+                p,
+                "<float name=\"metallic\" value=\"{}\"/><float name=\"roughness\" value=\"{}\"/>",
+                g.metallic, g.roughness
+            );
+        }
+    }
+    p.push_str("</bsdf>");
+    p
+}
+
+fn shape(mesh: &Path, transform: Mat4, material: u32) -> String {
+    let path = std::fs::canonicalize(mesh).unwrap_or_else(|_| mesh.to_path_buf());
+    let m = transform.transpose().to_cols_array(); // row-major
+    let matrix = m.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(" ");
+    format!(
+        "  <shape type=\"obj\">\n    <string name=\"filename\" value=\"{}\"/>\n    <transform name=\"to_world\"><matrix value=\"{matrix}\"/></transform>\n    <ref id=\"mat{material}\"/>\n  </shape>",
+        xml_escape(&path.display().to_string())
+    )
+}
+
+fn emitter(light: &Light, differences: &mut Vec<String>) -> String {
+    let power = light.power.to_array();
+    if light.falloff == Falloff::None && !matches!(light.kind, LightKind::Directional { .. }) {
+        differences.push("falloff = \"none\" (exported with Mitsuba's inverse-square falloff)".into());
+    }
+    if let Falloff::InverseSquareWithin { range } = light.falloff {
+        differences.push(format!(
+            "a KHR_lights_punctual range of {range} (exported with Mitsuba's unwindowed inverse-square falloff)"
+        ));
+    }
+    match light.kind {
+        LightKind::Point { position } => format!(
+            "  <emitter type=\"point\"><point name=\"position\" x=\"{}\" y=\"{}\" z=\"{}\"/>{}</emitter>",
+            position.x,
+            position.y,
+            position.z,
+            rgb("intensity", power)
+        ),
+        LightKind::Directional { direction } => format!(
+            "  <emitter type=\"directional\"><vector name=\"direction\" x=\"{}\" y=\"{}\" z=\"{}\"/>{}</emitter>",
+            direction.x,
+            direction.y,
+            direction.z,
+            rgb("irradiance", power)
+        ),
+        LightKind::Spot {
+            position,
+            direction,
+            cos_inner,
+            cos_outer,
+        } => {
+            differences.push(
+                "spot light cone falloff (Mitsuba's is linear in angle, pointshade's quadratic in cos as \
+                 KHR_lights_punctual)"
+                    .into(),
+            );
+            let up = if direction.y.abs() < 0.9 { Vec3::Y } else { Vec3::X };
+            format!(
+                "  <emitter type=\"spot\"><transform name=\"to_world\"><lookat origin=\"{}\" target=\"{}\" up=\"{}\"/></transform>{}<float name=\"cutoff_angle\" value=\"{}\"/><float name=\"beam_width\" value=\"{}\"/></emitter>",
+                v3(position),
+                v3(position + direction),
+                v3(up),
+                rgb("intensity", power),
+                cos_outer.acos().to_degrees(),
+                cos_inner.acos().to_degrees()
+            )
+        }
+    }
+}
+
+fn xml_escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene;
+
+    fn load(toml: &str) -> Scene {
+        let dir = std::env::temp_dir().join(format!("pointshade-mitsuba-{}-{}", std::process::id(), toml.len()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+        std::fs::write(dir.join("s.toml"), toml).unwrap();
+        let s = scene::load(&dir.join("s.toml")).unwrap();
+        std::fs::remove_dir_all(dir).unwrap();
+        s
+    }
+
+    const CAMERA: &str =
+        "[camera]\nposition = [0.0, 0.0, 3.0]\nlook_at = [0.0, 0.0, 0.0]\nfov = 40.0\nnear_clip = 0.5\n";
+
+    #[test]
+    fn exact_scene_has_no_differences_and_uses_native_bsdfs() {
+        let s = load(&format!(
+            "{CAMERA}[film]\nwidth = 32\nheight = 16\nsampler = \"grid\"\n\
+             [[light]]\ntype = \"point\"\nposition = [0.0, 1.0, 2.0]\nintensity = 5.0\n\
+             [[light]]\ntype = \"directional\"\ndirection = [0.0, 0.0, -1.0]\n\
+             [material.a]\nalbedo = [0.5, 0.5, 0.5]\ntwo_sided = false\n\
+             [material.b]\nmodel = \"cook-torrance\"\nkd = 0.0\nroughness = 0.3\ng = \"smith-ggx\"\nfresnel = \"conductor\"\neta = [0.2, 0.9, 1.1]\nk = [3.9, 2.4, 2.1]\n\
+             [[object]]\nmesh = \"tri.obj\"\nmaterial = \"a\"\n\
+             [[object]]\nmesh = \"tri.obj\"\nmaterial = \"b\"\ntransform = {{ translate = [1.0, 2.0, 3.0] }}\n"
+        ));
+        let e = export(&s, 4, BsdfChoice::NativeWhereExact);
+        assert!(e.differences.is_empty(), "{:?}", e.differences);
+        assert_eq!(e.per_light.len(), 2);
+        assert!(e.per_light[0].contains("type=\"point\"") && !e.per_light[0].contains("directional"));
+        let x = &e.scene;
+        assert!(
+            x.contains("<bsdf id=\"mat0\" type=\"diffuse\"><rgb name=\"reflectance\" value=\"0.5, 0.5, 0.5\"/></bsdf>"),
+            "{x}"
+        );
+        assert!(x.contains("<bsdf id=\"mat1\" type=\"twosided\"><bsdf type=\"roughconductor\">"));
+        assert!(x.contains("<float name=\"fov\" value=\"40\"/>") && x.contains("value=\"y\""));
+        assert!(x.contains("<float name=\"near_clip\" value=\"0.5\"/>"));
+        assert!(x.contains("<integer name=\"sample_count\" value=\"4\"/>") && x.contains("jitter"));
+        assert!(
+            x.contains("<matrix value=\"1 0 0 1 0 1 0 2 0 0 1 3 0 0 0 1\"/>"),
+            "row-major translation"
+        );
+        assert!(x.contains("<emitter type=\"point\"><point name=\"position\" x=\"0\" y=\"1\" z=\"2\"/><rgb name=\"intensity\" value=\"5, 5, 5\"/>"));
+    }
+
+    #[test]
+    fn models_without_native_bsdf_use_the_plugin_and_inexact_features_are_listed() {
+        let s = load(&format!(
+            "{CAMERA}[[light]]\ntype = \"spot\"\nposition = [0.0, 2.0, 0.0]\ndirection = [0.0, -1.0, 0.0]\nfalloff = \"none\"\n\
+             [material.bp]\nmodel = \"blinn-phong\"\nks = 0.5\nshininess = 20.0\n\
+             [[object]]\nmesh = \"tri.obj\"\nmaterial = \"bp\"\n"
+        ));
+        let e = export(&s, 1, BsdfChoice::NativeWhereExact);
+        assert!(e
+            .scene
+            .contains("type=\"pointshade\"><string name=\"model\" value=\"blinn-phong\"/>"));
+        assert!(e.material_notes[0].contains("plugin"));
+        assert_eq!(e.differences.len(), 3, "{:?}", e.differences); // sobol, falloff none, spot cone
+        assert!(e.scene.contains("<!-- no Mitsuba equivalent: spot light cone falloff"));
+    }
+
+    #[test]
+    fn orthographic_scale_spans_the_same_film() {
+        let s = load(
+            "[camera]\ntype = \"orthographic\"\nposition = [0.0, 0.0, 3.0]\nlook_at = [0.0, 0.0, 0.0]\nscale = 2.0\n\
+             [film]\nwidth = 200\nheight = 100\n[[object]]\nmesh = \"tri.obj\"\n",
+        );
+        let e = export(&s, 1, BsdfChoice::PluginEverywhere);
+        assert!(e.scene.contains("<scale x=\"4\" y=\"4\" z=\"1\"/>"), "{}", e.scene);
+        assert!(e.scene.contains("type=\"pointshade\""));
+    }
+}

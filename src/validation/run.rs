@@ -1,0 +1,326 @@
+//! Running both renderers on a scene and comparing them (what `pointshade validate` does).
+//!
+//! For each sample count (pixel centres, then an N×N grid), the scene is exported per light,
+//! rendered by Mitsuba through `validation/render.py` (the lights summed), and rendered by
+//! pointshade twice: with Mitsuba's fixed-epsilon shadow offset (the like-for-like comparison)
+//! and with pointshade's default error-bound offset (to show what that choice changes).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+use crate::error::{InputError, InputResult};
+use crate::film::{Image, SamplerKind};
+use crate::output::{encode, read_linear, write_all_or_nothing, Format};
+use crate::plan::RenderPlan;
+use crate::render::render_scene;
+use crate::scene::{self, Scene};
+use crate::shading::shadow::ShadowOffset;
+use crate::validation::compare::{compare, Comparison};
+use crate::validation::mitsuba::{export, BsdfChoice};
+
+/// Agreement every exact scene must reach at the like-for-like setting.
+pub const REQUIRED_WITHIN: f64 = 0.999;
+/// Largest mean relative error an exact scene may have.
+pub const REQUIRED_MEAN_RELATIVE_ERROR: f64 = 1e-4;
+/// Per-pixel relative tolerance.
+pub const TOLERANCE: f32 = 1e-3;
+
+/// Where Mitsuba is and how to call it.
+#[derive(Clone, Debug)]
+pub struct MitsubaRunner {
+    /// The Python of the validation virtual environment.
+    pub python: PathBuf,
+    /// `validation/render.py`.
+    pub script: PathBuf,
+}
+
+impl MitsubaRunner {
+    /// The runner for the validation folder `dir` (`validation/` of the repository); an error
+    /// says how to install Mitsuba when it is missing.
+    pub fn in_dir(dir: &Path) -> InputResult<Self> {
+        let python = dir.join(".venv/bin/python");
+        let script = dir.join("render.py");
+        if !python.is_file() {
+            return Err(InputError::new(
+                &python,
+                format!("Mitsuba is not installed: run {}/install.sh", dir.display()),
+            ));
+        }
+        if !script.is_file() {
+            return Err(InputError::new(
+                &script,
+                "missing (the validation folder of the repository)",
+            ));
+        }
+        Ok(Self { python, script })
+    }
+
+    /// Renders `xml_files` and writes their sum to `out`; returns the variant and the seconds
+    /// Mitsuba spent loading and rendering (Python start-up excluded).
+    pub fn render(&self, xml_files: &[PathBuf], out: &Path) -> InputResult<MitsubaTiming> {
+        let output = Command::new(&self.python)
+            .arg(&self.script)
+            .arg("--out")
+            .arg(out)
+            .args(xml_files)
+            .output()
+            .map_err(|e| InputError::new(&self.python, format!("cannot run: {e}")))?;
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        if !output.status.success() {
+            let stderr = String::from_utf8_lossy(&output.stderr);
+            let last = stderr
+                .lines()
+                .rev()
+                .find(|l| !l.trim().is_empty())
+                .unwrap_or("no message");
+            return Err(InputError::new(&xml_files[0], format!("Mitsuba failed: {last}")));
+        }
+        MitsubaTiming::parse(&stdout)
+            .ok_or_else(|| InputError::new(&self.script, format!("unexpected output: {stdout}")))
+    }
+}
+
+/// What `render.py` reports.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MitsubaTiming {
+    /// The Mitsuba variant used.
+    pub variant: String,
+    /// Scene loading (includes kernel compilation in llvm variants).
+    pub load: Duration,
+    /// Rendering.
+    pub render: Duration,
+}
+
+impl MitsubaTiming {
+    /// Parses `{"variant": "…", "load_s": …, "render_s": …}` (the last line of `stdout`).
+    fn parse(stdout: &str) -> Option<Self> {
+        let line = stdout.lines().rev().find(|l| l.trim_start().starts_with('{'))?;
+        let field = |name: &str| -> Option<&str> {
+            let start = line.find(&format!("\"{name}\":"))? + name.len() + 3;
+            let rest = line[start..].trim_start();
+            let end = rest.find([',', '}']).unwrap_or(rest.len());
+            Some(rest[..end].trim().trim_matches('"'))
+        };
+        let seconds = |name| field(name)?.parse::<f64>().ok().filter(|s| s.is_finite() && *s >= 0.0);
+        Some(Self {
+            variant: field("variant")?.to_string(),
+            load: Duration::from_secs_f64(seconds("load_s")?),
+            render: Duration::from_secs_f64(seconds("render_s")?),
+        })
+    }
+}
+
+/// pointshade's side of one comparison.
+#[derive(Clone, Debug)]
+pub struct OurRun {
+    /// The shadow offset used.
+    pub offset: ShadowOffset,
+    /// Agreement with Mitsuba.
+    pub comparison: Comparison,
+    /// Plan + BVH + render time.
+    pub time: Duration,
+}
+
+/// Both renderers at one sample count.
+#[derive(Clone, Debug)]
+pub struct SppRun {
+    /// Samples per pixel (a square: grid sampler).
+    pub spp: u32,
+    /// Mitsuba's timing.
+    pub mitsuba: MitsubaTiming,
+    /// pointshade with Mitsuba's offset, then with its own.
+    pub ours: Vec<OurRun>,
+    /// Image files written for the report, relative to the report folder: ours (Mitsuba offset),
+    /// Mitsuba, heat map (Mitsuba offset), heat map (default offset).
+    pub images: [String; 4],
+}
+
+/// Everything validated about one scene.
+#[derive(Clone, Debug)]
+pub struct SceneValidation {
+    /// Scene name (file stem).
+    pub name: String,
+    /// The scene file.
+    pub source: PathBuf,
+    /// Features Mitsuba cannot express (empty = the comparison must agree).
+    pub differences: Vec<String>,
+    /// How each material was mapped.
+    pub material_notes: Vec<String>,
+    /// One run per sample count.
+    pub runs: Vec<SppRun>,
+    /// Where some material maps to a native Mitsuba BSDF: Mitsuba with pointshade's plugin for
+    /// every material against Mitsuba with its own BSDFs, at pixel centres (checks the plugin).
+    pub plugin_check: Option<Comparison>,
+}
+
+impl SceneValidation {
+    /// True when the scene has an exact Mitsuba equivalent.
+    pub fn is_exact(&self) -> bool {
+        self.differences.is_empty()
+    }
+
+    /// True when every like-for-like run of an exact scene meets the thresholds (always true for
+    /// scenes without an exact equivalent: their differences are expected), and the plugin
+    /// agrees with Mitsuba's own BSDFs where that was checked.
+    pub fn passes(&self) -> bool {
+        let plugin_ok = self.plugin_check.as_ref().is_none_or(meets_thresholds);
+        plugin_ok && (!self.is_exact() || self.runs.iter().all(|r| meets_thresholds(&r.ours[0].comparison)))
+    }
+}
+
+/// Whether a comparison meets [`REQUIRED_WITHIN`] and [`REQUIRED_MEAN_RELATIVE_ERROR`].
+pub fn meets_thresholds(c: &Comparison) -> bool {
+    c.within_tolerance >= REQUIRED_WITHIN && c.mean_relative_error <= REQUIRED_MEAN_RELATIVE_ERROR
+}
+
+/// Loads `path` for validation: grid sampler, the given spp.
+pub fn load_for_validation(path: &Path, spp: u32) -> InputResult<Scene> {
+    let mut scene = scene::load(path)?;
+    scene.film.sampler = SamplerKind::Grid;
+    scene.film.spp = spp;
+    scene.film.validate().map_err(|e| InputError::new(path, e))?;
+    Ok(scene)
+}
+
+/// Renders `scene` with pointshade using `offset`; returns the image and the time taken.
+pub fn render_ours(scene: &Scene, offset: ShadowOffset) -> InputResult<(Image, Duration)> {
+    let mut scene = scene.clone();
+    scene.shadow_offset = offset;
+    let start = Instant::now();
+    let plan = RenderPlan::new(&scene, &[]);
+    let rendered = render_scene(&scene, &plan, &|_| {}).map_err(|e| InputError::new(&scene.source, e))?;
+    Ok((rendered.image, start.elapsed()))
+}
+
+/// Validates one scene at pixel centres and on a `grid`×`grid` grid, writing the files of the
+/// report under `report_dir/<name>/`.
+pub fn validate_scene(
+    path: &Path,
+    grid: u32,
+    mitsuba: &MitsubaRunner,
+    report_dir: &Path,
+) -> InputResult<SceneValidation> {
+    let name = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "scene".into());
+    let dir = report_dir.join(&name);
+    std::fs::create_dir_all(&dir).map_err(|e| InputError::new(&dir, format!("cannot create: {e}")))?;
+    let mut counts = vec![1];
+    if grid > 1 {
+        counts.push(grid * grid);
+    }
+    let mut result = SceneValidation {
+        name: name.clone(),
+        source: path.to_path_buf(),
+        differences: Vec::new(),
+        material_notes: Vec::new(),
+        runs: Vec::new(),
+        plugin_check: None,
+    };
+    for spp in counts {
+        let scene = load_for_validation(path, spp)?;
+        let exported = export(&scene, spp, BsdfChoice::NativeWhereExact);
+        result.differences = exported.differences.clone();
+        result.material_notes = exported.material_notes.clone();
+        let mut files = Vec::new();
+        let mut xml_paths = Vec::new();
+        for (k, xml) in exported.per_light.iter().enumerate() {
+            let p = dir.join(format!("mitsuba-spp{spp}.light{k}.xml"));
+            files.push((p.clone(), xml.clone().into_bytes()));
+            xml_paths.push(p);
+        }
+        files.push((dir.join(format!("mitsuba-spp{spp}.xml")), exported.scene.into_bytes()));
+        write_all_or_nothing(&files)?;
+        let reference_path = dir.join(format!("mitsuba-spp{spp}.exr"));
+        let timing = if xml_paths.is_empty() {
+            // No lights: Mitsuba's image is black, as ours.
+            let black = Image::new(scene.film.width, scene.film.height);
+            write_image(&reference_path, &black)?;
+            MitsubaTiming {
+                variant: "none (no lights)".into(),
+                load: Duration::ZERO,
+                render: Duration::ZERO,
+            }
+        } else {
+            mitsuba.render(&xml_paths, &reference_path)?
+        };
+        let reference = read_linear(&reference_path)?;
+        if spp == 1 && exported.material_notes.iter().any(|n| n.contains("exact)")) && !xml_paths.is_empty() {
+            result.plugin_check = Some(plugin_against_native(&scene, &dir, mitsuba, &reference)?);
+        }
+        let mut ours = Vec::new();
+        let mut heat = Vec::new();
+        for offset in [ShadowOffset::Mitsuba, ShadowOffset::ErrorBound] {
+            let (image, time) = render_ours(&scene, offset)?;
+            let comparison = compare(&image, &reference, TOLERANCE, 8);
+            let stem = format!("ours-spp{spp}-{}", offset.name());
+            write_image(&dir.join(format!("{stem}.exr")), &image)?;
+            write_image(&dir.join(format!("{stem}.png")), &image)?;
+            let heat_name = format!("heat-spp{spp}-{}.png", offset.name());
+            write_image(&dir.join(&heat_name), &comparison.heat_map(image.width, image.height))?;
+            heat.push(heat_name);
+            ours.push(OurRun {
+                offset,
+                comparison,
+                time,
+            });
+        }
+        write_image(&dir.join(format!("mitsuba-spp{spp}.png")), &reference)?;
+        result.runs.push(SppRun {
+            spp,
+            mitsuba: timing,
+            ours,
+            images: [
+                format!("{name}/ours-spp{spp}-mitsuba.png"),
+                format!("{name}/mitsuba-spp{spp}.png"),
+                format!("{name}/{}", heat[0]),
+                format!("{name}/{}", heat[1]),
+            ],
+        });
+    }
+    Ok(result)
+}
+
+/// Renders `scene` in Mitsuba with the plugin for every material and compares with `native`.
+fn plugin_against_native(
+    scene: &Scene,
+    dir: &Path,
+    mitsuba: &MitsubaRunner,
+    native: &Image,
+) -> InputResult<Comparison> {
+    let exported = export(scene, 1, BsdfChoice::PluginEverywhere);
+    let mut files = Vec::new();
+    for (k, xml) in exported.per_light.iter().enumerate() {
+        files.push((dir.join(format!("plugin-spp1.light{k}.xml")), xml.clone().into_bytes()));
+    }
+    write_all_or_nothing(&files)?;
+    let paths: Vec<PathBuf> = files.into_iter().map(|(p, _)| p).collect();
+    let out = dir.join("plugin-spp1.exr");
+    mitsuba.render(&paths, &out)?;
+    Ok(compare(&read_linear(&out)?, native, TOLERANCE, 3))
+}
+
+fn write_image(path: &Path, image: &Image) -> InputResult<()> {
+    let bytes = encode(image, Format::of(path)?, 0.0).map_err(|e| InputError::new(path, e))?;
+    write_all_or_nothing(&[(path.to_path_buf(), bytes)])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn timing_line_is_parsed() {
+        let t = MitsubaTiming::parse("noise\n{\"variant\": \"llvm_ad_rgb\", \"load_s\": 0.25, \"render_s\": 1.5}\n")
+            .unwrap();
+        assert_eq!(t.variant, "llvm_ad_rgb");
+        assert_eq!(
+            (t.load, t.render),
+            (Duration::from_millis(250), Duration::from_millis(1500))
+        );
+        assert!(MitsubaTiming::parse("{\"variant\": \"x\", \"load_s\": nan, \"render_s\": 1}").is_none());
+        assert!(MitsubaTiming::parse("Traceback …").is_none());
+    }
+}

@@ -1,0 +1,84 @@
+//! `pointshade compare` on synthetic EXRs with known errors, NaN and Inf pixels, and bad input.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+use glam::Vec3;
+use pointshade::film::Image;
+use pointshade::output::{encode, Format};
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("pointshade-compare-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn write(path: &PathBuf, values: &[f32], width: u32) {
+    let img = Image {
+        width,
+        height: values.len() as u32 / width,
+        pixels: values.iter().map(|&v| Vec3::splat(v)).collect(),
+    };
+    std::fs::write(path, encode(&img, Format::Exr, 0.0).unwrap()).unwrap();
+}
+
+fn run(args: &[&std::ffi::OsStr]) -> (Option<i32>, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_pointshade"))
+        .arg("compare")
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn reports_known_errors_and_non_finite_pixels_and_writes_a_heat_map() {
+    let d = dir("known");
+    let (ours, reference, heat) = (d.join("ours.exr"), d.join("ref.exr"), d.join("heat.png"));
+    write(&ours, &[1.0, 2.0, f32::NAN, 4.0, 5.0, 6.5], 3);
+    write(&reference, &[1.0, 2.0, 3.0, f32::INFINITY, 5.0, 6.0], 3);
+    let (code, stdout, stderr) = run(&[
+        ours.as_os_str(),
+        reference.as_os_str(),
+        "--heatmap".as_ref(),
+        heat.as_os_str(),
+    ]);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(stdout.contains("within 1e-3           50.0000%"), "{stdout}");
+    assert!(
+        stdout.contains("non-finite pixels     1 in ours, 1 in the reference"),
+        "{stdout}"
+    );
+    // The worst finite pixel is (2, 1): 6.5 vs 6 → 1/12 relative.
+    assert!(stdout.contains("(   2,    1): 8.333e-2"), "{stdout}");
+    let h = image::open(&heat).unwrap().into_rgb8();
+    assert_eq!(h.dimensions(), (3, 2));
+    assert_eq!(h.get_pixel(2, 0).0, [255, 255, 255], "NaN pixel is white");
+    assert_eq!(h.get_pixel(0, 0).0, [0, 0, 0], "exact pixel is black");
+    std::fs::remove_dir_all(d).unwrap();
+}
+
+#[test]
+fn size_mismatch_and_unreadable_files_are_one_line_errors() {
+    let d = dir("bad");
+    let (a, b, junk) = (d.join("a.exr"), d.join("b.exr"), d.join("junk.exr"));
+    write(&a, &[1.0; 4], 2);
+    write(&b, &[1.0; 6], 3);
+    std::fs::write(&junk, b"not an image").unwrap();
+    for (x, y, expect) in [
+        (&a, &b, "differs"),
+        (&a, &junk, "junk.exr"),
+        (&a, &d.join("missing.exr"), "missing.exr"),
+    ] {
+        let (code, _, stderr) = run(&[x.as_os_str(), y.as_os_str()]);
+        assert_eq!(code, Some(2));
+        let lines: Vec<_> = stderr.lines().collect();
+        assert_eq!(lines.len(), 1, "{stderr}");
+        assert!(lines[0].starts_with("error:") && lines[0].contains(expect), "{stderr}");
+    }
+    std::fs::remove_dir_all(d).unwrap();
+}

@@ -1,0 +1,78 @@
+//! pointshade against committed Mitsuba 3 references (validation/references/*.exr, made by
+//! `pointshade validate --update-references`), without Python: every validation scene with an
+//! exact Mitsuba equivalent must have ≥ 99.9% of its pixels within 1e-3 relative at pixel
+//! centres and a mean relative error ≤ 1e-4, rendered with Mitsuba's shadow offset.
+//! CI re-renders the references with a fresh Mitsuba install (`.ci/run`), so they cannot go stale.
+
+use std::path::{Path, PathBuf};
+
+use pointshade::output::read_linear;
+use pointshade::shading::shadow::ShadowOffset;
+use pointshade::validation::compare::compare;
+use pointshade::validation::mitsuba::{export, BsdfChoice};
+use pointshade::validation::run::{load_for_validation, meets_thresholds, render_ours, TOLERANCE};
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn scenes(dir: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    v.sort();
+    v
+}
+
+/// Validates `scene`; returns whether it has an exact equivalent.
+fn check(scene: &Path) -> bool {
+    let name = scene.file_stem().unwrap().to_string_lossy().into_owned();
+    let reference_path = root().join("validation/references").join(format!("{name}.exr"));
+    let reference = read_linear(&reference_path)
+        .unwrap_or_else(|e| panic!("{e}: every validation scene needs a committed reference (pointshade validate --update-references validation/references)"));
+    let s = load_for_validation(scene, 1).unwrap();
+    let exact = export(&s, 1, BsdfChoice::NativeWhereExact).differences.is_empty();
+    let (ours, _) = render_ours(&s, ShadowOffset::Mitsuba).unwrap();
+    let c = compare(&ours, &reference, TOLERANCE, 3);
+    eprintln!(
+        "{name:<26} {:.3}% within {TOLERANCE:.0e}, mean relative error {:.2e}{}",
+        100.0 * c.within_tolerance,
+        c.mean_relative_error,
+        if exact {
+            ""
+        } else {
+            " (no exact equivalent: not asserted)"
+        }
+    );
+    if exact {
+        assert!(meets_thresholds(&c), "{name} disagrees with Mitsuba:\n{}", c.summary());
+    } else {
+        // The inexact scenes are in the set to show a difference: make sure they still do.
+        assert!(
+            c.within_tolerance < 0.999,
+            "{name} has no exact equivalent but agrees: update its export"
+        );
+    }
+    exact
+}
+
+#[test]
+fn own_mesh_scenes_agree_with_committed_mitsuba_references() {
+    let all = scenes(&root().join("scenes/validation"));
+    assert!(all.len() >= 12, "the validation set lost scenes");
+    let exact = all.iter().filter(|s| check(s)).count();
+    assert!(exact >= 11, "only {exact} exact scenes");
+}
+
+#[test]
+fn shared_mesh_scenes_agree_with_committed_mitsuba_references() {
+    if !root().join("../shared/data/meshes").is_dir() {
+        eprintln!("SKIPPED: ../shared/data is missing; the bunny and dragon validation scenes need it");
+        return;
+    }
+    for s in scenes(&root().join("scenes/validation/shared")) {
+        assert!(check(&s));
+    }
+}

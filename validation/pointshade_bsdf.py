@@ -1,0 +1,154 @@
+"""pointshade's BRDF models as a Mitsuba 3 BSDF plugin named "pointshade".
+
+Mitsuba has no BSDF for Blinn-Phong, for the assignment's Schlick-Smith masking, for Schlick
+Fresnel or for a diffuse + specular sum, so this plugin re-implements pointshade's models from
+their published formulas (README.md, "Materials and BRDFs") in Dr.Jit. It is written separately
+from the Rust code and in the textbook forms (tangent-form Smith G1, plain GGX denominator,
+G / (4 cos cos) without cancelling), so agreement between the two is evidence for both.
+
+Conventions (Mitsuba's): `si.wi` points to the viewer (pointshade's omega_o) and the `wo`
+argument of eval() to the light (pointshade's omega_i), both in the shading frame (z = n_s).
+eval() returns f_r * cos(theta_light). One-sided: zero unless both cosines are positive
+(two-sidedness comes from wrapping in Mitsuba's `twosided`). Only eval() matters for the
+`direct` integrator with bsdf_samples = 0 and delta lights; sample() returns no sample.
+"""
+
+import drjit as dr
+import mitsuba as mi
+
+MIN_ALPHA = 1e-4
+
+
+def _color(props, name, default):
+    return mi.Color3f(props[name]) if props.has_property(name) else mi.Color3f(default)
+
+
+def _floats(props, name, default):
+    if not props.has_property(name):
+        return [float(default)] * 3
+    c = props[name]
+    return [float(c[0]), float(c[1]), float(c[2])]
+
+
+def _float(props, name, default):
+    return float(props[name]) if props.has_property(name) else float(default)
+
+
+def register():
+    """Registers the plugin; call after mi.set_variant() and before loading a scene."""
+
+    class PointshadeBSDF(mi.BSDF):
+        def __init__(self, props):
+            mi.BSDF.__init__(self, props)
+            self.model = props["model"] if props.has_property("model") else "lambert"
+            if self.model not in ("lambert", "blinn-phong", "cook-torrance"):
+                raise ValueError(f"pointshade BSDF: unknown model {self.model!r}")
+            self.albedo = _color(props, "albedo", 0.8)
+            self.kd = _float(props, "kd", 1.0)
+            self.ks = _float(props, "ks", 1.0)
+            self.shininess = _float(props, "shininess", 32.0)
+            self.specular_color = _color(props, "specular_color", 1.0)
+            self.alpha = max(_float(props, "alpha", 0.7), MIN_ALPHA)
+            self.d = props["d"] if props.has_property("d") else "ggx"
+            self.g = props["g"] if props.has_property("g") else "schlick-smith"
+            self.f = props["f"] if props.has_property("f") else "schlick"
+            self.metallic = bool(props["metallic"]) if props.has_property("metallic") else True
+            self.ior = _float(props, "ior", 5.0)
+            # Per-channel Python floats: fresnel_conductor takes one complex index at a time.
+            self.eta = _floats(props, "eta", 0.0)
+            self.k = _floats(props, "k", 1.0)
+            flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
+            self.m_components = [flags]
+            self.m_flags = flags
+
+        # --- terms ---------------------------------------------------------------------------
+        def _distribution(self, nh):
+            a2 = self.alpha * self.alpha
+            if self.d == "ggx":
+                return a2 / (dr.pi * dr.square(1.0 + (a2 - 1.0) * nh * nh))
+            if self.d == "beckmann":
+                cos2 = nh * nh
+                tan2 = (1.0 - cos2) / cos2
+                return dr.select(nh > 0, dr.exp(-tan2 / a2) / (dr.pi * a2 * cos2 * cos2), 0.0)
+            raise ValueError(f"pointshade BSDF: unknown D {self.d!r}")
+
+        def _masking(self, ci, co):
+            a = self.alpha
+            if self.g in ("schlick-smith", "schlick-karis"):
+                k = a * dr.sqrt(2.0 / dr.pi) if self.g == "schlick-smith" else a / 2.0
+
+                def g1(c):
+                    return c / (c * (1.0 - k) + k)
+
+                return g1(ci) * g1(co)
+            if self.g == "smith-ggx":
+
+                def g1(c):
+                    tan2 = (1.0 - c * c) / (c * c)
+                    return 2.0 / (1.0 + dr.sqrt(1.0 + a * a * tan2))
+
+                return g1(ci) * g1(co)
+            if self.g == "smith-ggx-correlated":
+                a2 = a * a
+                v = 0.5 / (ci * dr.sqrt(co * co * (1.0 - a2) + a2) + co * dr.sqrt(ci * ci * (1.0 - a2) + a2))
+                return 4.0 * ci * co * v
+            raise ValueError(f"pointshade BSDF: unknown G {self.g!r}")
+
+        def _fresnel(self, ih):
+            c = dr.clip(ih, 0.0, 1.0)
+            if self.f in ("schlick", "schlick-sg"):
+                if self.metallic:
+                    f0 = self.specular_color
+                else:
+                    f0 = mi.Color3f(((self.ior - 1.0) / (self.ior + 1.0)) ** 2)
+                if self.f == "schlick":
+                    w = dr.power(1.0 - c, 5.0)
+                else:
+                    w = dr.exp2((-5.55473 * c - 6.98316) * c)
+                return f0 + (1.0 - f0) * w
+            if self.f == "conductor":
+                # Mitsuba's own exact conductor Fresnel, per channel.
+                channels = [
+                    mi.fresnel_conductor(c, mi.Complex2f(self.eta[i], self.k[i])) for i in range(3)
+                ]
+                return mi.Color3f(channels[0], channels[1], channels[2]) * self.specular_color
+            if self.f == "constant":
+                return mi.Color3f(self.specular_color)
+            raise ValueError(f"pointshade BSDF: unknown F {self.f!r}")
+
+        # --- BSDF interface --------------------------------------------------------------------
+        def eval(self, ctx, si, wo, active=True):
+            wi = si.wi
+            co = mi.Frame3f.cos_theta(wi)
+            ci = mi.Frame3f.cos_theta(wo)
+            active = active & (ci > 0.0) & (co > 0.0)
+            value = self.albedo * (self.kd / dr.pi)
+            if self.model != "lambert":
+                h = dr.normalize(wi + wo)
+                nh = mi.Frame3f.cos_theta(h)
+                if self.model == "blinn-phong":
+                    value = value + self.specular_color * (self.ks * dr.power(dr.clip(nh, 0.0, 1.0), self.shininess))
+                else:
+                    ih = dr.dot(wo, h)
+                    d = self._distribution(dr.clip(nh, 0.0, 1.0))
+                    g = self._masking(ci, co)
+                    f = self._fresnel(ih)
+                    value = value + f * (d * g / (4.0 * ci * co))
+            return dr.select(active, value * ci, 0.0)
+
+        def pdf(self, ctx, si, wo, active=True):
+            return mi.Float(0.0)
+
+        def eval_pdf(self, ctx, si, wo, active=True):
+            return self.eval(ctx, si, wo, active), mi.Float(0.0)
+
+        def sample(self, ctx, si, sample1, sample2, active=True):
+            return mi.BSDFSample3f(), mi.Color3f(0.0)
+
+        def traverse(self, callback):
+            pass
+
+        def to_string(self):
+            return f"PointshadeBSDF[model={self.model}]"
+
+    mi.register_bsdf("pointshade", lambda props: PointshadeBSDF(props))
