@@ -155,7 +155,7 @@ fn torus() -> TriangleMesh {
         material_of_triangle: vec![0; g.triangles.len()],
         positions: g.positions,
         normals,
-        uvs: None,
         triangles: g.triangles,
+        ..Default::default()
     }
 }

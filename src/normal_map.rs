@@ -58,6 +58,8 @@ fn shader<'a>(scene: &'a NormalMapScene, convention: ShadingConvention) -> Shade
         scene_unit: 1.0,
         shadow_offset: Default::default(),
         convention,
+        textures: None,
+        emission: false,
     }
 }
 

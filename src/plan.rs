@@ -9,6 +9,7 @@ use std::path::Path;
 use crate::scene::normal_map::{NormalMapScene, Preset};
 use crate::scene::Scene;
 use crate::shading::convention::ShadingConvention;
+use crate::shading::material::{Material, PbrTextures};
 use crate::surface::normal_image::NormalImage;
 
 /// An extra image written beside the render.
@@ -74,8 +75,14 @@ pub struct RenderPlan {
     pub shadows: bool,
     /// Some rendered material has a specular lobe.
     pub specular: bool,
-    /// Interpolate texture coordinates (some material uses a texture).
+    /// Interpolate texture coordinates (some rendered material samples a texture).
     pub uvs: bool,
+    /// Sample base colour, metallic-roughness and emissive textures in the shader.
+    pub textures: bool,
+    /// Perturb shading normals by normal textures in the surface stage.
+    pub normal_textures: bool,
+    /// Add emitted radiance (some rendered material emits).
+    pub emission: bool,
     /// AOV buffers to fill.
     pub aovs: Vec<Aov>,
     /// Every decision, for `--explain`.
@@ -149,7 +156,55 @@ impl RenderPlan {
                 format!("materials with a specular lobe: {}", specular_names.join(", "))
             },
         );
-        let uvs = decide("texture coordinates", false, "no material uses a texture".into());
+        let textures = trace_rays && used.iter().any(|m| samples_in_shader(m));
+        let textures = decide(
+            "material textures",
+            textures,
+            if textures {
+                texture_summary(&used, scene)
+            } else {
+                "no rendered material has a base colour, metallic-roughness or emissive texture".into()
+            },
+        );
+        let normal_names = names_where(&used, |m| m.pbr_textures().is_some_and(|t| t.normal.is_some()));
+        let normal_textures = decide(
+            "normal textures",
+            trace_rays && !normal_names.is_empty() && scene.mesh.tangents.is_some(),
+            if normal_names.is_empty() {
+                "no rendered material has a normal texture".into()
+            } else if scene.mesh.tangents.is_none() {
+                format!("the mesh has no tangents for {}", normal_names.join(", "))
+            } else {
+                format!(
+                    "tangent-space normals perturb the shading normal of {}",
+                    normal_names.join(", ")
+                )
+            },
+        );
+        let uvs = decide(
+            "texture coordinates",
+            textures || normal_textures,
+            if textures || normal_textures {
+                let sets = if scene.mesh.uvs1.is_some() {
+                    "sets 0 and 1"
+                } else {
+                    "set 0"
+                };
+                format!("interpolated ({sets}) for the textures")
+            } else {
+                "no material samples a texture".into()
+            },
+        );
+        let emissive_names = names_where(&used, Material::emits);
+        let emission = decide(
+            "emission",
+            trace_rays && !emissive_names.is_empty(),
+            if emissive_names.is_empty() {
+                "no rendered material emits".into()
+            } else {
+                format!("emissive materials: {}", emissive_names.join(", "))
+            },
+        );
         let aov_list = aovs.iter().map(|a| a.name()).collect::<Vec<_>>().join(", ");
         decide(
             "AOV buffers",
@@ -175,6 +230,9 @@ impl RenderPlan {
             shadows,
             specular,
             uvs,
+            textures,
+            normal_textures,
+            emission,
             aovs: if trace_rays { aovs.to_vec() } else { Vec::new() },
             stages,
             primary_rays,
@@ -234,6 +292,9 @@ impl RenderPlan {
             shadows: false,
             specular,
             uvs: false,
+            textures: false,
+            normal_textures: false,
+            emission: false,
             aovs: Vec::new(),
             stages,
             primary_rays: 0,
@@ -281,4 +342,42 @@ impl RenderPlan {
         );
         s
     }
+}
+
+/// Whether the shader looks up a texture of `m` (base colour, metallic-roughness, emissive).
+fn samples_in_shader(m: &Material) -> bool {
+    m.pbr_textures()
+        .is_some_and(|t| t.varies_brdf() || (t.emissive.is_some() && m.emits()))
+}
+
+fn names_where(used: &[&Material], keep: impl Fn(&Material) -> bool) -> Vec<String> {
+    used.iter().filter(|m| keep(m)).map(|m| m.name.clone()).collect()
+}
+
+/// "base colour: a, b; metallic-roughness: a; …; 3 images decoded: name (W×H), …".
+fn texture_summary(used: &[&Material], scene: &Scene) -> String {
+    type Has = fn(&PbrTextures) -> bool;
+    let kinds: [(&str, Has); 3] = [
+        ("base colour", |t| t.base_color.is_some()),
+        ("metallic-roughness", |t| t.metallic_roughness.is_some()),
+        ("emissive", |t| t.emissive.is_some()),
+    ];
+    let mut parts = Vec::new();
+    for (kind, has) in kinds {
+        let names = names_where(used, |m| m.pbr_textures().is_some_and(has));
+        if !names.is_empty() {
+            parts.push(format!("{kind}: {}", names.join(", ")));
+        }
+    }
+    let images: Vec<_> = scene
+        .textures
+        .iter()
+        .map(|t| format!("{} ({}x{})", t.label, t.width, t.height))
+        .collect();
+    format!(
+        "{}; {} image(s) decoded: {}",
+        parts.join("; "),
+        images.len(),
+        images.join(", ")
+    )
 }

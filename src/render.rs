@@ -17,6 +17,7 @@ use crate::plan::{Aov, RenderPlan};
 use crate::scene::Scene;
 use crate::shading::shader::Shader;
 use crate::surface::camera::Camera;
+use crate::surface::normal_texture::apply_normal_texture;
 use crate::surface::primary::surface_point;
 use crate::surface::SurfacePoint;
 
@@ -91,6 +92,8 @@ pub fn render(
         occluder: if plan.shadows { bvh } else { None },
         scene_unit: bvh.map_or(1.0, Bvh::scene_unit),
         convention: plan.convention,
+        textures: plan.textures.then_some(scene.textures.as_slice()),
+        emission: plan.emission,
         shadow_offset: scene.shadow_offset,
     };
 
@@ -115,7 +118,16 @@ pub fn render(
                         for o in &offsets {
                             let ray = camera.ray((x as f32 + o.x) / w as f32, (y as f32 + o.y) / h as f32);
                             if let Some(hit) = bvh.intersect(ray.origin, ray.direction, ray.t_max) {
-                                let point = surface_point(&scene.mesh, &hit, ray.direction, plan.uvs);
+                                let mut point = surface_point(&scene.mesh, &hit, ray.direction, plan.uvs);
+                                if plan.normal_textures {
+                                    apply_normal_texture(
+                                        &mut point,
+                                        &scene.mesh,
+                                        &hit,
+                                        &scene.materials,
+                                        &scene.textures,
+                                    );
+                                }
                                 let depth = hit.t + (ray.origin - scene.camera.position).length();
                                 samples.push(Sample {
                                     pixel: py * tw + px,

@@ -1,8 +1,13 @@
 //! Every class of bad input gives a one-line error naming the file and the problem, exit code 2,
 //! no panic, and no output file.
 
+mod support;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
+
+use serde_json::json;
+use support::gltf_builder::{square, GltfBuilder};
 
 struct Case {
     dir: PathBuf,
@@ -160,4 +165,155 @@ fn absurd_sizes_and_bad_options() {
         .unwrap();
     assert_eq!(r.status.code(), Some(2));
     assert!(!out.exists());
+}
+
+/// A valid single-square glTF document (builder and the JSON besides buffers and accessors).
+fn gltf_square() -> (GltfBuilder, serde_json::Value) {
+    let mut b = GltfBuilder::default();
+    let mesh = square(&mut b, true, None);
+    let rest = json!({"scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], "meshes": [mesh]});
+    (b, rest)
+}
+
+#[test]
+fn malformed_gltf_and_glb_files() {
+    let c = Case::new("gltf");
+    let (b, rest) = gltf_square();
+    let glb = b.glb(rest.clone());
+
+    let truncated = c.dir.join("truncated.glb");
+    std::fs::write(&truncated, &glb[..glb.len() / 2]).unwrap();
+    c.fails(&truncated, &[], &["truncated.glb", "truncated binary glTF"]);
+    let mut chunk_cut = glb.clone();
+    chunk_cut.truncate(glb.len() - 8);
+    let cut_length = chunk_cut.len() as u32;
+    chunk_cut[8..12].copy_from_slice(&cut_length.to_le_bytes());
+    let chunk = c.dir.join("chunk.glb");
+    std::fs::write(&chunk, &chunk_cut).unwrap();
+    c.fails(&chunk, &[], &["chunk.glb", "truncated binary glTF"]);
+    let tiny = c.dir.join("tiny.glb");
+    std::fs::write(&tiny, b"glTF").unwrap();
+    c.fails(&tiny, &[], &["tiny.glb", "truncated"]);
+
+    let mut wrong = glb.clone();
+    wrong[..4].copy_from_slice(b"glTX");
+    let magic = c.dir.join("magic.glb");
+    std::fs::write(&magic, &wrong).unwrap();
+    c.fails(&magic, &[], &["magic.glb", "not a binary glTF", "glTX"]);
+
+    let json = c.file("syntax.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [");
+    c.fails(&json, &[], &["syntax.gltf", "invalid glTF JSON"]);
+    let bad_index = c.file(
+        "index.gltf",
+        r#"{"asset": {"version": "2.0"}, "scenes": [{"nodes": [3]}], "nodes": []}"#,
+    );
+    c.fails(&bad_index, &[], &["index.gltf", "invalid glTF"]);
+    let cycle = c.file(
+        "cycle.gltf",
+        r#"{"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"children": [1]}, {"children": [0]}]}"#,
+    );
+    c.fails(&cycle, &[], &["cycle.gltf", "reached twice"]);
+    let overflow = c.file(
+        "overflow.gltf",
+        r#"{"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"scale": [1e39, 1, 1]}]}"#,
+    );
+    c.fails(&overflow, &[], &["overflow.gltf", "node 0", "not finite"]);
+    let empty = c.file("empty.gltf", r#"{"asset": {"version": "2.0"}}"#);
+    c.fails(&empty, &[], &["empty.gltf", "no triangles"]);
+}
+
+#[test]
+fn gltf_data_out_of_range_or_not_finite() {
+    let c = Case::new("gltf-range");
+    // An accessor reading past the end of its buffer view; a view past its buffer; an index
+    // beyond the vertices; an absurd element count; NaN positions.
+    let (b, rest) = gltf_square();
+    let doc = b.document(rest, Some("square.bin"));
+    std::fs::write(c.dir.join("square.bin"), &b.bin).unwrap();
+    let write = |name: &str, edit: &dyn Fn(&mut serde_json::Value)| {
+        let mut d = doc.clone();
+        edit(&mut d);
+        let p = c.dir.join(name);
+        std::fs::write(&p, serde_json::to_string(&d).unwrap()).unwrap();
+        p
+    };
+    let past_view = write("accessor.gltf", &|d| d["accessors"][0]["count"] = json!(40));
+    c.fails(&past_view, &[], &["accessor.gltf", "accessor 0", "past the end"]);
+    let huge = write("huge.gltf", &|d| d["accessors"][0]["count"] = json!(4_000_000_000u64));
+    c.fails(&huge, &[], &["huge.gltf", "accessor 0"]);
+    let past_buffer = write("view.gltf", &|d| d["bufferViews"][0]["byteLength"] = json!(100_000));
+    c.fails(&past_buffer, &[], &["view.gltf", "lies outside buffer 0"]);
+    let short_buffer = write("buffer.gltf", &|d| d["buffers"][0]["byteLength"] = json!(100_000));
+    c.fails(&short_buffer, &[], &["buffer.gltf", "fewer than its byteLength"]);
+    let wrong_type = write("type.gltf", &|d| d["accessors"][0]["type"] = json!("VEC2"));
+    c.fails(&wrong_type, &[], &["type.gltf", "POSITION"]);
+
+    // Index 7 of 4 vertices.
+    let mut b2 = GltfBuilder::default();
+    let p = b2.floats("VEC3", &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0]);
+    let i = b2.indices(&[0, 1, 7]);
+    let mesh = json!({"primitives": [{"attributes": {"POSITION": p}, "indices": i}]});
+    let path = b2.write_gltf(
+        &c.dir,
+        "indices",
+        json!({"scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], "meshes": [mesh]}),
+    );
+    c.fails(&path, &[], &["indices.gltf", "index 7 is out of range"]);
+
+    let mut b3 = GltfBuilder::default();
+    let p = b3.floats("VEC3", &[0.0, 0.0, 0.0, f32::NAN, 0.0, 0.0, 0.0, 1.0, 0.0]);
+    let mesh = json!({"primitives": [{"attributes": {"POSITION": p}}]});
+    let path = b3.write_gltf(
+        &c.dir,
+        "nan",
+        json!({"scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], "meshes": [mesh]}),
+    );
+    c.fails(&path, &[], &["nan.gltf", "not finite"]);
+}
+
+#[test]
+fn gltf_missing_files_unsupported_extensions_and_bad_camera_choice() {
+    let c = Case::new("gltf-files");
+    let (b, rest) = gltf_square();
+    let path = b.write_gltf(&c.dir, "square", rest.clone());
+    std::fs::remove_file(c.dir.join("square.bin")).unwrap();
+    c.fails(&path, &[], &["square.gltf", "buffer 0", "square.bin"]);
+
+    let (b, mut rest) = gltf_square();
+    rest["materials"] = json!([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]);
+    rest["meshes"][0]["primitives"][0]["material"] = json!(0);
+    rest["textures"] = json!([{"source": 0}]);
+    rest["images"] = json!([{"uri": "missing.png"}]);
+    let path = b.write_gltf(&c.dir, "texture", rest.clone());
+    c.fails(&path, &[], &["texture.gltf", "missing.png"]);
+    c.file("garbage.png", "not a png");
+    rest["images"] = json!([{"uri": "garbage.png"}]);
+    let path = b.write_gltf(&c.dir, "garbage", rest);
+    c.fails(&path, &[], &["garbage.gltf", "garbage.png", "cannot decode"]);
+
+    let (b, mut rest) = gltf_square();
+    rest["extensionsUsed"] = json!([
+        "KHR_draco_mesh_compression",
+        "KHR_texture_transform",
+        "KHR_lights_punctual"
+    ]);
+    rest["extensionsRequired"] = json!([
+        "KHR_draco_mesh_compression",
+        "KHR_lights_punctual",
+        "KHR_texture_transform"
+    ]);
+    let path = b.write_gltf(&c.dir, "draco", rest);
+    let e = c.fails(
+        &path,
+        &[],
+        &["draco.gltf", "KHR_draco_mesh_compression, KHR_texture_transform"],
+    );
+    assert!(!e.contains("KHR_lights_punctual"), "{e}");
+
+    let (b, rest) = gltf_square();
+    let path = b.write_gltf(&c.dir, "nocamera", rest);
+    c.fails(&path, &["--camera", "0"], &["--camera", "no camera"]);
+    c.fails(&c.dir.join("tri.obj"), &["--camera", "0"], &["--camera", "only glTF"]);
+    let toml = c.scene("[[object]]\nmesh = \"missing.glb\"\n");
+    c.fails(&toml, &[], &["missing.glb", "not found"]);
 }

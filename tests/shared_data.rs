@@ -1,42 +1,14 @@
 //! Renders of the large models in ../shared/data: bare meshes and scene files that use them.
 //! When ../shared/data is absent each test prints SKIPPED and returns (CI always has it).
 
+mod support;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+use support::render_png as render;
 
 fn shared() -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/meshes");
-    if p.is_dir() {
-        Some(p)
-    } else {
-        eprintln!(
-            "SKIPPED: {} is missing; this test needs the shared test data",
-            p.display()
-        );
-        None
-    }
-}
-
-/// Renders `scene` with extra args into a temporary PNG; returns the decoded image.
-fn render(scene: &Path, extra: &[&str]) -> image::RgbImage {
-    let out = std::env::temp_dir().join(format!(
-        "pointshade-shared-{}-{}.png",
-        std::process::id(),
-        scene.file_stem().unwrap().to_string_lossy()
-    ));
-    let r = Command::new(env!("CARGO_BIN_EXE_pointshade"))
-        .arg("render")
-        .arg(scene)
-        .arg("-o")
-        .arg(&out)
-        .arg("--quiet")
-        .args(extra)
-        .output()
-        .unwrap();
-    assert!(r.status.success(), "{scene:?}: {}", String::from_utf8_lossy(&r.stderr));
-    let img = image::open(&out).unwrap().into_rgb8();
-    let _ = std::fs::remove_file(out);
-    img
+    support::shared_data("meshes")
 }
 
 /// Share of pixels that are not black.

@@ -301,9 +301,9 @@ mod tests {
         TriangleMesh {
             positions: p.to_vec(),
             normals: vec![Vec3::Y; 4],
-            uvs: None,
             triangles: vec![[0, 2, 1], [0, 3, 2]],
             material_of_triangle: vec![0, 0],
+            ..Default::default()
         }
     }
 

@@ -238,7 +238,7 @@ mod tests {
             material_of_triangle: vec![0; sphere.triangles.len()],
             positions: sphere.positions,
             triangles: sphere.triangles,
-            uvs: None,
+            ..Default::default()
         };
         assert!(Bvh::build(&sphere_mesh, BvhPreset::DEFAULT).depth() <= FIXED_STACK_MAX_DEPTH);
     }

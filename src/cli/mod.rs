@@ -27,7 +27,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Render a scene (.toml) or a bare mesh (.obj) to PNG (8-bit sRGB) or EXR (linear float32).
+    /// Render a scene (.toml), a bare mesh (.obj) or a glTF file (.gltf, .glb) to PNG (8-bit sRGB)
+    /// or EXR (linear float32).
     Render(render::RenderArgs),
     /// Shade a normal image (PNG) or a [normal_map] scene file: presets tp (the NPM3D TP4 report) and physical.
     Normalmap(normalmap::NormalMapArgs),

@@ -15,7 +15,7 @@ use crate::{render, scene};
 /// Arguments of `pointshade render`.
 #[derive(clap::Args)]
 pub struct RenderArgs {
-    /// Scene file (.toml) or mesh (.obj).
+    /// Scene file (.toml), mesh (.obj) or glTF file (.gltf, .glb).
     scene: PathBuf,
     /// Output image (.png or .exr); default: the scene's name with .png, in the current directory.
     #[arg(short, long)]
@@ -41,6 +41,9 @@ pub struct RenderArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
+    /// glTF files: render through camera N of the file (0-based) instead of the first one.
+    #[arg(long, value_name = "N")]
+    camera: Option<usize>,
     /// Shadow-ray origin offset: error-bound (default) or mitsuba (Mitsuba 3's fixed epsilon, for
     /// pixel-exact validation).
     #[arg(long)]
@@ -65,7 +68,7 @@ pub fn run(args: RenderArgs) -> Result<(), InputError> {
     if args.threads == Some(0) {
         return Err(option_error("--threads", "must be at least 1"));
     }
-    let mut scene = scene::load(&args.scene)?;
+    let mut scene = scene::load_with(&args.scene, scene::LoadOptions { camera: args.camera })?;
     let f = &mut scene.film;
     f.width = args.width.unwrap_or(f.width);
     f.height = args.height.unwrap_or(f.height);

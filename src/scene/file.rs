@@ -1,4 +1,4 @@
-//! TOML scene files (the contract in README.md, "Scene files").
+//! TOML scene files (the contract in README.md, "Scene files"); objects are OBJ or glTF meshes.
 //!
 //! Parsing is strict: unknown keys, wrong types and unknown names are errors with the file, line
 //! and column. Each section is kept with its span so that checks made after parsing (a NaN, an
@@ -16,8 +16,10 @@ use toml::Spanned;
 use crate::error::{InputError, InputResult};
 use crate::film::{FilmSettings, SamplerKind};
 use crate::scene::framing::{default_lights, default_material, frame_bounds};
+use crate::scene::gltf::load_gltf;
 use crate::scene::mesh::TriangleMesh;
 use crate::scene::obj::{load_obj, NO_MATERIAL};
+use crate::scene::textures::{decode_used_images, offset_images, PendingImage};
 use crate::scene::{extension, Scene, SceneObject};
 use crate::shading::light::{Falloff, Light, LightKind};
 use crate::shading::material::{BlinnPhong, CookTorrance, Material, Specular};
@@ -308,17 +310,19 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
     let mut mesh = TriangleMesh::default();
     let mut warnings = Vec::new();
     let mut default_index = None;
+    let mut images = Vec::new();
+    let mut notes = Vec::new();
     let mut objects = Vec::new();
     for object in &file.object {
         let o = object.get_ref();
         let mesh_path = resolve(dir, &o.mesh);
-        if extension(&mesh_path).as_deref() != Some("obj") {
-            return Err(at(
+        let contents = load_object(&mesh_path).map_err(|e| match e {
+            ObjectError::Input(e) => e,
+            ObjectError::Unsupported => at(
                 object.span(),
-                format!("mesh '{}': only .obj meshes are supported", o.mesh),
-            ));
-        }
-        let contents = load_obj(&mesh_path)?;
+                format!("mesh '{}': only .obj, .gltf and .glb meshes are supported", o.mesh),
+            ),
+        })?;
         let mut part = contents.mesh;
         let assigned = match &o.material {
             Some(name) => Some(*index_of.get(name.get_ref()).ok_or_else(|| {
@@ -329,13 +333,16 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
             })?),
             None => None,
         };
+        warnings.extend(contents.warnings);
+        notes.extend(contents.notes);
+        let base = materials.len() as u32;
+        let own_count = contents.materials.len() as u32;
         if assigned.is_none() {
             warnings.extend(contents.material_warning);
-        }
-        let base = materials.len() as u32;
-        let mtl_count = contents.materials.len() as u32;
-        if assigned.is_none() {
-            materials.extend(contents.materials);
+            let mut own = contents.materials;
+            offset_images(&mut own, images.len() as u32);
+            images.extend(contents.images);
+            materials.extend(own);
         }
         for m in &mut part.material_of_triangle {
             *m = match (assigned, *m) {
@@ -344,8 +351,8 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
                     materials.push(default_material());
                     materials.len() as u32 - 1
                 }),
-                (None, local) if local < mtl_count => base + local,
-                (None, _) => unreachable!("OBJ loader returns valid material indices"),
+                (None, local) if local < own_count => base + local,
+                (None, _) => unreachable!("mesh loaders return valid material indices"),
             };
         }
         let transform = match &o.transform {
@@ -363,8 +370,8 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
             triangles: first..mesh.triangle_count(),
         });
     }
+    let textures = decode_used_images(&mut materials, &mesh.material_of_triangle, &images)?;
 
-    let mut notes = Vec::new();
     let bounds = mesh.bounds().unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
     let camera = match &file.camera {
         Some(c) => camera(c.get_ref()).map_err(|m| at(c.span(), m))?,
@@ -391,6 +398,7 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
         camera,
         lights,
         materials,
+        textures,
         mesh,
         shadows: file.render.as_ref().and_then(|r| r.shadows).unwrap_or(true),
         shadow_offset: match file.render.as_ref().and_then(|r| r.shadow_offset.as_ref()) {
@@ -401,6 +409,66 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
         notes,
         warnings,
     })
+}
+
+/// The geometry and materials of one `[[object]]` mesh file, in the file's own coordinates.
+struct ObjectContents {
+    /// Triangles; material indices index `materials`, or are `NO_MATERIAL`.
+    mesh: TriangleMesh,
+    /// The file's own materials.
+    materials: Vec<Material>,
+    /// Images the materials reference, not decoded.
+    images: Vec<PendingImage>,
+    /// Why the file's materials could not be loaded (worth a warning only if they are used).
+    material_warning: Option<String>,
+    /// Warnings about the geometry.
+    warnings: Vec<String>,
+    /// Facts for `--explain`.
+    notes: Vec<String>,
+}
+
+enum ObjectError {
+    Input(InputError),
+    Unsupported,
+}
+
+/// Loads an `[[object]]` mesh: OBJ (with its MTL materials) or glTF (its default scene's
+/// geometry and materials; its cameras and lights are not used, the scene file defines those).
+fn load_object(path: &Path) -> Result<ObjectContents, ObjectError> {
+    match extension(path).as_deref() {
+        Some("obj") => {
+            let c = load_obj(path).map_err(ObjectError::Input)?;
+            Ok(ObjectContents {
+                mesh: c.mesh,
+                materials: c.materials,
+                images: Vec::new(),
+                material_warning: c.material_warning,
+                warnings: Vec::new(),
+                notes: Vec::new(),
+            })
+        }
+        Some("gltf" | "glb") => {
+            let c = load_gltf(path).map_err(ObjectError::Input)?;
+            let mut notes: Vec<String> = c.notes.iter().map(|n| format!("{}: {n}", path.display())).collect();
+            if !c.cameras.is_empty() || !c.lights.is_empty() {
+                notes.push(format!(
+                    "{}: its {} camera(s) and {} light(s) are not used (the scene file's [camera] and [[light]] are)",
+                    path.display(),
+                    c.cameras.len(),
+                    c.lights.len()
+                ));
+            }
+            Ok(ObjectContents {
+                mesh: c.mesh,
+                materials: c.materials,
+                images: c.images,
+                material_warning: None,
+                warnings: c.warnings,
+                notes,
+            })
+        }
+        _ => Err(ObjectError::Unsupported),
+    }
 }
 
 /// 1-based line and column of byte `offset`.

@@ -110,6 +110,7 @@ pub fn scene_for_bare_mesh(path: &Path) -> InputResult<Scene> {
         camera,
         lights,
         materials,
+        textures: Vec::new(),
         mesh,
         shadows: true,
         shadow_offset: Default::default(),

@@ -1,6 +1,6 @@
 //! World-space triangle meshes: the geometry every object of a scene is merged into.
 
-use glam::{Mat3, Mat4, Vec2, Vec3};
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
 /// Triangles in world space with per-vertex shading normals and a material per triangle.
 ///
@@ -13,8 +13,15 @@ pub struct TriangleMesh {
     pub positions: Vec<Vec3>,
     /// Unit vertex normals, one per position.
     pub normals: Vec<Vec3>,
-    /// Texture coordinates, one per position, if every object has them.
+    /// Texture coordinates (set 0, glTF's `TEXCOORD_0`), one per position, if any object has them
+    /// (objects without get zeros).
     pub uvs: Option<Vec<Vec2>>,
+    /// Second texture-coordinate set (glTF's `TEXCOORD_1`), as `uvs`.
+    pub uvs1: Option<Vec<Vec2>>,
+    /// Unit tangents (xyz, along +u) with the bitangent sign in w (bitangent = w·normal × tangent),
+    /// one per position, if any object has them; zero where a vertex has none (no normal mapping
+    /// there).
+    pub tangents: Option<Vec<Vec4>>,
     /// Vertex indices, counter-clockwise seen from the side the geometric normal points to.
     pub triangles: Vec<[u32; 3]>,
     /// Index into the scene's materials, one per triangle.
@@ -39,18 +46,14 @@ impl TriangleMesh {
         Some(it.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p))))
     }
 
-    /// Appends `other`, whose material indices are relative to `material_base`.
+    /// Appends `other`, whose material indices are relative to `material_base`. An optional
+    /// attribute present on one side only is filled with zeros on the other.
     pub fn append(&mut self, other: TriangleMesh, material_base: u32) {
         let base = self.positions.len() as u32;
-        let had_geometry = !self.positions.is_empty();
-        self.uvs = match (self.uvs.take(), other.uvs) {
-            (Some(mut a), Some(b)) => {
-                a.extend(b);
-                Some(a)
-            }
-            (None, Some(b)) if !had_geometry => Some(b),
-            _ => None,
-        };
+        let (ours, theirs) = (self.positions.len(), other.positions.len());
+        self.uvs = merge_attribute(self.uvs.take(), other.uvs, ours, theirs);
+        self.uvs1 = merge_attribute(self.uvs1.take(), other.uvs1, ours, theirs);
+        self.tangents = merge_attribute(self.tangents.take(), other.tangents, ours, theirs);
         self.positions.extend(other.positions);
         self.normals.extend(other.normals);
         self.triangles
@@ -60,22 +63,47 @@ impl TriangleMesh {
     }
 
     /// Applies an affine transform: positions by `m`, normals by its inverse transpose (then
-    /// renormalised). A negative determinant mirrors the mesh, so the winding is reversed to keep
-    /// geometric normals on the same side as the shading normals.
+    /// renormalised), tangents by `m` itself (they are directions in the surface). A negative
+    /// determinant mirrors the mesh, so the winding is reversed to keep geometric normals on the
+    /// same side as the shading normals, and the bitangent signs flip (a mirror turns the
+    /// right-handed frame into a left-handed one).
     pub fn transform(&mut self, m: Mat4) {
-        let normal_matrix = Mat3::from_mat4(m).inverse().transpose();
+        let linear = Mat3::from_mat4(m);
+        let normal_matrix = linear.inverse().transpose();
+        let mirrored = linear.determinant() < 0.0;
         for p in &mut self.positions {
             *p = m.transform_point3(*p);
         }
         for n in &mut self.normals {
             *n = (normal_matrix * *n).normalize_or_zero();
         }
-        if Mat3::from_mat4(m).determinant() < 0.0 {
+        for t in self.tangents.iter_mut().flatten() {
+            let xyz = (linear * t.truncate()).normalize_or_zero();
+            let w = if mirrored { -t.w } else { t.w };
+            *t = if xyz == Vec3::ZERO { Vec4::ZERO } else { xyz.extend(w) };
+        }
+        if mirrored {
             for t in &mut self.triangles {
                 t.swap(1, 2);
             }
         }
     }
+}
+
+/// `a` (for `len_a` vertices) followed by `b` (for `len_b`), zero-filling a missing side; `None`
+/// when both are missing.
+fn merge_attribute<T: Clone + Default>(
+    a: Option<Vec<T>>,
+    b: Option<Vec<T>>,
+    len_a: usize,
+    len_b: usize,
+) -> Option<Vec<T>> {
+    if a.is_none() && b.is_none() {
+        return None;
+    }
+    let mut merged = a.unwrap_or_else(|| vec![T::default(); len_a]);
+    merged.extend(b.unwrap_or_else(|| vec![T::default(); len_b]));
+    Some(merged)
 }
 
 /// Angle-weighted vertex normals: n_v = normalize(Σ over faces at v of n_face · interior angle at v).
@@ -132,9 +160,9 @@ mod tests {
         let mut mesh = TriangleMesh {
             positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
             normals: vec![Vec3::Z; 3],
-            uvs: None,
             triangles: vec![[0, 1, 2]],
             material_of_triangle: vec![0],
+            ..Default::default()
         };
         mesh.transform(Mat4::from_scale(Vec3::new(1.0, 1.0, -1.0)));
         let [a, b, c] = mesh.triangle_positions(0);
@@ -148,14 +176,53 @@ mod tests {
         let tri = TriangleMesh {
             positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
             normals: vec![Vec3::Z; 3],
-            uvs: None,
             triangles: vec![[0, 1, 2]],
             material_of_triangle: vec![0],
+            ..Default::default()
         };
         let mut all = tri.clone();
         all.append(tri, 5);
         assert_eq!(all.triangles[1], [3, 4, 5]);
         assert_eq!(all.material_of_triangle, vec![0, 5]);
         assert_eq!(all.bounds(), Some((Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0))));
+    }
+
+    #[test]
+    fn mirroring_flips_the_bitangent_sign_and_keeps_the_tangent_direction() {
+        let mut mesh = TriangleMesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+            normals: vec![Vec3::Z; 3],
+            tangents: Some(vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 3]),
+            triangles: vec![[0, 1, 2]],
+            material_of_triangle: vec![0],
+            ..Default::default()
+        };
+        mesh.transform(Mat4::from_scale(Vec3::new(-2.0, 1.0, 1.0)));
+        let t = mesh.tangents.as_ref().unwrap()[0];
+        assert_eq!(t, Vec4::new(-1.0, 0.0, 0.0, -1.0));
+        // The bitangent w·n × t still points along +y, where v decreased before the mirror.
+        let b = t.w * mesh.normals[0].cross(t.truncate());
+        assert!((b - Vec3::Y).length() < 1e-6, "{b}");
+    }
+
+    #[test]
+    fn append_zero_fills_attributes_only_one_side_has() {
+        let plain = TriangleMesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+            normals: vec![Vec3::Z; 3],
+            triangles: vec![[0, 1, 2]],
+            material_of_triangle: vec![0],
+            ..Default::default()
+        };
+        let textured = TriangleMesh {
+            uvs: Some(vec![Vec2::ONE; 3]),
+            ..plain.clone()
+        };
+        let mut all = plain.clone();
+        all.append(textured, 1);
+        let uvs = all.uvs.as_ref().unwrap();
+        assert_eq!(uvs.len(), 6);
+        assert_eq!((uvs[0], uvs[5]), (Vec2::ZERO, Vec2::ONE));
+        assert!(all.uvs1.is_none() && all.tangents.is_none());
     }
 }

@@ -1,4 +1,4 @@
-//! Scene loading: a TOML scene file or a bare mesh becomes a [`Scene`].
+//! Scene loading: a TOML scene file, a bare OBJ mesh or a glTF file becomes a [`Scene`].
 //!
 //! A scene is everything a render needs, already validated: film settings, a camera, lights,
 //! materials, and all objects merged into one world-space [`TriangleMesh`]. Loading is the only
@@ -6,10 +6,12 @@
 
 pub mod file;
 pub mod framing;
+pub mod gltf;
 pub mod mesh;
 pub mod normal_map;
 pub mod obj;
 pub mod procedural;
+pub mod textures;
 
 use std::path::{Path, PathBuf};
 
@@ -18,6 +20,7 @@ use crate::film::FilmSettings;
 use crate::shading::light::Light;
 use crate::shading::material::Material;
 use crate::shading::shadow::ShadowOffset;
+use crate::shading::texture::TextureImage;
 use crate::surface::camera::CameraSpec;
 pub use mesh::TriangleMesh;
 
@@ -34,6 +37,9 @@ pub struct Scene {
     pub lights: Vec<Light>,
     /// Materials, indexed by `mesh.material_of_triangle`.
     pub materials: Vec<Material>,
+    /// Decoded texture images, indexed by the materials' `TextureRef::image`: only those a
+    /// rendered material uses (decoded once, while loading).
+    pub textures: Vec<TextureImage>,
     /// Every object, in world space.
     pub mesh: TriangleMesh,
     /// Whether shadow rays are traced.
@@ -69,14 +75,35 @@ impl SceneObject {
     }
 }
 
-/// Loads a scene from a `.toml` scene file or a bare `.obj` mesh.
+/// Choices the command line makes about loading.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// `--camera N`: which camera of a glTF file to render through.
+    pub camera: Option<usize>,
+}
+
+/// Loads a scene from a `.toml` scene file, a bare `.obj` mesh or a `.gltf`/`.glb` file.
 pub fn load(path: &Path) -> InputResult<Scene> {
-    match extension(path).as_deref() {
+    load_with(path, LoadOptions::default())
+}
+
+/// [`load`] with command-line choices.
+pub fn load_with(path: &Path, options: LoadOptions) -> InputResult<Scene> {
+    let ext = extension(path);
+    let is_gltf = matches!(ext.as_deref(), Some("gltf" | "glb"));
+    if options.camera.is_some() && !is_gltf {
+        return Err(InputError::new(
+            "--camera",
+            "only glTF files (.gltf, .glb) have cameras to choose from",
+        ));
+    }
+    match ext.as_deref() {
         Some("toml") => file::load_scene_file(path),
         Some("obj") => framing::scene_for_bare_mesh(path),
+        Some("gltf" | "glb") => gltf::scene_for_gltf(path, options.camera),
         _ => Err(InputError::new(
             path,
-            "unsupported scene type (expected a .toml scene file or an .obj mesh)",
+            "unsupported scene type (expected a .toml scene file, an .obj mesh or a .gltf/.glb file)",
         )),
     }
 }

@@ -116,8 +116,8 @@ pub fn load_obj(path: &Path) -> InputResult<ObjContents> {
             material_of_triangle: vec![material; triangles.len()],
             positions,
             normals,
-            uvs: None,
             triangles,
+            ..Default::default()
         };
         mesh.append(part, 0);
     }

@@ -8,17 +8,21 @@
 //! - spot: a point light times the KHR_lights_punctual cone falloff
 //!   `saturate(cos θ·s + o)²`, s = 1/max(0.001, cos θ_inner − cos θ_outer), o = −cos θ_outer·s.
 //!
-//! `Falloff::None` drops the 1/d² (the assignment's convention, L_i = color × intensity).
+//! `Falloff::None` drops the 1/d² (the assignment's convention, L_i = color × intensity);
+//! `Falloff::InverseSquareWithin` is KHR_lights_punctual's range window.
 
 use glam::Vec3;
 
 /// How a positional light's irradiance falls with distance.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Falloff {
     /// Physical: E = I/d².
     InverseSquare,
     /// None: E = I (the assignment's convention).
     None,
+    /// KHR_lights_punctual's `range`: E = I·clamp(1 − (d/range)⁴, 0, 1)/d², the inverse square
+    /// smoothly windowed to reach 0 at d = range (`range` > 0, finite).
+    InverseSquareWithin { range: f32 },
 }
 
 /// Where a light is and how it emits.
@@ -101,6 +105,15 @@ impl Light {
         let falloff = match self.falloff {
             Falloff::InverseSquare => 1.0 / d2,
             Falloff::None => 1.0,
+            Falloff::InverseSquareWithin { range } => {
+                let r = distance / range;
+                let r2 = r * r;
+                let window = (1.0 - r2 * r2).clamp(0.0, 1.0);
+                if window == 0.0 {
+                    return None;
+                }
+                window / d2
+            }
         };
         // Saturate instead of overflowing: huge intensities at tiny distances stay finite, so no
         // inf·0 = NaN can arise downstream.
@@ -135,6 +148,18 @@ mod tests {
         assert_eq!(s.irradiance, Vec3::splat(2.0)); // 8 / 2²
         let none = point(Falloff::None).sample(Vec3::ZERO).unwrap();
         assert_eq!(none.irradiance, Vec3::splat(8.0));
+    }
+
+    #[test]
+    fn range_window_follows_khr_lights_punctual() {
+        let mut l = point(Falloff::InverseSquareWithin { range: 4.0 });
+        // d = 2: window 1 − (2/4)⁴ = 15/16, E = 8·(15/16)/4.
+        let e = l.sample(Vec3::ZERO).unwrap().irradiance.x;
+        assert!((e - 8.0 * 15.0 / 16.0 / 4.0).abs() < 1e-6, "{e}");
+        // At and beyond the range: nothing.
+        l.falloff = Falloff::InverseSquareWithin { range: 2.0 };
+        assert!(l.sample(Vec3::ZERO).is_none());
+        assert!(l.sample(Vec3::new(0.0, -5.0, 0.0)).is_none());
     }
 
     #[test]

@@ -2,12 +2,17 @@
 //! module's terms.
 //!
 //! f_r(ω_i, ω_o) = k_d·albedo/π + f_s(ω_i, ω_o), as in the assignment; `kd = 0` gives a purely
-//! specular material. This is the only place the terms are combined, for every mode.
+//! specular material. The glTF metallic-roughness model (`gltf-pbr`) is the exception: its
+//! diffuse part is weighted by 1 − F, so it replaces the sum (see [`GltfPbr`]). This is the only
+//! place the terms are combined, for every mode.
+
+use glam::{Vec2, Vec3};
 
 use crate::shading::brdf::{
-    blinn_phong, fresnel_conductor, fresnel_schlick, fresnel_schlick_sg, lambert, schlick_f0_dielectric, FresnelTerm,
-    LocalDots, MaskingShadowing, MicrofacetDistribution, Real,
+    blinn_phong, fresnel_conductor, fresnel_schlick, fresnel_schlick_sg, ggx_d, lambert, schlick_f0_dielectric,
+    FresnelTerm, LocalDots, MaskingShadowing, MicrofacetDistribution, Real,
 };
+use crate::shading::texture::{ColorSpace, TextureImage, TextureRef};
 
 /// Blinn-Phong specular lobe: f_s = ks · color · (n·ω_h)^shininess.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -66,6 +71,77 @@ impl Default for CookTorrance {
     }
 }
 
+/// A glTF normal texture: tangent-space normals (+X along +u, +Y "up" = against +v, +Z out of
+/// the surface), whose X and Y are multiplied by `scale`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NormalTexture {
+    /// The texture (linear).
+    pub texture: TextureRef,
+    /// glTF's `normalTexture.scale`.
+    pub scale: f32,
+}
+
+/// The textures of a glTF metallic-roughness material; each is optional.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PbrTextures {
+    /// sRGB base colour; RGB multiplies the base colour factor (`Material::albedo`).
+    pub base_color: Option<TextureRef>,
+    /// Linear; blue multiplies the metallic factor, green the roughness factor.
+    pub metallic_roughness: Option<TextureRef>,
+    /// Tangent-space normals; applied by the surface stage (`surface::normal_texture`).
+    pub normal: Option<NormalTexture>,
+    /// sRGB; multiplies the emissive factor.
+    pub emissive: Option<TextureRef>,
+}
+
+impl PbrTextures {
+    /// Whether any texture changes the BRDF parameters (base colour or metallic-roughness).
+    pub fn varies_brdf(&self) -> bool {
+        self.base_color.is_some() || self.metallic_roughness.is_some()
+    }
+
+    /// Every texture reference, for renumbering images.
+    pub fn refs_mut(&mut self) -> impl Iterator<Item = &mut TextureRef> {
+        [
+            self.base_color.as_mut(),
+            self.metallic_roughness.as_mut(),
+            self.normal.as_mut().map(|n| &mut n.texture),
+            self.emissive.as_mut(),
+        ]
+        .into_iter()
+        .flatten()
+    }
+}
+
+/// glTF 2.0 metallic-roughness material, the reference BRDF of the glTF specification
+/// (Appendix B), with base colour = `Material::albedo`:
+///
+/// f = (1 − F)·c_diff/π + F·D·V, with c_diff = base·(1 − metallic), F0 = lerp(0.04, base,
+/// metallic), F = Schlick(F0, ω_i·ω_h), D = GGX(α), V = height-correlated Smith visibility
+/// G/(4 (n·ω_i)(n·ω_o)), α = roughness².
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GltfPbr {
+    /// Metallic factor in [0, 1].
+    pub metallic: f32,
+    /// Perceptual roughness factor in [0, 1] (α = roughness²).
+    pub roughness: f32,
+    /// Emitted radiance (emissive factor), added to the reflected radiance.
+    pub emissive: [f32; 3],
+    /// Textures that modulate the factors.
+    pub textures: PbrTextures,
+}
+
+/// The BRDF parameters of a `gltf-pbr` material at one surface point, textures applied.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PbrPoint {
+    /// Linear base colour.
+    pub base_color: [f32; 3],
+    /// Metalness in [0, 1].
+    pub metallic: f32,
+    /// Microfacet roughness α = roughness².
+    pub alpha: f32,
+}
+
 /// The specular part of a material.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Specular {
@@ -75,6 +151,8 @@ pub enum Specular {
     BlinnPhong(BlinnPhong),
     /// Cook-Torrance.
     CookTorrance(CookTorrance),
+    /// glTF metallic-roughness: the whole BRDF, diffuse included (k_d is not used).
+    GltfPbr(GltfPbr),
 }
 
 /// A surface's reflectance: k_d·albedo/π plus a specular lobe.
@@ -115,6 +193,57 @@ impl Material {
             Specular::None => "lambert",
             Specular::BlinnPhong(_) => "blinn-phong",
             Specular::CookTorrance(_) => "cook-torrance",
+            Specular::GltfPbr(_) => "gltf-pbr",
+        }
+    }
+
+    /// A two-sided glTF metallic-roughness material with constant parameters.
+    pub fn gltf_pbr(name: &str, base_color: [f32; 3], metallic: f32, roughness: f32) -> Self {
+        Self {
+            specular: Specular::GltfPbr(GltfPbr {
+                metallic,
+                roughness,
+                emissive: [0.0; 3],
+                textures: PbrTextures::default(),
+            }),
+            ..Self::lambert(name, base_color)
+        }
+    }
+
+    /// The glTF textures of this material, if it is a `gltf-pbr` one.
+    pub fn pbr_textures(&self) -> Option<&PbrTextures> {
+        match &self.specular {
+            Specular::GltfPbr(p) => Some(&p.textures),
+            _ => None,
+        }
+    }
+
+    /// Mutable access to the glTF textures (to renumber images when scenes are assembled).
+    pub fn pbr_textures_mut(&mut self) -> Option<&mut PbrTextures> {
+        match &mut self.specular {
+            Specular::GltfPbr(p) => Some(&mut p.textures),
+            _ => None,
+        }
+    }
+
+    /// Whether the material emits light (a `gltf-pbr` material with a non-zero emissive factor).
+    pub fn emits(&self) -> bool {
+        matches!(&self.specular, Specular::GltfPbr(p) if p.emissive.iter().any(|&e| e > 0.0))
+    }
+
+    /// Emitted radiance at texture coordinates `uvs` (sets 0 and 1): the emissive factor times
+    /// the emissive texture when `images` are given (the plan samples textures), else the factor.
+    #[inline]
+    pub fn emission(&self, uvs: [Vec2; 2], images: Option<&[TextureImage]>) -> Vec3 {
+        let Specular::GltfPbr(p) = &self.specular else {
+            return Vec3::ZERO;
+        };
+        let factor = Vec3::from(p.emissive);
+        match (p.textures.emissive, images) {
+            (Some(t), Some(images)) => {
+                factor * t.sample(images, uvs[t.tex_coord as usize], ColorSpace::Srgb).truncate()
+            }
+            _ => factor,
         }
     }
 
@@ -141,6 +270,7 @@ impl Material {
                 let s = ct.eval(dots);
                 [0, 1, 2].map(|c| d[c] + s[c])
             }
+            Specular::GltfPbr(p) => p.constant_point(self.albedo).eval(dots),
         }
     }
 
@@ -166,8 +296,77 @@ impl Material {
                 check_color("eta", ct.eta)?;
                 check_color("k", ct.k)?;
             }
+            Specular::GltfPbr(p) => {
+                check_unit("metallic", p.metallic)?;
+                check_unit("roughness", p.roughness)?;
+                check_color("emissive", p.emissive)?;
+                if let Some(n) = &p.textures.normal {
+                    if !n.scale.is_finite() {
+                        return Err(format!("normal texture scale must be finite, got {}", n.scale));
+                    }
+                }
+            }
         }
         Ok(())
+    }
+}
+
+impl GltfPbr {
+    /// The parameters where no texture applies: the factors.
+    #[inline]
+    pub fn constant_point(&self, base_color: [f32; 3]) -> PbrPoint {
+        PbrPoint {
+            base_color,
+            metallic: self.metallic,
+            alpha: self.roughness * self.roughness,
+        }
+    }
+
+    /// The parameters at texture coordinates `uvs` (sets 0 and 1): base colour factor × sRGB
+    /// texture, metallic factor × blue, roughness factor × green of the metallic-roughness
+    /// texture. Texture values lie in [0, 1], so the products stay in the factors' ranges.
+    #[inline]
+    pub fn point_at(&self, base_color: [f32; 3], uvs: [Vec2; 2], images: &[TextureImage]) -> PbrPoint {
+        let mut base = Vec3::from(base_color);
+        if let Some(t) = self.textures.base_color {
+            base *= t.sample(images, uvs[t.tex_coord as usize], ColorSpace::Srgb).truncate();
+        }
+        let (mut metallic, mut roughness) = (self.metallic, self.roughness);
+        if let Some(t) = self.textures.metallic_roughness {
+            let mr = t.sample(images, uvs[t.tex_coord as usize], ColorSpace::Linear);
+            metallic *= mr.z;
+            roughness *= mr.y;
+        }
+        PbrPoint {
+            base_color: base.to_array(),
+            metallic,
+            alpha: roughness * roughness,
+        }
+    }
+}
+
+impl PbrPoint {
+    /// f_r per channel (see [`GltfPbr`]): (1 − F)·lambert(1 − metallic, base) + F·D·V.
+    /// D and V clamp α to `MIN_ALPHA`, so α = 0 (roughness 0) gives a finite spike; V is 0 where
+    /// n·ω_i ≤ 0 or n·ω_o ≤ 0, which leaves the diffuse part to the shader's sidedness test.
+    #[inline(always)]
+    pub fn eval<R: Real>(&self, dots: &LocalDots<R>) -> [R; 3] {
+        let alpha = R::of(self.alpha);
+        let v = MaskingShadowing::SmithGgxCorrelated.visibility(dots.n_dot_i, dots.n_dot_o, alpha);
+        let dv = if v == R::zero() {
+            R::zero()
+        } else {
+            ggx_d(dots.n_dot_h, dots.sin2_h, alpha) * v
+        };
+        let metallic = R::of(self.metallic);
+        // Dielectric F0 of glTF: ior 1.5 → ((1.5 − 1)/(1.5 + 1))² = 0.04.
+        let f0_dielectric = schlick_f0_dielectric(R::lit(1.5));
+        self.base_color.map(|b| {
+            let base = R::of(b);
+            let f0 = f0_dielectric + (base - f0_dielectric) * metallic;
+            let f = fresnel_schlick(f0, dots.i_dot_h);
+            (R::one() - f) * lambert(R::one() - metallic, base) + f * dv
+        })
     }
 }
 
@@ -214,6 +413,14 @@ fn check_non_negative(key: &str, v: f32) -> Result<(), String> {
         Ok(())
     } else {
         Err(format!("{key} must be a finite number ≥ 0, got {v}"))
+    }
+}
+
+fn check_unit(key: &str, v: f32) -> Result<(), String> {
+    if (0.0..=1.0).contains(&v) {
+        Ok(())
+    } else {
+        Err(format!("{key} must be in [0, 1], got {v}"))
     }
 }
 
@@ -324,6 +531,61 @@ mod tests {
         assert!((ct.fresnel(1.0f64)[1] - 0.04).abs() < 1e-12, "dielectric F0 from ior");
     }
 
+    /// glTF 2.0 Appendix B written out independently in f64, per channel.
+    fn gltf_reference(base: f64, metallic: f64, roughness: f64, d: &LocalDots<f64>) -> f64 {
+        let alpha = roughness * roughness;
+        let a2 = alpha * alpha;
+        let (nl, nv, nh, vh) = (d.n_dot_i, d.n_dot_o, d.n_dot_h, d.i_dot_h);
+        let c_diff = base * (1.0 - metallic);
+        let f0 = 0.04 * (1.0 - metallic) + base * metallic;
+        let f = f0 + (1.0 - f0) * (1.0 - vh).powi(5);
+        let dist = a2 / (PI * (nh * nh * (a2 - 1.0) + 1.0).powi(2));
+        let vis = 0.5 / (nl * (nv * nv * (1.0 - a2) + a2).sqrt() + nv * (nl * nl * (1.0 - a2) + a2).sqrt());
+        (1.0 - f) * c_diff / PI + f * dist * vis
+    }
+
+    #[test]
+    fn gltf_pbr_matches_the_specification_formula() {
+        let base = [0.9f32, 0.5, 0.1];
+        for &(metallic, roughness) in &[(0.0f32, 0.5f32), (1.0, 0.3), (0.4, 0.8), (0.0, 1.0)] {
+            let m = Material::gltf_pbr("g", base, metallic, roughness);
+            assert!(m.has_specular());
+            for d in [
+                dots(0.6, 0.8, 0.95, 0.9),
+                dots(0.2, 0.9, 0.7, 0.5),
+                dots(1.0, 1.0, 1.0, 1.0),
+            ] {
+                let got = m.eval(&d);
+                for c in 0..3 {
+                    let expect = gltf_reference(base[c] as f64, metallic as f64, roughness as f64, &d);
+                    assert!(
+                        (got[c] - expect).abs() < 1e-6 * expect.max(1e-3),
+                        "metallic {metallic} roughness {roughness} channel {c}: {} vs {expect}",
+                        got[c]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn gltf_pbr_extremes_stay_finite_and_metals_have_no_diffuse() {
+        // Roughness 0: α is raised to MIN_ALPHA inside D and V; a finite spike at n·h = 1.
+        let mirror = Material::gltf_pbr("m", [1.0; 3], 1.0, 0.0);
+        let dots32 =
+            |ci: f32, co: f32, nh: f32, ih: f32| dots(ci as f64, co as f64, nh as f64, ih as f64).cast::<f32>();
+        let peak = mirror.eval(&dots32(0.7, 0.7, 1.0, 0.7));
+        assert!(peak.iter().all(|v| v.is_finite() && *v > 1e6), "{peak:?}");
+        assert!(mirror.eval(&dots32(0.7, 0.7, 0.99, 0.7))[0] < 1e-3);
+        // Grazing: V = 0 → only the diffuse part, which a metal does not have.
+        assert_eq!(mirror.eval(&dots32(0.0, 0.7, 0.7, 0.7)), [0.0; 3]);
+        let plastic = Material::gltf_pbr("p", [0.5; 3], 0.0, 0.5);
+        let g = plastic.eval(&dots(0.0f64, 0.7, 0.7, 0.7));
+        let f = 0.04 + 0.96 * 0.3f64.powi(5);
+        assert!((g[0] - (1.0 - f) * 0.5 / PI).abs() < 1e-7, "{g:?}");
+        assert_eq!(plastic.model_name(), "gltf-pbr");
+    }
+
     #[test]
     fn validation_names_the_key() {
         let mut m = Material::lambert("m", [0.5, f32::NAN, 0.5]);
@@ -345,5 +607,9 @@ mod tests {
             color: [1.0; 3],
         });
         assert!(m.validate().unwrap_err().contains("ks"));
+        let mut g = Material::gltf_pbr("g", [0.5; 3], 1.5, 0.5);
+        assert!(g.validate().unwrap_err().contains("metallic"));
+        g = Material::gltf_pbr("g", [0.5; 3], 0.5, f32::NAN);
+        assert!(g.validate().unwrap_err().contains("roughness"));
     }
 }

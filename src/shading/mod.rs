@@ -5,3 +5,4 @@ pub mod light;
 pub mod material;
 pub mod shader;
 pub mod shadow;
+pub mod texture;

@@ -1,6 +1,7 @@
 //! The shader: outgoing radiance of a [`SurfacePoint`] under every light, with shadow rays.
 //!
-//! L_o = Σ_lights f_r(ω_i, ω_o) · E_light · cos θ_i · V, summed in light order (deterministic).
+//! L_o = L_e + Σ_lights f_r(ω_i, ω_o) · E_light · cos θ_i · V, summed in light order
+//! (deterministic); L_e is the emitted radiance of glTF materials with an emissive factor.
 //! Under the physical convention, sidedness follows the material: one-sided (Mitsuba's
 //! convention) contributes only where n_s·ω_i > 0 and n_s·ω_o > 0; two-sided first turns both
 //! normals towards the viewer (when the shading normal faces away from it, as Mitsuba's
@@ -14,8 +15,9 @@ use glam::Vec3;
 use crate::shading::brdf::LocalDots;
 use crate::shading::convention::{assignment_dots, ShadingConvention};
 use crate::shading::light::Light;
-use crate::shading::material::Material;
+use crate::shading::material::{Material, Specular};
 use crate::shading::shadow::{Occluder, ShadowOffset, ShadowRay};
+use crate::shading::texture::TextureImage;
 use crate::surface::SurfacePoint;
 
 /// Everything shading needs besides the point itself.
@@ -30,6 +32,11 @@ pub struct Shader<'a, O: Occluder> {
     pub scene_unit: f32,
     /// How directions and dot products are formed (the plan decides).
     pub convention: ShadingConvention,
+    /// The scene's decoded texture images when the plan samples material textures; `None`
+    /// otherwise (then no texture is looked up and materials use their constant factors).
+    pub textures: Option<&'a [TextureImage]>,
+    /// Add emitted radiance (the plan found a rendered material that emits).
+    pub emission: bool,
     /// How shadow rays leave the surface.
     pub shadow_offset: ShadowOffset,
 }
@@ -56,11 +63,23 @@ impl<O: Occluder> Shader<'_, O> {
             ng = -ng;
             ns = -ns;
         }
+        // Emission: from both sides of a two-sided material, from the front of a one-sided one.
+        let mut radiance = Vec3::ZERO;
+        if self.emission && (material.two_sided || sp.geometric_normal.dot(wo) > 0.0) {
+            radiance = material.emission([sp.uv, sp.uv1], self.textures);
+        }
         let cos_o = ns.dot(wo);
         if cos_o <= 0.0 {
-            return Vec3::ZERO;
+            return radiance;
         }
-        let mut radiance = Vec3::ZERO;
+        // Textured glTF materials: their BRDF parameters at this point, looked up once for all
+        // lights.
+        let textured = match (self.textures, &material.specular) {
+            (Some(images), Specular::GltfPbr(p)) if p.textures.varies_brdf() => {
+                Some(p.point_at(material.albedo, [sp.uv, sp.uv1], images))
+            }
+            _ => None,
+        };
         for light in self.lights {
             let Some(ls) = light.sample(sp.position) else { continue };
             let cos_i = ns.dot(ls.wi);
@@ -84,7 +103,10 @@ impl<O: Occluder> Shader<'_, O> {
                     continue;
                 }
             }
-            let f = Vec3::from(material.eval(&dots));
+            let f = Vec3::from(match &textured {
+                Some(point) => point.eval(&dots),
+                None => material.eval(&dots),
+            });
             radiance += f * ls.irradiance * cos_i;
         }
         // Every term is finite and ≥ 0; only the sum of saturated lights could reach infinity.

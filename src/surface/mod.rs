@@ -5,6 +5,7 @@
 
 pub mod camera;
 pub mod normal_image;
+pub mod normal_texture;
 pub mod primary;
 
 use glam::{Vec2, Vec3};
@@ -20,8 +21,10 @@ pub struct SurfacePoint {
     /// length, except under the assignment convention (the `tp` preset), which uses the image's
     /// scaled colour as it is.
     pub shading_normal: Vec3,
-    /// Texture coordinates; zero unless the scene's plan asks for them.
+    /// Texture coordinates (set 0); zero unless the scene's plan asks for them.
     pub uv: Vec2,
+    /// Second texture-coordinate set (glTF's `TEXCOORD_1`); zero unless the plan asks for it.
+    pub uv1: Vec2,
     /// Index into the scene's materials.
     pub material: u32,
     /// Unit direction from the point towards the viewer (ω_o).

@@ -384,6 +384,7 @@ impl ImageSurface {
             geometric_normal: Vec3::Z,
             shading_normal,
             uv: Vec2::ZERO,
+            uv1: Vec2::ZERO,
             material: self.material,
             to_viewer: self.viewer.to_viewer(position),
         })

@@ -4,14 +4,14 @@
 //! normal is normalize((p1 − p0) × (p2 − p0)) (counter-clockwise = front), and the shading normal
 //! is the normalised barycentric interpolation of the unit vertex normals.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use crate::accel::Hit;
 use crate::scene::mesh::TriangleMesh;
 use crate::surface::SurfacePoint;
 
 /// Builds the surface point of `hit` for a ray travelling along `direction`.
-/// UVs are interpolated only when `with_uv` (the plan decides).
+/// Texture coordinates (both sets) are interpolated only when `with_uv` (the plan decides).
 #[inline]
 pub fn surface_point(mesh: &TriangleMesh, hit: &Hit, direction: Vec3, with_uv: bool) -> SurfacePoint {
     let t = hit.triangle as usize;
@@ -34,15 +34,22 @@ pub fn surface_point(mesh: &TriangleMesh, hit: &Hit, direction: Vec3, with_uv: b
         // Opposite vertex normals cancel, or the file had zero normals: shade flat.
         shading_normal = geometric_normal;
     }
-    let uv = match (&mesh.uvs, with_uv) {
-        (Some(uvs), true) => b0 * uvs[i0] + b1 * uvs[i1] + b2 * uvs[i2],
-        _ => Default::default(),
-    };
+    let (mut uv, mut uv1) = Default::default();
+    if with_uv {
+        let interpolate = |uvs: &[Vec2]| b0 * uvs[i0] + b1 * uvs[i1] + b2 * uvs[i2];
+        if let Some(uvs) = &mesh.uvs {
+            uv = interpolate(uvs);
+        }
+        if let Some(uvs) = &mesh.uvs1 {
+            uv1 = interpolate(uvs);
+        }
+    }
     SurfacePoint {
         position,
         geometric_normal,
         shading_normal,
         uv,
+        uv1,
         material: mesh.material_of_triangle[t],
         to_viewer,
     }

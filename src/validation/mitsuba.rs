@@ -59,6 +59,17 @@ pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice) -> MitsubaExport {
     for (index, m) in scene.materials.iter().enumerate() {
         let (xml, note) = bsdf(index, m, bsdfs);
         material_notes.push(format!("{}: {note}", m.name));
+        if let Specular::GltfPbr(p) = &m.specular {
+            differences.push(format!(
+                "material '{}': the BSDF plugin has no gltf-pbr model{}",
+                m.name,
+                if p.textures == Default::default() {
+                    ""
+                } else {
+                    ", and its textures are not exported"
+                }
+            ));
+        }
         let _ = writeln!(body, "{xml}");
     }
     for object in &scene.objects {
@@ -300,6 +311,13 @@ fn plugin_bsdf(m: &Material) -> String {
                 rgb("k", ct.k)
             );
         }
+        Specular::GltfPbr(g) => {
+            let _ = write!(
+                p,
+                "<float name=\"metallic\" value=\"{}\"/><float name=\"roughness\" value=\"{}\"/>",
+                g.metallic, g.roughness
+            );
+        }
     }
     p.push_str("</bsdf>");
     p
@@ -319,6 +337,11 @@ fn emitter(light: &Light, differences: &mut Vec<String>) -> String {
     let power = light.power.to_array();
     if light.falloff == Falloff::None && !matches!(light.kind, LightKind::Directional { .. }) {
         differences.push("falloff = \"none\" (exported with Mitsuba's inverse-square falloff)".into());
+    }
+    if let Falloff::InverseSquareWithin { range } = light.falloff {
+        differences.push(format!(
+            "a KHR_lights_punctual range of {range} (exported with Mitsuba's unwindowed inverse-square falloff)"
+        ));
     }
     match light.kind {
         LightKind::Point { position } => format!(

@@ -19,8 +19,8 @@ pub fn scene_mesh(p: ProceduralMesh) -> TriangleMesh {
         material_of_triangle: vec![0; p.triangles.len()],
         positions: p.positions,
         normals,
-        uvs: None,
         triangles: p.triangles,
+        ..Default::default()
     }
 }
 

@@ -35,6 +35,7 @@ fn surface(p: Vec3, n: Vec3) -> SurfacePoint {
         geometric_normal: n,
         shading_normal: n,
         uv: Default::default(),
+        uv1: Default::default(),
         material: 0,
         to_viewer: n,
     }
@@ -68,6 +69,8 @@ fn shade<O: Occluder>(sp: &SurfacePoint, lights: &[Light], occluder: Option<&O>,
         scene_unit: unit,
         shadow_offset: Default::default(),
         convention: ShadingConvention::Physical,
+        textures: None,
+        emission: false,
     };
     shader.shade(sp, &mut 0).x as f64
 }

@@ -43,9 +43,9 @@ fn cube() -> TriangleMesh {
     TriangleMesh {
         normals: crate::scene::mesh::angle_weighted_normals(&p, &triangles),
         positions: p,
-        uvs: None,
         material_of_triangle: vec![1; triangles.len()],
         triangles,
+        ..Default::default()
     }
 }
 
@@ -93,6 +93,7 @@ pub fn contact_scene(scale: f32, offset: f32) -> Scene {
             falloff: Falloff::InverseSquare,
         }],
         materials: vec![Material::lambert("ground", [0.7; 3]), glossy],
+        textures: Vec::new(),
         mesh,
         shadows: true,
         shadow_offset: Default::default(),

@@ -1,0 +1,185 @@
+//! glTF materials → `gltf-pbr` [`Material`]s, and the file's images as [`PendingImage`]s.
+//!
+//! Every factor and texture of `pbrMetallicRoughness` is used, plus the normal texture (with its
+//! scale), the emissive factor and texture, and `doubleSided`. Not used, with a warning or a
+//! note: `alphaMode` MASK/BLEND (rendered opaque), texture-coordinate sets above 1, and the
+//! occlusion texture, which in glTF darkens indirect light only — pointshade computes direct
+//! light from punctual lights only, so occlusion has nothing to act on and is not decoded.
+
+use crate::error::InputResult;
+use crate::scene::gltf::document::GltfDocument;
+use crate::scene::textures::{ImageSource, PendingImage};
+use crate::shading::material::{GltfPbr, Material, NormalTexture, PbrTextures, Specular};
+use crate::shading::texture::{Filter, TextureRef, Wrap};
+
+/// The materials of a file, converted.
+pub struct Materials {
+    /// One per glTF material, in file order.
+    pub materials: Vec<Material>,
+    /// Messages for `--explain`.
+    pub notes: Vec<String>,
+    /// Problems worth a warning.
+    pub warnings: Vec<String>,
+}
+
+/// The glTF default material (specification §3.9.6): base colour 1, metallic 1, roughness 1,
+/// single-sided. Used by primitives without a material.
+pub fn default_material() -> Material {
+    let mut m = Material::gltf_pbr("glTF default", [1.0; 3], 1.0, 1.0);
+    m.two_sided = false;
+    m
+}
+
+/// Converts every material of `d`.
+pub fn convert_materials(d: &GltfDocument) -> InputResult<Materials> {
+    let mut out = Materials {
+        materials: Vec::new(),
+        notes: Vec::new(),
+        warnings: Vec::new(),
+    };
+    let file = d.path.display();
+    let mut translucent = Vec::new();
+    let mut occlusion = Vec::new();
+    for m in d.doc.materials() {
+        let index = m.index().unwrap_or(0);
+        let name = m.name().map_or_else(|| format!("material {index}"), str::to_string);
+        let pbr = m.pbr_metallic_roughness();
+        let [r, g, b, _alpha] = pbr.base_color_factor();
+        let mut tex_warning = |slot: &str, set: u32| {
+            out.warnings.push(format!(
+                "{file}: material '{name}': its {slot} texture uses texture coordinates {set} (only sets 0 and 1 are supported): ignored"
+            ))
+        };
+        let mut reference = |slot: &str, info: Option<(::gltf::Texture, u32)>| -> Option<TextureRef> {
+            let (texture, set) = info?;
+            if set > 1 {
+                tex_warning(slot, set);
+                return None;
+            }
+            Some(texture_ref(&texture, set as u8))
+        };
+        let textures = PbrTextures {
+            base_color: reference(
+                "base colour",
+                pbr.base_color_texture().map(|i| (i.texture(), i.tex_coord())),
+            ),
+            metallic_roughness: reference(
+                "metallic-roughness",
+                pbr.metallic_roughness_texture().map(|i| (i.texture(), i.tex_coord())),
+            ),
+            normal: m.normal_texture().and_then(|n| {
+                let scale = n.scale();
+                reference("normal", Some((n.texture(), n.tex_coord()))).map(|texture| NormalTexture { texture, scale })
+            }),
+            emissive: reference("emissive", m.emissive_texture().map(|i| (i.texture(), i.tex_coord()))),
+        };
+        if m.occlusion_texture().is_some() {
+            occlusion.push(name.clone());
+        }
+        if m.alpha_mode() != ::gltf::material::AlphaMode::Opaque {
+            translucent.push(format!("'{name}' ({:?})", m.alpha_mode()));
+        }
+        let material = Material {
+            specular: Specular::GltfPbr(GltfPbr {
+                metallic: pbr.metallic_factor(),
+                roughness: pbr.roughness_factor(),
+                emissive: m.emissive_factor(),
+                textures,
+            }),
+            two_sided: m.double_sided(),
+            ..Material::lambert(&name, [r, g, b])
+        };
+        material
+            .validate()
+            .map_err(|e| d.error(format!("material '{name}': {e}")))?;
+        out.materials.push(material);
+    }
+    if !translucent.is_empty() {
+        out.warnings.push(format!(
+            "{file}: alphaMode MASK/BLEND is not supported, rendered opaque: {}",
+            translucent.join(", ")
+        ));
+    }
+    if !occlusion.is_empty() {
+        out.notes.push(format!(
+            "occlusion textures not used (they scale indirect light, and pointshade computes direct light only): {}",
+            occlusion.join(", ")
+        ));
+    }
+    Ok(out)
+}
+
+/// A texture as pointshade samples it: its image, coordinate set, wrap modes and magnification
+/// filter (minification filters are not used: there are no mipmaps).
+fn texture_ref(texture: &::gltf::Texture, tex_coord: u8) -> TextureRef {
+    use ::gltf::texture::{MagFilter, WrappingMode};
+    let sampler = texture.sampler();
+    let wrap = |mode| match mode {
+        WrappingMode::Repeat => Wrap::Repeat,
+        WrappingMode::MirroredRepeat => Wrap::MirroredRepeat,
+        WrappingMode::ClampToEdge => Wrap::ClampToEdge,
+    };
+    TextureRef {
+        image: texture.source().index() as u32,
+        tex_coord,
+        wrap_u: wrap(sampler.wrap_s()),
+        wrap_v: wrap(sampler.wrap_t()),
+        filter: match sampler.mag_filter() {
+            Some(MagFilter::Nearest) => Filter::Nearest,
+            _ => Filter::Bilinear,
+        },
+    }
+}
+
+/// The file's images, not decoded: embedded ones copied out of their buffer views (checked),
+/// external ones left as URIs to read if they are used.
+pub fn pending_images(d: &GltfDocument) -> InputResult<Vec<PendingImage>> {
+    let json = d.doc.as_json();
+    let mut images = Vec::new();
+    for (i, image) in json.images.iter().enumerate() {
+        let named = |what: &str| match &image.name {
+            Some(n) => format!("image {i} '{n}' ({what})"),
+            None => format!("image {i} ({what})"),
+        };
+        let (label, source) = match (&image.uri, &image.buffer_view) {
+            (Some(uri), _) if uri.starts_with("data:") => (
+                named("data: URI"),
+                ImageSource::Uri {
+                    dir: d.dir.clone(),
+                    uri: uri.clone(),
+                },
+            ),
+            (Some(uri), _) => (
+                format!("image {i} '{uri}'"),
+                ImageSource::Uri {
+                    dir: d.dir.clone(),
+                    uri: uri.clone(),
+                },
+            ),
+            (None, Some(view)) => {
+                let view = d.doc.views().nth(view.value()).expect("validated index");
+                let buffer = &d.buffers[view.buffer().index()];
+                let bytes = view
+                    .offset()
+                    .checked_add(view.length())
+                    .filter(|&end| end <= view.buffer().length())
+                    .map(|end| buffer[view.offset()..end].to_vec())
+                    .ok_or_else(|| {
+                        d.error(format!(
+                            "image {i}: buffer view {} lies outside buffer {}",
+                            view.index(),
+                            view.buffer().index()
+                        ))
+                    })?;
+                (named("embedded"), ImageSource::Bytes(bytes))
+            }
+            (None, None) => return Err(d.error(format!("image {i} has neither a uri nor a bufferView"))),
+        };
+        images.push(PendingImage {
+            origin: d.path.clone(),
+            label,
+            source,
+        });
+    }
+    Ok(images)
+}
