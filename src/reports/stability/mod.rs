@@ -10,18 +10,21 @@
 //!   and sliver triangles, and render one scene at scales 1e-6 … 1e6 and offset 1e5 against the
 //!   same scene at the origin; they also report each BVH's depth and traversal stack.
 //! - **Light cases** shade points at, near and around lights of extreme intensity.
+//! - **Normal-map cases** run the `tp` preset's pixel path on its degenerate inputs and on random
+//!   pixels, against the same generic code in f64.
 //!
 //! The relative error is |f32 − f64| / max(|f64|, 2⁻¹²⁶): values below f32's normal range are
 //! compared on an absolute scale.
 //!
 //! The suite is split by kind of case: [`brdf_cases`] (fixed singular and extreme inputs, one or
 //! more per term), [`brdf_sweep`] (random and adversarial evaluations), [`geometry_cases`],
-//! [`scale_cases`] (one scene at many scales and offsets), [`light_cases`], and [`table`] (the printed table, the summary and the CSV file).
+//! [`scale_cases`] (one scene at many scales and offsets), [`light_cases`], [`normal_map_cases`], and [`table`] (the printed table, the summary and the CSV file).
 
 pub mod brdf_cases;
 pub mod brdf_sweep;
 pub mod geometry_cases;
 pub mod light_cases;
+pub mod normal_map_cases;
 pub mod scale_cases;
 pub mod table;
 
@@ -213,5 +216,6 @@ pub fn run(options: &Options) -> Report {
     cases.extend(brdf_sweep::run(options));
     cases.extend(geometry_cases::run(options, &mut notes));
     cases.extend(light_cases::run());
+    cases.extend(normal_map_cases::run(options.cases.min(1_000_000), options.seed));
     Report { cases, notes }
 }
