@@ -112,22 +112,33 @@ fn merge_attribute<T: Clone + Default>(
 /// contribute nothing; a vertex no triangle gives a direction to gets the zero vector, which the
 /// shader treats as "use the geometric normal".
 pub fn angle_weighted_normals(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<Vec3> {
+    use rayon::prelude::*;
+    // Each triangle's three weighted normals in parallel (the acos dominate), then summed per
+    // vertex in triangle order: the result does not depend on the thread count.
+    let corners: Vec<[Vec3; 3]> = triangles
+        .par_iter()
+        .with_min_len(4096)
+        .map(|tri| {
+            let p = tri.map(|i| positions[i as usize]);
+            let face = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+            if face == Vec3::ZERO {
+                return [Vec3::ZERO; 3];
+            }
+            [0, 1, 2].map(|k| {
+                let e1 = (p[(k + 1) % 3] - p[k]).normalize_or_zero();
+                let e2 = (p[(k + 2) % 3] - p[k]).normalize_or_zero();
+                // acos of a clamped cosine: e1·e2 can exceed 1 by rounding.
+                face * e1.dot(e2).clamp(-1.0, 1.0).acos()
+            })
+        })
+        .collect();
     let mut sum = vec![Vec3::ZERO; positions.len()];
-    for tri in triangles {
-        let p = tri.map(|i| positions[i as usize]);
-        let face = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
-        if face == Vec3::ZERO {
-            continue;
-        }
+    for (tri, weighted) in triangles.iter().zip(&corners) {
         for k in 0..3 {
-            let e1 = (p[(k + 1) % 3] - p[k]).normalize_or_zero();
-            let e2 = (p[(k + 2) % 3] - p[k]).normalize_or_zero();
-            // acos of a clamped cosine: e1·e2 can exceed 1 by rounding.
-            let angle = e1.dot(e2).clamp(-1.0, 1.0).acos();
-            sum[tri[k] as usize] += face * angle;
+            sum[tri[k] as usize] += weighted[k];
         }
     }
-    sum.into_iter().map(Vec3::normalize_or_zero).collect()
+    sum.into_par_iter().map(Vec3::normalize_or_zero).collect()
 }
 
 #[cfg(test)]

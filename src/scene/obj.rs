@@ -35,13 +35,18 @@ pub fn load_obj(path: &Path) -> InputResult<ObjContents> {
     if !path.is_file() {
         return Err(InputError::new(path, "file not found"));
     }
+    let bytes = std::fs::read(path).map_err(|e| InputError::new(path, format!("cannot read: {e}")))?;
+    // Vertices are unique (position, uv, normal) index tuples, as in Mitsuba. A file with only
+    // positions needs no tuple matching: its position indices are the vertex indices, and tobj's
+    // per-attribute mode (2–3× faster on the dragon) returns exactly those.
     let options = tobj::LoadOptions {
         triangulate: true,
-        single_index: true,
+        single_index: has_vertex_attributes(&bytes),
         ..Default::default()
     };
-    let (models, materials) =
-        tobj::load_obj(path, &options).map_err(|e| InputError::new(path, format!("malformed OBJ: {e}")))?;
+    let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
+    let (models, materials) = tobj::load_obj_buf(&mut bytes.as_slice(), &options, |mtl| tobj::load_mtl(dir.join(mtl)))
+        .map_err(|e| InputError::new(path, format!("malformed OBJ: {e}")))?;
     let mut material_warning = None;
     let materials = match materials {
         Ok(m) => m,
@@ -134,6 +139,14 @@ pub fn load_obj(path: &Path) -> InputResult<ObjContents> {
         mesh,
         materials,
         material_warning,
+    })
+}
+
+/// Whether an OBJ file has texture coordinates or normals (`vt` or `vn` lines).
+fn has_vertex_attributes(bytes: &[u8]) -> bool {
+    bytes.split(|&b| b == b'\n').any(|line| {
+        let line = line.trim_ascii_start();
+        line.starts_with(b"vt") || line.starts_with(b"vn")
     })
 }
 
