@@ -7,16 +7,19 @@
 
 use glam::Vec3A;
 
-/// A ray prepared for the watertight test: the axis permutation and shear constants.
+/// A ray prepared for the watertight test: the axis permutation and shear as a linear map.
+///
+/// Woop et al. permute the axes so that the ray's largest component is z (kz), then shear:
+/// x' = a[kx] − s_x·a[kz], y' = a[ky] − s_y·a[kz], z' = s_z·a[kz], for a = v − origin. That map is
+/// stored here as three columns, so a vertex is sheared with three SIMD multiplies and adds and
+/// no component is selected by a runtime index. Each output lane has exactly two non-zero terms
+/// (or one), and adding the exact products 1·x and 0·y changes nothing, so the sheared values are
+/// bit-identical to the paper's scalar formulas — and so is watertightness.
 #[derive(Clone, Copy, Debug)]
 pub struct WatertightRay {
     origin: Vec3A,
-    kx: usize,
-    ky: usize,
-    kz: usize,
-    sx: f32,
-    sy: f32,
-    sz: f32,
+    /// Images of the world x, y and z axes under the permutation and shear.
+    columns: [Vec3A; 3],
 }
 
 /// Where a ray meets a triangle: distance and the barycentric weights of vertices 1 and 2.
@@ -50,30 +53,28 @@ impl WatertightRay {
         }
         // direction[kz] is the largest component of a non-zero vector: never 0.
         let dz = direction[kz];
-        Self {
-            origin,
-            kx,
-            ky,
-            kz,
-            sx: direction[kx] / dz,
-            sy: direction[ky] / dz,
-            sz: 1.0 / dz,
-        }
+        let (sx, sy, sz) = (direction[kx] / dz, direction[ky] / dz, 1.0 / dz);
+        let mut columns = [Vec3A::ZERO; 3];
+        columns[kx].x = 1.0;
+        columns[ky].y = 1.0;
+        columns[kz] = Vec3A::new(-sx, -sy, sz);
+        Self { origin, columns }
+    }
+
+    /// `v − origin` permuted and sheared: (x', y') for the edge functions, z' for the distance.
+    #[inline(always)]
+    fn shear(&self, v: Vec3A) -> Vec3A {
+        let a = v - self.origin;
+        self.columns[0] * a.x + self.columns[1] * a.y + self.columns[2] * a.z
     }
 
     /// Intersects triangle (v0, v1, v2); hits with 0 < t < t_max count. Both faces are hit.
     #[inline]
     pub fn intersect(&self, v: &[Vec3A; 3], t_max: f32) -> Option<TriangleHit> {
-        let a = v[0] - self.origin;
-        let b = v[1] - self.origin;
-        let c = v[2] - self.origin;
-        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
-        let ax = a[kx] - self.sx * a[kz];
-        let ay = a[ky] - self.sy * a[kz];
-        let bx = b[kx] - self.sx * b[kz];
-        let by = b[ky] - self.sy * b[kz];
-        let cx = c[kx] - self.sx * c[kz];
-        let cy = c[ky] - self.sy * c[kz];
+        let a = self.shear(v[0]);
+        let b = self.shear(v[1]);
+        let c = self.shear(v[2]);
+        let (ax, ay, bx, by, cx, cy) = (a.x, a.y, b.x, b.y, c.x, c.y);
         let mut u = cx * by - cy * bx;
         let mut v_ = ax * cy - ay * cx;
         let mut w = bx * ay - by * ax;
@@ -91,10 +92,7 @@ impl WatertightRay {
         if det == 0.0 {
             return None; // ray parallel to the triangle plane, or a degenerate triangle
         }
-        let az = self.sz * a[kz];
-        let bz = self.sz * b[kz];
-        let cz = self.sz * c[kz];
-        let t_scaled = u * az + v_ * bz + w * cz;
+        let t_scaled = u * a.z + v_ * b.z + w * c.z;
         // Compare t = t_scaled/det with (0, t_max) without dividing: flip signs by det's sign.
         let sign = det.signum();
         let (t_scaled, det_abs) = (t_scaled * sign, det * sign);
