@@ -6,6 +6,7 @@
 mod bake;
 mod compare;
 mod export_mitsuba;
+mod merge;
 mod normalmap;
 mod progress;
 mod render;
@@ -38,6 +39,8 @@ enum Command {
     ExportMitsuba(export_mitsuba::ExportArgs),
     /// Compare two linear images (EXR) pixel by pixel: error metrics, worst pixels, heat map.
     Compare(compare::CompareArgs),
+    /// Reassemble `render --crop` EXR crops into one frame, bit-identical to a single render.
+    Merge(merge::MergeArgs),
     /// Render scenes with pointshade and Mitsuba 3, compare pixel by pixel, write an HTML report.
     Validate(validate::ValidateArgs),
     /// Check numerical stability on stiff and extreme inputs (f32 vs f64, watertight rays,
@@ -54,6 +57,7 @@ pub fn main() -> ExitCode {
         Command::Bake(args) => bake::run(args).map(|()| ExitCode::SUCCESS),
         Command::ExportMitsuba(args) => export_mitsuba::run(args).map(|()| ExitCode::SUCCESS),
         Command::Compare(args) => compare::run(args).map(|()| ExitCode::SUCCESS),
+        Command::Merge(args) => merge::run(args).map(|()| ExitCode::SUCCESS),
         Command::Validate(args) => validate::run(args).map(|()| ExitCode::SUCCESS),
         Command::Stability(args) => stability::run(args),
     };

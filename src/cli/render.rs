@@ -6,7 +6,8 @@ use std::time::Instant;
 use crate::cli::option_error;
 use crate::cli::progress::Progress;
 use crate::error::InputError;
-use crate::film::SamplerKind;
+use crate::film::{Image, PixelRect, SamplerKind};
+use crate::output::exr::encode_exr;
 use crate::output::{aov_path, encode, write_all_or_nothing, Format};
 use crate::plan::{Aov, RenderPlan};
 use crate::shading::shadow::ShadowOffset;
@@ -23,9 +24,17 @@ pub struct RenderArgs {
     /// Samples per pixel.
     #[arg(long)]
     spp: Option<u32>,
-    /// Sampler: grid (spp = N², sub-pixel centres), sobol (default), independent.
+    /// Sampler: grid (spp = N², sub-pixel centres), sobol (default), independent, adaptive
+    /// (Sobol samples where a pixel needs them, spp at most).
     #[arg(long)]
     sampler: Option<String>,
+    /// Adaptive sampler: relative change below which a pixel stops taking samples (default 0.01).
+    #[arg(long)]
+    adaptive_threshold: Option<f32>,
+    /// Render only pixels [x0, x1) × [y0, y1) of the frame, into an EXR crop that `pointshade
+    /// merge` reassembles bit-identically (for splitting a frame over machines).
+    #[arg(long, value_name = "x0,y0,x1,y1")]
+    crop: Option<String>,
     /// Image width in pixels.
     #[arg(long)]
     width: Option<u32>,
@@ -77,6 +86,16 @@ pub fn run(args: RenderArgs) -> Result<(), InputError> {
         f.sampler = SamplerKind::parse(name).map_err(|e| option_error("--sampler", e))?;
     }
     f.spp = args.spp.unwrap_or(f.spp);
+    f.adaptive_threshold = args.adaptive_threshold.unwrap_or(f.adaptive_threshold);
+    if let Some(c) = &args.crop {
+        f.crop = Some(PixelRect::parse(c).map_err(|e| option_error("--crop", e))?);
+        if format != Format::Exr {
+            return Err(option_error(
+                "--crop",
+                "crops are written as EXR (linear, with their position): use -o NAME.exr",
+            ));
+        }
+    }
     if let Some(name) = &args.shadow_offset {
         scene.shadow_offset = ShadowOffset::parse(name).map_err(|e| option_error("--shadow-offset", e))?;
     }
@@ -104,14 +123,15 @@ pub fn run(args: RenderArgs) -> Result<(), InputError> {
     let rendered = rendered.map_err(|e| InputError::new(&args.scene, e))?;
 
     let t_out = Instant::now();
-    let mut files = vec![(
-        output.clone(),
-        encode(&rendered.image, format, scene.film.exposure).map_err(|e| InputError::new(&output, e))?,
-    )];
+    let frame = (scene.film.width, scene.film.height);
+    let encode_as = |img: &Image, format: Format, path: &Path| match scene.film.crop {
+        Some(region) => encode_exr(img, region, frame).map_err(|e| InputError::new(path, e)),
+        None => encode(img, format, scene.film.exposure).map_err(|e| InputError::new(path, e)),
+    };
+    let mut files = vec![(output.clone(), encode_as(&rendered.image, format, &output)?)];
     for (aov, img) in &rendered.aovs {
         let path = aov_path(&output, *aov);
-        let bytes = encode(img, Format::Exr, 0.0).map_err(|e| InputError::new(&path, e))?;
-        files.push((path, bytes));
+        files.push((path.clone(), encode_as(img, Format::Exr, &path)?));
     }
     write_all_or_nothing(&files)?;
     let output_time = t_out.elapsed();
@@ -119,11 +139,29 @@ pub fn run(args: RenderArgs) -> Result<(), InputError> {
     if !args.quiet {
         let s = &rendered.stats;
         let bvh_time = s.bvh_time;
+        let r = rendered.region;
+        let spp = match &rendered.sample_counts {
+            Some(c) => format!(
+                "{:.2} spp on average (adaptive, at most {})",
+                s.primary_rays as f64 / c.len() as f64,
+                scene.film.spp
+            ),
+            None => format!("{} spp", scene.film.spp),
+        };
+        let what = match scene.film.crop {
+            Some(_) => format!(
+                "{}x{} crop at ({}, {}) of {}x{}",
+                r.width(),
+                r.height(),
+                r.x0,
+                r.y0,
+                frame.0,
+                frame.1
+            ),
+            None => format!("{}x{}", frame.0, frame.1),
+        };
         eprintln!(
-            "rendered {}x{}, {} spp, {} triangles, {} primary + {} shadow rays in {:.2} s → {}",
-            scene.film.width,
-            scene.film.height,
-            scene.film.spp,
+            "rendered {what}, {spp}, {} triangles, {} primary + {} shadow rays in {:.2} s → {}",
             scene.mesh.triangle_count(),
             s.primary_rays,
             s.shadow_rays,

@@ -28,6 +28,59 @@ pub struct FilmSettings {
     pub seed: u64,
     /// Exposure in stops applied to 8-bit output (EXR stays linear and unscaled).
     pub exposure: f32,
+    /// Adaptive sampler: the relative change of a pixel's estimate below which it stops taking
+    /// samples, and the relative contrast in its neighbourhood above which it starts.
+    pub adaptive_threshold: f32,
+    /// The part of the film to render (`--crop`); `None` = all of it.
+    pub crop: Option<PixelRect>,
+}
+
+/// A rectangle of pixels [x0, x1) × [y0, y1), row 0 at the top.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PixelRect {
+    /// First column.
+    pub x0: u32,
+    /// First row.
+    pub y0: u32,
+    /// One past the last column.
+    pub x1: u32,
+    /// One past the last row.
+    pub y1: u32,
+}
+
+impl PixelRect {
+    /// The whole `width` × `height` film.
+    pub fn full(width: u32, height: u32) -> Self {
+        Self {
+            x0: 0,
+            y0: 0,
+            x1: width,
+            y1: height,
+        }
+    }
+
+    /// Width in pixels.
+    pub fn width(&self) -> u32 {
+        self.x1 - self.x0
+    }
+
+    /// Height in pixels.
+    pub fn height(&self) -> u32 {
+        self.y1 - self.y0
+    }
+
+    /// Parses `x0,y0,x1,y1`.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let v: Vec<u32> = text
+            .split(',')
+            .map(|t| t.trim().parse::<u32>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| format!("expected x0,y0,x1,y1 (four whole numbers), got '{text}'"))?;
+        match v[..] {
+            [x0, y0, x1, y1] => Ok(Self { x0, y0, x1, y1 }),
+            _ => Err(format!("expected x0,y0,x1,y1 (four whole numbers), got '{text}'")),
+        }
+    }
 }
 
 impl Default for FilmSettings {
@@ -39,9 +92,14 @@ impl Default for FilmSettings {
             sampler: SamplerKind::Sobol,
             seed: 0,
             exposure: 0.0,
+            adaptive_threshold: DEFAULT_ADAPTIVE_THRESHOLD,
+            crop: None,
         }
     }
 }
+
+/// Default of [`FilmSettings::adaptive_threshold`].
+pub const DEFAULT_ADAPTIVE_THRESHOLD: f32 = 0.01;
 
 impl FilmSettings {
     /// Range checks, with messages naming the key.
@@ -69,7 +127,26 @@ impl FilmSettings {
                 self.exposure
             ));
         }
+        if !(self.adaptive_threshold > 0.0 && self.adaptive_threshold < 1.0) {
+            return Err(format!(
+                "adaptive_threshold must be in (0, 1), got {}",
+                self.adaptive_threshold
+            ));
+        }
+        if let Some(c) = self.crop {
+            if !(c.x0 < c.x1 && c.y0 < c.y1 && c.x1 <= self.width && c.y1 <= self.height) {
+                return Err(format!(
+                    "crop {},{},{},{} is not a non-empty rectangle inside the {}×{} image",
+                    c.x0, c.y0, c.x1, c.y1, self.width, self.height
+                ));
+            }
+        }
         Ok(())
+    }
+
+    /// The rectangle that is rendered: the crop, or the whole film.
+    pub fn region(&self) -> PixelRect {
+        self.crop.unwrap_or(PixelRect::full(self.width, self.height))
     }
 
     /// Number of pixels.

@@ -9,6 +9,8 @@
 //!   scramble per pixel. Any spp works; power-of-two counts are stratified in every elementary
 //!   interval, which makes the error fall faster than for random or jittered samples.
 //! - `independent`: uniform random offsets from a hash (a reference for convergence studies).
+//! - `adaptive`: the `sobol` points, taken as far as each pixel needs (see `render::adaptive`):
+//!   `spp` is then the most a pixel may take.
 
 use glam::Vec2;
 
@@ -21,6 +23,8 @@ pub enum SamplerKind {
     Sobol,
     /// Independent uniform random offsets.
     Independent,
+    /// Sobol points, as many as each pixel needs, up to spp.
+    Adaptive,
 }
 
 impl SamplerKind {
@@ -30,6 +34,7 @@ impl SamplerKind {
             Self::Grid => "grid",
             Self::Sobol => "sobol",
             Self::Independent => "independent",
+            Self::Adaptive => "adaptive",
         }
     }
 
@@ -39,8 +44,9 @@ impl SamplerKind {
             "grid" => Ok(Self::Grid),
             "sobol" => Ok(Self::Sobol),
             "independent" => Ok(Self::Independent),
+            "adaptive" => Ok(Self::Adaptive),
             other => Err(format!(
-                "unknown sampler '{other}' (expected grid, sobol or independent)"
+                "unknown sampler '{other}' (expected grid, sobol, independent or adaptive)"
             )),
         }
     }
@@ -64,11 +70,13 @@ fn grid_side(spp: u32) -> Option<u32> {
     (n * n == spp).then_some(n)
 }
 
-/// Fills `out` with the sub-pixel offsets in [0, 1)² of the samples of pixel (x, y).
-pub fn pixel_offsets(kind: SamplerKind, seed: u64, x: u32, y: u32, out: &mut [Vec2]) {
+/// Fills `out` with the sub-pixel offsets in [0, 1)² of samples `first`, `first + 1`, … of pixel
+/// (x, y). The grid sampler places all of a pixel's samples at once (`first` = 0, `out` = spp).
+pub fn pixel_offsets(kind: SamplerKind, seed: u64, x: u32, y: u32, first: u32, out: &mut [Vec2]) {
     let spp = out.len() as u32;
     match kind {
         SamplerKind::Grid => {
+            debug_assert_eq!(first, 0, "the grid is placed whole");
             let n = grid_side(spp).expect("spp checked by SamplerKind::check_spp");
             let inv = 1.0 / n as f32;
             for (i, o) in out.iter_mut().enumerate() {
@@ -76,15 +84,15 @@ pub fn pixel_offsets(kind: SamplerKind, seed: u64, x: u32, y: u32, out: &mut [Ve
                 *o = Vec2::new((k as f32 + 0.5) * inv, (l as f32 + 0.5) * inv);
             }
         }
-        SamplerKind::Sobol => {
+        SamplerKind::Sobol | SamplerKind::Adaptive => {
             let pixel_seed = hash3(seed, x, y);
             let (seed_index, seed_x, seed_y) = (
                 pixel_seed as u32,
                 (pixel_seed >> 32) as u32,
                 mix32(pixel_seed as u32 ^ 0x9e37_79b9),
             );
-            for (i, o) in out.iter_mut().enumerate() {
-                let index = nested_uniform_scramble(i as u32, seed_index);
+            for (i, o) in (first..).zip(out.iter_mut()) {
+                let index = nested_uniform_scramble(i, seed_index);
                 let sx = nested_uniform_scramble(index.reverse_bits(), seed_x);
                 let sy = nested_uniform_scramble(sobol_second_dimension(index), seed_y);
                 *o = Vec2::new(unit_float(sx), unit_float(sy));
@@ -92,7 +100,7 @@ pub fn pixel_offsets(kind: SamplerKind, seed: u64, x: u32, y: u32, out: &mut [Ve
         }
         SamplerKind::Independent => {
             let pixel_seed = hash3(seed, x, y);
-            for (i, o) in out.iter_mut().enumerate() {
+            for (i, o) in (first..).zip(out.iter_mut()) {
                 let h = splitmix64(pixel_seed ^ (i as u64).wrapping_mul(0xd6e8_feb8_6659_fd93));
                 *o = Vec2::new(unit_float(h as u32), unit_float((h >> 32) as u32));
             }
@@ -155,7 +163,7 @@ mod tests {
 
     fn offsets(kind: SamplerKind, spp: usize, x: u32, y: u32) -> Vec<Vec2> {
         let mut v = vec![Vec2::ZERO; spp];
-        pixel_offsets(kind, 7, x, y, &mut v);
+        pixel_offsets(kind, 7, x, y, 0, &mut v);
         v
     }
 

@@ -5,11 +5,12 @@
 //! (min-max 8-bit renders, RGBA normal images).
 
 pub mod assignment;
+pub mod exr;
 
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
-use image::{ImageFormat, Rgb32FImage, RgbImage};
+use image::{ImageFormat, RgbImage};
 
 use crate::error::{InputError, InputResult};
 use crate::film::Image;
@@ -66,10 +67,8 @@ pub fn encode(image: &Image, format: Format, exposure: f32) -> Result<Vec<u8>, S
             img.write_to(&mut bytes, ImageFormat::Png).map_err(|e| e.to_string())?;
         }
         Format::Exr => {
-            let raw = image.pixels.iter().flat_map(|p| p.to_array()).collect();
-            let img = Rgb32FImage::from_raw(image.width, image.height, raw).expect("buffer size matches");
-            img.write_to(&mut bytes, ImageFormat::OpenExr)
-                .map_err(|e| e.to_string())?;
+            let full = crate::film::PixelRect::full(image.width, image.height);
+            return exr::encode_exr(image, full, (image.width, image.height));
         }
     }
     Ok(bytes.into_inner())

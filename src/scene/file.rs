@@ -52,6 +52,7 @@ struct FilmSection {
     filter: Option<FilterName>,
     exposure: Option<f32>,
     seed: Option<u64>,
+    adaptive_threshold: Option<f32>,
 }
 
 #[derive(Deserialize)]
@@ -512,6 +513,8 @@ fn film_settings(f: &FilmSection) -> Result<FilmSettings, String> {
         sampler,
         seed: f.seed.unwrap_or(d.seed),
         exposure: f.exposure.unwrap_or(d.exposure),
+        adaptive_threshold: f.adaptive_threshold.unwrap_or(d.adaptive_threshold),
+        crop: None,
     };
     s.validate()?;
     Ok(s)

@@ -1,0 +1,174 @@
+//! The render driver: runs the planned stages over image tiles in parallel.
+//!
+//! The region (the whole film, or a `--crop`) is cut into 16×16 tiles; each tile's samples go
+//! through [`tile::Context::trace`] (surface points, then shading, both timed) and are averaged
+//! with a box filter. With the `adaptive` sampler, [`adaptive`] decides per pixel how many samples
+//! it takes. Every pixel is a pure function of the scene and its coordinates (and, for adaptive
+//! sampling, of its neighbours' centre samples), so the image depends neither on the thread count
+//! nor on the tiling, and crops merge bit-identically into the full frame.
+
+mod adaptive;
+pub mod tile;
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+use glam::{Vec2, Vec3};
+use rayon::prelude::*;
+
+use crate::accel::{Bvh, BvhPreset};
+use crate::film::{sampler::pixel_offsets, Image, PixelRect, SamplerKind};
+use crate::plan::{Aov, RenderPlan};
+use crate::scene::Scene;
+use tile::{Context, PixelSums, SampleJob};
+
+/// Side of the square tiles the region is cut into.
+pub const TILE: u32 = 16;
+
+/// Counters and per-stage times of one render.
+#[derive(Clone, Debug, Default)]
+pub struct RenderStats {
+    /// Camera rays traced (= samples taken).
+    pub primary_rays: u64,
+    /// Shadow rays traced.
+    pub shadow_rays: u64,
+    /// Time summed over threads spent making surface points (camera rays and BVH traversal).
+    pub surface_time: Duration,
+    /// Time summed over threads spent shading (BRDFs, lights, shadow rays).
+    pub shading_time: Duration,
+    /// Wall-clock time of the whole render stage.
+    pub wall_time: Duration,
+    /// Time spent building the BVH (zero when the plan needs none).
+    pub bvh_time: Duration,
+}
+
+/// The result of a render: the image of the region, the requested AOVs and the statistics.
+pub struct Rendered {
+    /// Linear radiance of `region` (its size; row 0 = the region's top row).
+    pub image: Image,
+    /// AOV images, in the order of `RenderPlan::aovs`.
+    pub aovs: Vec<(Aov, Image)>,
+    /// The part of the film rendered.
+    pub region: PixelRect,
+    /// Samples each pixel of the region took (adaptive sampling), row-major; `None` = spp each.
+    pub sample_counts: Option<Vec<u32>>,
+    /// Counters and times.
+    pub stats: RenderStats,
+}
+
+/// The pipeline after loading: builds the BVH the plan asks for (default preset) and renders.
+pub fn render_scene(scene: &Scene, plan: &RenderPlan, on_tile: &(dyn Fn(u64) + Sync)) -> Result<Rendered, String> {
+    let bvh = plan.trace_rays.then(|| Bvh::build(&scene.mesh, BvhPreset::DEFAULT));
+    let mut rendered = render(scene, plan, bvh.as_ref(), on_tile)?;
+    rendered.stats.bvh_time = bvh.map_or(Duration::ZERO, |b| b.build_time);
+    Ok(rendered)
+}
+
+/// Renders `scene` following `plan`. `bvh` must be present when `plan.trace_rays` is set.
+/// `on_tile` is called after each finished tile with the number of tiles (for progress bars).
+pub fn render(
+    scene: &Scene,
+    plan: &RenderPlan,
+    bvh: Option<&Bvh>,
+    on_tile: &(dyn Fn(u64) + Sync),
+) -> Result<Rendered, String> {
+    let start = Instant::now();
+    let ctx = Context::new(scene, plan, bvh)?;
+    let region = scene.film.region();
+    let (sums, counts) = if scene.film.sampler == SamplerKind::Adaptive {
+        let (sums, counts) = adaptive::render(&ctx, region, on_tile);
+        (sums, Some(counts))
+    } else {
+        (fixed(&ctx, region, on_tile), None)
+    };
+    let spp = scene.film.spp;
+    let count = |i: usize| counts.as_ref().map_or(spp, |c| c[i]) as f32;
+    let average = |sums: &[Vec3]| Image {
+        width: region.width(),
+        height: region.height(),
+        pixels: sums.iter().enumerate().map(|(i, &v)| v / count(i)).collect(),
+    };
+    let image = average(&sums.radiance);
+    let aovs = plan
+        .aovs
+        .iter()
+        .zip(&sums.aovs)
+        .map(|(&a, s)| (a, average(s)))
+        .collect();
+    let c = &ctx.counters;
+    let stats = RenderStats {
+        primary_rays: c.primary_rays.load(Ordering::Relaxed),
+        shadow_rays: c.shadow_rays.load(Ordering::Relaxed),
+        surface_time: Duration::from_nanos(c.surface_ns.load(Ordering::Relaxed)),
+        shading_time: Duration::from_nanos(c.shading_ns.load(Ordering::Relaxed)),
+        wall_time: start.elapsed(),
+        bvh_time: Duration::ZERO,
+    };
+    Ok(Rendered {
+        image,
+        aovs,
+        region,
+        sample_counts: counts,
+        stats,
+    })
+}
+
+/// `region` cut into tiles of at most [`TILE`]×[`TILE`] pixels, row by row.
+pub fn tiles(region: PixelRect) -> Vec<PixelRect> {
+    let mut out = Vec::new();
+    for y0 in (region.y0..region.y1).step_by(TILE as usize) {
+        for x0 in (region.x0..region.x1).step_by(TILE as usize) {
+            out.push(PixelRect {
+                x0,
+                y0,
+                x1: (x0 + TILE).min(region.x1),
+                y1: (y0 + TILE).min(region.y1),
+            });
+        }
+    }
+    out
+}
+
+/// Copies per-tile sums into one region-sized buffer (row-major).
+fn assemble(region: PixelRect, tiles: &[PixelRect], parts: Vec<PixelSums>, aovs: usize) -> PixelSums {
+    let mut all = PixelSums::new((region.width() * region.height()) as usize, aovs);
+    for (t, part) in tiles.iter().zip(parts) {
+        for (i, v) in part.radiance.iter().enumerate() {
+            let (x, y) = (t.x0 + i as u32 % t.width(), t.y0 + i as u32 / t.width());
+            let at = ((y - region.y0) * region.width() + (x - region.x0)) as usize;
+            all.radiance[at] = *v;
+            for k in 0..aovs {
+                all.aovs[k][at] = part.aovs[k][i];
+            }
+        }
+    }
+    all
+}
+
+/// Fixed sampling: every pixel takes the film's spp samples from its sampler.
+fn fixed(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) -> PixelSums {
+    let film = &ctx.scene.film;
+    let tiles = tiles(region);
+    let done = AtomicU64::new(0);
+    let naovs = ctx.plan.aovs.len();
+    let parts: Vec<PixelSums> = tiles
+        .par_iter()
+        .map(|t| {
+            let mut sums = PixelSums::new((t.width() * t.height()) as usize, naovs);
+            let mut offsets = vec![Vec2::ZERO; film.spp as usize];
+            let mut jobs = Vec::with_capacity((t.width() * t.height() * film.spp) as usize);
+            for y in t.y0..t.y1 {
+                for x in t.x0..t.x1 {
+                    pixel_offsets(film.sampler, film.seed, x, y, 0, &mut offsets);
+                    let slot = (y - t.y0) * t.width() + (x - t.x0);
+                    let corner = Vec2::new(x as f32, y as f32);
+                    jobs.extend(offsets.iter().map(|&o| SampleJob { slot, film: corner + o }));
+                }
+            }
+            ctx.trace(&jobs, &mut sums, &mut Vec::new());
+            on_tile(done.fetch_add(1, Ordering::Relaxed) + 1);
+            sums
+        })
+        .collect();
+    assemble(region, &tiles, parts, naovs)
+}

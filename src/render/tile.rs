@@ -1,0 +1,166 @@
+//! One batch of samples through the pipeline: film positions → camera rays → BVH hits →
+//! surface points (stage 1), then the shader on every point (stage 2), each stage timed.
+//!
+//! Batches are small (a tile's pixels, or the pixels of a tile still taking samples), so the
+//! surface points of a batch stay in cache between the two stages.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+use glam::{Vec2, Vec3};
+
+use crate::accel::Bvh;
+use crate::plan::{Aov, RenderPlan};
+use crate::scene::Scene;
+use crate::shading::shader::Shader;
+use crate::surface::camera::Camera;
+use crate::surface::normal_texture::apply_normal_texture;
+use crate::surface::primary::surface_point;
+use crate::surface::SurfacePoint;
+
+/// A sample to trace: the pixel slot it adds to, and its position on the film in pixels.
+#[derive(Clone, Copy, Debug)]
+pub struct SampleJob {
+    /// Index into the batch's [`PixelSums`].
+    pub slot: u32,
+    /// Film position (x + offset, y + offset), in pixels.
+    pub film: Vec2,
+}
+
+/// Per-pixel sums of sample values for one batch.
+#[derive(Clone, Debug)]
+pub struct PixelSums {
+    /// Radiance.
+    pub radiance: Vec<Vec3>,
+    /// One buffer per requested AOV, in the plan's order.
+    pub aovs: Vec<Vec<Vec3>>,
+}
+
+impl PixelSums {
+    /// Zeroed sums for `pixels` slots and `aovs` AOVs.
+    pub fn new(pixels: usize, aovs: usize) -> Self {
+        Self {
+            radiance: vec![Vec3::ZERO; pixels],
+            aovs: vec![vec![Vec3::ZERO; pixels]; aovs],
+        }
+    }
+}
+
+/// Counters shared by every batch of a render.
+#[derive(Default)]
+pub struct Counters {
+    /// Camera rays traced.
+    pub primary_rays: AtomicU64,
+    /// Shadow rays traced.
+    pub shadow_rays: AtomicU64,
+    /// Nanoseconds in stage 1, summed over threads.
+    pub surface_ns: AtomicU64,
+    /// Nanoseconds in stage 2, summed over threads.
+    pub shading_ns: AtomicU64,
+}
+
+/// A surface point with what the AOVs need that shading does not.
+struct Sample {
+    slot: u32,
+    point: SurfacePoint,
+    depth: f32,
+}
+
+/// Everything a batch needs, built once per render.
+pub struct Context<'a> {
+    /// The scene.
+    pub scene: &'a Scene,
+    /// Its plan.
+    pub plan: &'a RenderPlan,
+    camera: Camera,
+    bvh: Option<&'a Bvh>,
+    shader: Shader<'a, Bvh>,
+    size: Vec2,
+    /// Counters and stage times.
+    pub counters: Counters,
+}
+
+impl<'a> Context<'a> {
+    /// The context of a render of `scene` (whole film geometry; the region only selects pixels).
+    pub fn new(scene: &'a Scene, plan: &'a RenderPlan, bvh: Option<&'a Bvh>) -> Result<Self, String> {
+        let film = &scene.film;
+        Ok(Self {
+            scene,
+            plan,
+            camera: Camera::new(scene.camera, film.width, film.height)?,
+            bvh,
+            shader: Shader {
+                materials: &scene.materials,
+                lights: &scene.lights,
+                occluder: if plan.shadows { bvh } else { None },
+                scene_unit: bvh.map_or(1.0, Bvh::scene_unit),
+                convention: plan.convention,
+                textures: plan.textures.then_some(scene.textures.as_slice()),
+                emission: plan.emission,
+                shadow_offset: scene.shadow_offset,
+            },
+            size: Vec2::new(film.width as f32, film.height as f32),
+            counters: Counters::default(),
+        })
+    }
+
+    /// Traces and shades `jobs`, adding each sample's radiance and AOV values to its slot of
+    /// `sums`. Misses add nothing (black). `scratch` is reused between batches.
+    pub fn trace(&self, jobs: &[SampleJob], sums: &mut PixelSums, scratch: &mut Vec<SurfaceSample>) {
+        let scene = self.scene;
+        let plan = self.plan;
+        scratch.clear();
+        let t0 = Instant::now();
+        if let (true, Some(bvh)) = (plan.trace_rays, self.bvh) {
+            for job in jobs {
+                let uv = job.film / self.size;
+                let ray = self.camera.ray(uv.x, uv.y);
+                if let Some(hit) = bvh.intersect(ray.origin, ray.direction, ray.t_max) {
+                    let mut point = surface_point(&scene.mesh, &hit, ray.direction, plan.uvs);
+                    if plan.normal_textures {
+                        apply_normal_texture(&mut point, &scene.mesh, &hit, &scene.materials, &scene.textures);
+                    }
+                    let depth = hit.t + (ray.origin - scene.camera.position).length();
+                    scratch.push(SurfaceSample(Sample {
+                        slot: job.slot,
+                        point,
+                        depth,
+                    }));
+                }
+            }
+            self.counters
+                .primary_rays
+                .fetch_add(jobs.len() as u64, Ordering::Relaxed);
+        }
+        let t1 = Instant::now();
+        let mut rays = 0u64;
+        for SurfaceSample(s) in scratch.iter() {
+            sums.radiance[s.slot as usize] += self.shader.shade(&s.point, &mut rays);
+        }
+        for (k, aov) in plan.aovs.iter().enumerate() {
+            for SurfaceSample(s) in scratch.iter() {
+                sums.aovs[k][s.slot as usize] += aov_value(*aov, scene, s);
+            }
+        }
+        let t2 = Instant::now();
+        let c = &self.counters;
+        c.surface_ns.fetch_add((t1 - t0).as_nanos() as u64, Ordering::Relaxed);
+        c.shading_ns.fetch_add((t2 - t1).as_nanos() as u64, Ordering::Relaxed);
+        c.shadow_rays.fetch_add(rays, Ordering::Relaxed);
+    }
+}
+
+/// A traced sample waiting for shading (opaque: only [`Context::trace`] reads it).
+pub struct SurfaceSample(Sample);
+
+fn aov_value(aov: Aov, scene: &Scene, s: &Sample) -> Vec3 {
+    match aov {
+        Aov::Normal => s.point.shading_normal,
+        Aov::Position => s.point.position,
+        Aov::Depth => Vec3::splat(s.depth),
+        Aov::Albedo => {
+            let m = &scene.materials[s.point.material as usize];
+            Vec3::from(m.albedo) * m.kd
+        }
+    }
+}
