@@ -5,6 +5,7 @@
 
 mod bake;
 mod compare;
+mod convergence;
 mod export_mitsuba;
 mod merge;
 mod normalmap;
@@ -39,6 +40,8 @@ enum Command {
     ExportMitsuba(export_mitsuba::ExportArgs),
     /// Compare two linear images (EXR) pixel by pixel: error metrics, worst pixels, heat map.
     Compare(compare::CompareArgs),
+    /// Error against run time at increasing sample counts (optionally with Mitsuba 3): CSV and plot.
+    Convergence(convergence::ConvergenceArgs),
     /// Reassemble `render --crop` EXR crops into one frame, bit-identical to a single render.
     Merge(merge::MergeArgs),
     /// Render scenes with pointshade and Mitsuba 3, compare pixel by pixel, write an HTML report.
@@ -57,6 +60,7 @@ pub fn main() -> ExitCode {
         Command::Bake(args) => bake::run(args).map(|()| ExitCode::SUCCESS),
         Command::ExportMitsuba(args) => export_mitsuba::run(args).map(|()| ExitCode::SUCCESS),
         Command::Compare(args) => compare::run(args).map(|()| ExitCode::SUCCESS),
+        Command::Convergence(args) => convergence::run_command(args).map(|()| ExitCode::SUCCESS),
         Command::Merge(args) => merge::run(args).map(|()| ExitCode::SUCCESS),
         Command::Validate(args) => validate::run(args).map(|()| ExitCode::SUCCESS),
         Command::Stability(args) => stability::run(args),

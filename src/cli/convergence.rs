@@ -1,0 +1,130 @@
+//! `pointshade convergence`: error against run time, as a CSV and a log-log plot.
+
+use std::path::PathBuf;
+
+use crate::cli::option_error;
+use crate::error::InputError;
+use crate::film::SamplerKind;
+use crate::output::read_linear;
+use crate::reports::convergence::{own_reference, run, write_outputs, Reference, Sweep};
+use crate::shading::shadow::ShadowOffset;
+use crate::validation::run::MitsubaRunner;
+
+/// Arguments of `pointshade convergence`.
+#[derive(clap::Args)]
+pub struct ConvergenceArgs {
+    /// Scene file (.toml) or mesh.
+    scene: PathBuf,
+    /// Reference image (linear EXR of the same size); default: a pointshade 32×32-grid render.
+    #[arg(long)]
+    reference: Option<PathBuf>,
+    /// Sample counts (comma-separated; the grid sampler uses the square ones).
+    #[arg(long, default_value = "1,4,16,64")]
+    spp: String,
+    /// pointshade samplers (comma-separated): sobol, adaptive, grid, independent.
+    #[arg(long, default_value = "sobol,adaptive")]
+    sampler: String,
+    /// Repeats per point; the median time is kept.
+    #[arg(long, default_value_t = 3)]
+    repeats: u32,
+    /// Also run Mitsuba 3 (llvm variant; grid and independent samplers) in the same run.
+    #[arg(long)]
+    mitsuba: bool,
+    /// The repository's validation folder (Mitsuba's virtual environment).
+    #[arg(long, default_value = "validation")]
+    mitsuba_dir: PathBuf,
+    /// Shadow-ray offset of pointshade's renders (default: mitsuba with --mitsuba, else error-bound).
+    #[arg(long)]
+    shadow_offset: Option<String>,
+    /// Output folder: convergence.csv, convergence.svg, convergence.png, reference.png.
+    #[arg(long)]
+    out: PathBuf,
+}
+
+/// Runs `pointshade convergence`.
+pub fn run_command(args: ConvergenceArgs) -> Result<(), InputError> {
+    let spp = args
+        .spp
+        .split(',')
+        .map(|s| {
+            s.trim()
+                .parse::<u32>()
+                .ok()
+                .filter(|&n| (1..=crate::film::MAX_SPP).contains(&n))
+        })
+        .collect::<Option<Vec<u32>>>()
+        .ok_or_else(|| {
+            option_error(
+                "--spp",
+                format!("expected sample counts like 1,4,16,64, got '{}'", args.spp),
+            )
+        })?;
+    let samplers = args
+        .sampler
+        .split(',')
+        .map(|s| SamplerKind::parse(s.trim()))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| option_error("--sampler", e))?;
+    if args.repeats == 0 || args.repeats > 100 {
+        return Err(option_error(
+            "--repeats",
+            format!("must be in 1..=100, got {}", args.repeats),
+        ));
+    }
+    let shadow_offset = match &args.shadow_offset {
+        Some(name) => ShadowOffset::parse(name).map_err(|e| option_error("--shadow-offset", e))?,
+        None if args.mitsuba => ShadowOffset::Mitsuba,
+        None => ShadowOffset::ErrorBound,
+    };
+    let mitsuba = if args.mitsuba {
+        Some(MitsubaRunner::in_dir(&args.mitsuba_dir)?)
+    } else {
+        None
+    };
+    std::fs::create_dir_all(&args.out).map_err(|e| InputError::new(&args.out, format!("cannot create: {e}")))?;
+    let sweep = Sweep {
+        scene: args.scene.clone(),
+        spp,
+        samplers,
+        repeats: args.repeats,
+        shadow_offset,
+        mitsuba,
+        out: args.out.clone(),
+    };
+    let reference = match &args.reference {
+        Some(path) => Reference {
+            image: read_linear(path)?,
+            description: path.display().to_string(),
+        },
+        None => {
+            eprintln!("no --reference: rendering a pointshade 32×32-grid reference (the plot says so)");
+            own_reference(&sweep)?
+        }
+    };
+    eprintln!(
+        "{:<11} {:<12} {:>5} {:>9} {:>10} {:>12} {:>10}",
+        "renderer", "sampler", "spp", "mean spp", "seconds", "RMSE", "within"
+    );
+    let points = run(&sweep, &reference, &mut |p| {
+        eprintln!(
+            "{:<11} {:<12} {:>5} {:>9.2} {:>10.4} {:>12.4e} {:>9.3}%",
+            p.renderer,
+            p.sampler,
+            p.spp,
+            p.mean_spp,
+            p.seconds,
+            p.rmse,
+            100.0 * p.within
+        )
+    })?;
+    let name = args
+        .scene
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    if let Some(note) = write_outputs(&args.out, &name, &points, &reference)? {
+        eprintln!("warning: {note}");
+    }
+    eprintln!("wrote {}/convergence.{{csv,svg,png}}", args.out.display());
+    Ok(())
+}

@@ -1,0 +1,246 @@
+//! Error against run time: renders a scene at increasing sample counts with pointshade (and,
+//! optionally, Mitsuba 3 in the same run), times each render (median of repeats, scene load
+//! included), measures its error against a reference, and writes a CSV and a log-log plot.
+//!
+//! Time is what a user waits for: scene loading (files parsed again each repeat), BVH build and
+//! rendering for pointshade; scene loading (with kernel compilation) and rendering for Mitsuba,
+//! as its Python side measures them — Python's own start-up is left out.
+
+pub mod plot;
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use crate::error::{InputError, InputResult};
+use crate::film::{Image, SamplerKind};
+use crate::output::{encode, write_all_or_nothing, Format};
+use crate::plan::RenderPlan;
+use crate::render::render_scene;
+use crate::scene::{self, Scene};
+use crate::shading::shadow::ShadowOffset;
+use crate::validation::compare::compare;
+use crate::validation::mitsuba::{export, BsdfChoice};
+use crate::validation::run::MitsubaRunner;
+
+/// Relative tolerance of the "within" column.
+pub const TOLERANCE: f32 = 1e-3;
+
+/// One measured point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Point {
+    /// "pointshade" or "mitsuba".
+    pub renderer: &'static str,
+    /// The sampler (pointshade's names; Mitsuba's grid is `stratified` without jitter).
+    pub sampler: String,
+    /// Samples per pixel asked for (the most, for the adaptive sampler).
+    pub spp: u32,
+    /// Samples per pixel actually taken, on average.
+    pub mean_spp: f64,
+    /// Median time over the repeats, in seconds.
+    pub seconds: f64,
+    /// Every repeat's time, in seconds.
+    pub all_seconds: Vec<f64>,
+    /// Root mean squared error against the reference.
+    pub rmse: f64,
+    /// Relative MSE against the reference.
+    pub rel_mse: f64,
+    /// Share of pixels within [`TOLERANCE`] of the reference.
+    pub within: f64,
+}
+
+/// What the sweep runs.
+#[derive(Clone, Debug)]
+pub struct Sweep {
+    /// The scene file.
+    pub scene: PathBuf,
+    /// Sample counts.
+    pub spp: Vec<u32>,
+    /// pointshade samplers.
+    pub samplers: Vec<SamplerKind>,
+    /// Repeats per point (the median is kept).
+    pub repeats: u32,
+    /// Shadow-ray offset of pointshade's renders (`mitsuba` when comparing with Mitsuba).
+    pub shadow_offset: ShadowOffset,
+    /// Run Mitsuba's grid and independent samplers too.
+    pub mitsuba: Option<MitsubaRunner>,
+    /// Folder for the outputs (and Mitsuba's scene files).
+    pub out: PathBuf,
+}
+
+/// The reference image and what it is.
+pub struct Reference {
+    /// The image.
+    pub image: Image,
+    /// A description for the plot and the CSV.
+    pub description: String,
+}
+
+fn median(v: &[f64]) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    s[s.len() / 2]
+}
+
+fn load(sweep: &Sweep, sampler: SamplerKind, spp: u32) -> InputResult<Scene> {
+    let mut scene = scene::load(&sweep.scene)?;
+    scene.film.sampler = sampler;
+    scene.film.spp = spp;
+    scene.shadow_offset = sweep.shadow_offset;
+    scene.film.validate().map_err(|e| InputError::new(&sweep.scene, e))?;
+    Ok(scene)
+}
+
+/// One pointshade render: load + plan + BVH + render, timed; returns the image and mean spp.
+fn render_once(sweep: &Sweep, sampler: SamplerKind, spp: u32) -> InputResult<(Image, f64, Duration)> {
+    let start = Instant::now();
+    let scene = load(sweep, sampler, spp)?;
+    let plan = RenderPlan::new(&scene, &[]);
+    let rendered = render_scene(&scene, &plan, &|_| {}).map_err(|e| InputError::new(&sweep.scene, e))?;
+    let elapsed = start.elapsed();
+    let pixels = (rendered.image.width * rendered.image.height) as f64;
+    Ok((rendered.image, rendered.stats.primary_rays as f64 / pixels, elapsed))
+}
+
+/// A pointshade reference when none is given: 32×32 grid samples per pixel.
+pub fn own_reference(sweep: &Sweep) -> InputResult<Reference> {
+    let (image, _, time) = render_once(sweep, SamplerKind::Grid, 1024)?;
+    Ok(Reference {
+        image,
+        description: format!(
+            "pointshade 32×32 grid ({:.1} s), no external reference given",
+            time.as_secs_f64()
+        ),
+    })
+}
+
+fn point(
+    renderer: &'static str,
+    sampler: &str,
+    spp: u32,
+    mean_spp: f64,
+    times: Vec<f64>,
+    image: &Image,
+    reference: &Reference,
+) -> InputResult<Point> {
+    if (image.width, image.height) != (reference.image.width, reference.image.height) {
+        return Err(InputError::new(
+            "--reference",
+            format!(
+                "is {}×{}, the scene renders {}×{}",
+                reference.image.width, reference.image.height, image.width, image.height
+            ),
+        ));
+    }
+    let c = compare(image, &reference.image, TOLERANCE, 0);
+    Ok(Point {
+        renderer,
+        sampler: sampler.to_string(),
+        spp,
+        mean_spp,
+        seconds: median(&times),
+        all_seconds: times,
+        rmse: c.rmse,
+        rel_mse: c.rel_mse,
+        within: c.within_tolerance,
+    })
+}
+
+/// Runs the sweep; `progress` receives one line per finished point.
+pub fn run(sweep: &Sweep, reference: &Reference, progress: &mut dyn FnMut(&Point)) -> InputResult<Vec<Point>> {
+    let mut points = Vec::new();
+    for &sampler in &sweep.samplers {
+        for &spp in &sweep.spp {
+            if sampler.check_spp(spp).is_err() {
+                continue; // the grid takes square counts only
+            }
+            let mut times = Vec::new();
+            let mut last = None;
+            for _ in 0..sweep.repeats.max(1) {
+                let (image, mean_spp, time) = render_once(sweep, sampler, spp)?;
+                times.push(time.as_secs_f64());
+                last = Some((image, mean_spp));
+            }
+            let (image, mean_spp) = last.expect("at least one repeat");
+            let p = point("pointshade", sampler.name(), spp, mean_spp, times, &image, reference)?;
+            progress(&p);
+            points.push(p);
+        }
+    }
+    if let Some(mitsuba) = &sweep.mitsuba {
+        for sampler in [SamplerKind::Grid, SamplerKind::Independent] {
+            for &spp in &sweep.spp {
+                if sampler.check_spp(spp).is_err() {
+                    continue;
+                }
+                let scene = load(sweep, sampler, spp)?;
+                let exported = export(&scene, spp, BsdfChoice::NativeWhereExact);
+                let mut files = Vec::new();
+                for (k, xml) in exported.per_light.iter().enumerate() {
+                    files.push((
+                        sweep.out.join(format!("mitsuba-{}-{spp}.light{k}.xml", sampler.name())),
+                        xml.clone().into_bytes(),
+                    ));
+                }
+                write_all_or_nothing(&files)?;
+                let xmls: Vec<PathBuf> = files.into_iter().map(|(p, _)| p).collect();
+                let out = sweep.out.join(format!("mitsuba-{}-{spp}.exr", sampler.name()));
+                let mut times = Vec::new();
+                for _ in 0..sweep.repeats.max(1) {
+                    let t = mitsuba.render(&xmls, &out)?;
+                    times.push((t.load + t.render).as_secs_f64());
+                }
+                let image = crate::output::read_linear(&out)?;
+                let p = point("mitsuba", sampler.name(), spp, spp as f64, times, &image, reference)?;
+                progress(&p);
+                points.push(p);
+            }
+        }
+    }
+    Ok(points)
+}
+
+/// The points as CSV, with the reference described in a leading comment line.
+pub fn csv(points: &[Point], reference: &Reference) -> String {
+    let mut s = format!("# reference: {}\n", reference.description);
+    s.push_str("renderer,sampler,spp,mean_spp,seconds_median,seconds_all,rmse,rel_mse,within_1e-3\n");
+    for p in points {
+        let all = p
+            .all_seconds
+            .iter()
+            .map(|t| format!("{t:.4}"))
+            .collect::<Vec<_>>()
+            .join(" ");
+        let _ = writeln!(
+            s,
+            "{},{},{},{:.3},{:.4},{},{:.6e},{:.6e},{:.6}",
+            p.renderer, p.sampler, p.spp, p.mean_spp, p.seconds, all, p.rmse, p.rel_mse, p.within
+        );
+    }
+    s
+}
+
+/// Writes `convergence.csv`, `convergence.svg` and `convergence.png` into `out`, and the
+/// reference as `reference.png` for a look. Returns a note about the PNG's text when no system
+/// font was found.
+pub fn write_outputs(
+    out: &Path,
+    scene_name: &str,
+    points: &[Point],
+    reference: &Reference,
+) -> InputResult<Option<String>> {
+    let title = format!("{scene_name}: RMSE against time");
+    let svg = plot::svg(&title, &reference.description, points)
+        .map_err(|e| InputError::new(out.join("convergence.svg"), e))?;
+    let (png, note) = plot::png(&title, &reference.description, points)
+        .map_err(|e| InputError::new(out.join("convergence.png"), e))?;
+    let reference_png =
+        encode(&reference.image, Format::Png, 0.0).map_err(|e| InputError::new(out.join("reference.png"), e))?;
+    write_all_or_nothing(&[
+        (out.join("convergence.csv"), csv(points, reference).into_bytes()),
+        (out.join("convergence.svg"), svg.into_bytes()),
+        (out.join("convergence.png"), png),
+        (out.join("reference.png"), reference_png),
+    ])?;
+    Ok(note)
+}

@@ -1,0 +1,177 @@
+//! The convergence plot: RMSE against seconds, both axes logarithmic, one line per renderer and
+//! sampler (plotters; SVG and PNG from the same drawing code).
+//!
+//! Text needs a font: the first of a few common system fonts (or `POINTSHADE_FONT`) is
+//! registered with plotters. Without one the plot is drawn without text and a note says so.
+
+use std::sync::OnceLock;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::Point;
+
+const SIZE: (u32, u32) = (960, 640);
+
+/// Where fonts are usually found (Debian's fonts-dejavu-core, fonts-liberation; other layouts).
+const FONT_CANDIDATES: [&str; 5] = [
+    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/truetype/liberation/LiberationSans-Regular.ttf",
+    "/usr/share/fonts/TTF/DejaVuSans.ttf",
+    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
+    "/Library/Fonts/Arial.ttf",
+];
+
+/// Registers a system font as "sans-serif" once; false when none could be read.
+fn font_available() -> bool {
+    static FOUND: OnceLock<bool> = OnceLock::new();
+    *FOUND.get_or_init(|| {
+        let from_env = std::env::var("POINTSHADE_FONT").ok();
+        for path in from_env.iter().map(String::as_str).chain(FONT_CANDIDATES) {
+            if let Ok(bytes) = std::fs::read(path) {
+                // plotters keeps fonts for the life of the program.
+                let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+                if plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok() {
+                    return true;
+                }
+            }
+        }
+        false
+    })
+}
+
+/// Colour of a series.
+fn colour(renderer: &str, sampler: &str) -> RGBColor {
+    match (renderer, sampler) {
+        ("pointshade", "adaptive") => RGBColor(0, 140, 60),
+        ("pointshade", "sobol") => RGBColor(30, 90, 220),
+        ("pointshade", "grid") => RGBColor(120, 60, 200),
+        ("pointshade", _) => RGBColor(0, 170, 200),
+        ("mitsuba", "grid") => RGBColor(210, 30, 30),
+        _ => RGBColor(240, 140, 0),
+    }
+}
+
+fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    title: &str,
+    subtitle: &str,
+    points: &[Point],
+    text: bool,
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    root.fill(&WHITE).map_err(err)?;
+    let finite: Vec<&Point> = points
+        .iter()
+        .filter(|p| p.seconds > 0.0 && p.rmse > 0.0 && p.rmse.is_finite())
+        .collect();
+    if finite.is_empty() {
+        return Err("no point with a positive time and error to plot".into());
+    }
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for p in &finite {
+        (x0, x1, y0, y1) = (x0.min(p.seconds), x1.max(p.seconds), y0.min(p.rmse), y1.max(p.rmse));
+    }
+    let (x0, x1, y0, y1) = (x0 / 1.5, x1 * 1.5, y0 / 1.5, y1 * 1.5);
+    let mut builder = ChartBuilder::on(&root);
+    builder.margin(16);
+    if text {
+        builder
+            .caption(title, ("sans-serif", 24))
+            .x_label_area_size(50)
+            .y_label_area_size(80);
+    } else {
+        builder.x_label_area_size(10).y_label_area_size(10);
+    }
+    let mut chart = builder
+        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+        .map_err(err)?;
+    let mut mesh = chart.configure_mesh();
+    if text {
+        mesh.x_desc(format!("seconds, median (scene load + render) — reference: {subtitle}"))
+            .y_desc("RMSE")
+            .x_labels(8)
+            .y_labels(8)
+            .x_label_formatter(&|v| format!("{v:.3}"))
+            .y_label_formatter(&|v| format!("{v:.1e}"))
+            .label_style(("sans-serif", 14));
+    } else {
+        mesh.disable_x_axis().disable_y_axis();
+    }
+    mesh.draw().map_err(err)?;
+    let mut series: Vec<(&str, &str)> = finite.iter().map(|p| (p.renderer, p.sampler.as_str())).collect();
+    series.dedup();
+    series.sort();
+    series.dedup();
+    for (renderer, sampler) in series {
+        let mut pts: Vec<(f64, f64)> = finite
+            .iter()
+            .filter(|p| p.renderer == renderer && p.sampler == sampler)
+            .map(|p| (p.seconds, p.rmse))
+            .collect();
+        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let c = colour(renderer, sampler);
+        let line = chart
+            .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
+            .map_err(err)?;
+        if text {
+            line.label(format!("{renderer} {sampler}"))
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(2)));
+        }
+        chart
+            .draw_series(pts.into_iter().map(|p| Circle::new(p, 4, c.filled())))
+            .map_err(err)?;
+    }
+    if text {
+        chart
+            .configure_series_labels()
+            .label_font(("sans-serif", 16))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(err)?;
+    }
+    root.present().map_err(err)
+}
+
+/// The plot as SVG text.
+pub fn svg(title: &str, subtitle: &str, points: &[Point]) -> Result<String, String> {
+    let mut out = String::new();
+    draw(
+        SVGBackend::with_string(&mut out, SIZE).into_drawing_area(),
+        title,
+        subtitle,
+        points,
+        font_available(),
+    )?;
+    Ok(out)
+}
+
+/// The plot as PNG bytes, and a note when it has no text (no font found).
+pub fn png(title: &str, subtitle: &str, points: &[Point]) -> Result<(Vec<u8>, Option<String>), String> {
+    let text = font_available();
+    let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
+    draw(
+        BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area(),
+        title,
+        subtitle,
+        points,
+        text,
+    )?;
+    let image = image::RgbImage::from_raw(SIZE.0, SIZE.1, rgb).ok_or("plot buffer size")?;
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    image
+        .write_to(&mut bytes, image::ImageFormat::Png)
+        .map_err(|e| e.to_string())?;
+    let note = (!text).then(|| {
+        format!(
+            "no font found ({} or POINTSHADE_FONT): the plots have no text",
+            FONT_CANDIDATES.join(", ")
+        )
+    });
+    Ok((bytes.into_inner(), note))
+}

@@ -1,0 +1,82 @@
+//! The adaptive sampler: one sample where the image is smooth, more at edges, a lower error than
+//! uniform Sobol sampling at the same number of samples, and the same image on any thread count.
+
+use std::path::Path;
+
+use pointshade::film::{Image, SamplerKind};
+use pointshade::plan::RenderPlan;
+use pointshade::render::{render_scene, Rendered};
+use pointshade::scene;
+use pointshade::validation::compare::compare;
+
+fn render(sampler: SamplerKind, spp: u32) -> Rendered {
+    let mut s = scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/lambert.toml")).unwrap();
+    s.film.width = 128;
+    s.film.height = 96;
+    s.film.sampler = sampler;
+    s.film.spp = spp;
+    let plan = RenderPlan::new(&s, &[]);
+    render_scene(&s, &plan, &|_| {}).unwrap()
+}
+
+fn rmse(a: &Image, reference: &Image) -> f64 {
+    compare(a, reference, 1e-3, 0).rmse
+}
+
+#[test]
+fn smooth_pixels_take_one_sample_and_edges_take_more() {
+    let r = render(SamplerKind::Adaptive, 64);
+    let counts = r.sample_counts.as_ref().expect("adaptive renders report their counts");
+    let mean = counts.iter().map(|&c| c as f64).sum::<f64>() / counts.len() as f64;
+    let ones = counts.iter().filter(|&&c| c == 1).count() as f64 / counts.len() as f64;
+    let maxed = counts.iter().filter(|&&c| c == 64).count();
+    assert!(
+        ones > 0.8,
+        "most pixels (smooth shading, background) keep their centre sample: {ones}"
+    );
+    assert!(
+        maxed > 20,
+        "silhouette and shadow-edge pixels take the most samples: {maxed}"
+    );
+    assert!(mean < 4.0, "mean spp {mean}");
+    assert_eq!(
+        r.stats.primary_rays,
+        counts.iter().map(|&c| c as u64).sum::<u64>() + refined_centres(counts)
+    );
+}
+
+/// Refined pixels also traced their centre sample (counted as a ray, not in the mean).
+fn refined_centres(counts: &[u32]) -> u64 {
+    counts.iter().filter(|&&c| c > 1).count() as u64
+}
+
+#[test]
+fn adaptive_error_is_lower_than_uniform_sobol_at_the_same_sample_count() {
+    let reference = render(SamplerKind::Grid, 256).image;
+    let adaptive = render(SamplerKind::Adaptive, 64);
+    let counts = adaptive.sample_counts.as_ref().unwrap();
+    let mean = adaptive.stats.primary_rays as f64 / counts.len() as f64;
+    let uniform_spp = mean.ceil() as u32;
+    let uniform = render(SamplerKind::Sobol, uniform_spp).image;
+    let (a, u) = (rmse(&adaptive.image, &reference), rmse(&uniform, &reference));
+    assert!(
+        a < 0.6 * u,
+        "adaptive ({mean:.2} spp) RMSE {a:.3e} vs sobol {uniform_spp} spp RMSE {u:.3e}"
+    );
+}
+
+#[test]
+fn adaptive_image_does_not_depend_on_the_thread_count() {
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| render(SamplerKind::Adaptive, 16));
+    let three = rayon::ThreadPoolBuilder::new()
+        .num_threads(3)
+        .build()
+        .unwrap()
+        .install(|| render(SamplerKind::Adaptive, 16));
+    assert_eq!(one.image, three.image);
+    assert_eq!(one.sample_counts, three.sample_counts);
+}
