@@ -12,18 +12,19 @@
 //!   full; the build measures the BVH's depth and traverses deep BVHs with a growable stack
 //!   ([`traversal`]).
 
-pub mod traversal;
 pub mod triangle;
+pub mod wide;
 
 use std::time::{Duration, Instant};
 
 use glam::{Vec3, Vec3A};
-use obvhs::{cwbvh::CwBvh, ray::Ray, BvhBuildParams};
+use obvhs::BvhBuildParams;
 
 use crate::scene::mesh::TriangleMesh;
 use crate::shading::shadow::{Occluder, ShadowRay};
-pub use traversal::TraversalStack;
 use triangle::WatertightRay;
+pub use wide::TraversalStack;
+use wide::{WideBvh, WideRay};
 
 /// The obvhs build presets, from fastest build to best traversal.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -80,17 +81,9 @@ pub struct Hit {
 
 /// A BVH over every triangle of a scene.
 pub struct Bvh {
-    cwbvh: CwBvh,
-    /// Vertices of each BVH primitive, in BVH space, in leaf order.
-    leaf_triangles: Vec<[Vec3A; 3]>,
-    /// Scene-mesh triangle of each BVH primitive.
-    leaf_to_triangle: Vec<u32>,
+    wide: WideBvh,
     /// World → BVH space factor (a power of two).
     scale: f32,
-    /// Deepest inner node below the root.
-    depth: u32,
-    /// The traversal stack `depth` calls for.
-    stack: TraversalStack,
     /// Time spent building.
     pub build_time: Duration,
 }
@@ -112,54 +105,30 @@ impl Bvh {
         if kept.is_empty() {
             kept = (0..mesh.triangle_count() as u32).collect();
         }
-        let triangles: Vec<obvhs::triangle::Triangle> = kept
+        let triangles: Vec<[Vec3A; 3]> = kept
             .iter()
-            .map(|&t| {
-                let [v0, v1, v2] = mesh.triangle_positions(t as usize).map(|p| Vec3A::from(p * scale));
-                obvhs::triangle::Triangle { v0, v1, v2 }
-            })
+            .map(|&t| mesh.triangle_positions(t as usize).map(|p| Vec3A::from(p * scale)))
             .collect();
-        // Leaf boxes padded by LEAF_PADDING: see `PaddedTriangle`.
-        let padded: Vec<PaddedTriangle> = triangles.iter().map(|t| PaddedTriangle(*t)).collect();
-        let cwbvh = obvhs::cwbvh::builder::build_cwbvh(&padded, preset.params(), &mut Duration::default());
-        let leaf_triangles = cwbvh
-            .primitive_indices
-            .iter()
-            .map(|&i| {
-                let t = &triangles[i as usize];
-                [t.v0, t.v1, t.v2]
-            })
-            .collect();
-        let leaf_to_triangle = cwbvh.primitive_indices.iter().map(|&i| kept[i as usize]).collect();
-        let depth = traversal::max_inner_depth(&cwbvh);
-        Bvh {
-            cwbvh,
-            leaf_triangles,
-            leaf_to_triangle,
-            scale,
-            depth,
-            stack: traversal::stack_for_depth(depth),
-            build_time: start.elapsed(),
-        }
+        // Leaf boxes padded by LEAF_PADDING: see `PaddedTriangle`. Leaves hold up to four
+        // triangles: one SIMD quad each.
+        let padded: Vec<PaddedTriangle> =
+            triangles.iter().map(|t| PaddedTriangle(obvhs::triangle::Triangle { v0: t[0], v1: t[1], v2: t[2] })).collect();
+        let params = BvhBuildParams { max_prims_per_leaf: 4, ..preset.params() };
+        let bvh2 = obvhs::bvh2::builder::build_bvh2(&padded, params, &mut Duration::default());
+        let mut wide = WideBvh::from_bvh2(&bvh2, &triangles);
+        wide.map_primitives(|p| kept[p as usize]);
+        Bvh { wide, scale, build_time: start.elapsed() }
     }
 
-    /// The same BVH traversed with `stack` instead of the one its depth calls for. Forcing
-    /// [`TraversalStack::Fixed`] on a deep BVH loses hits: the stability report and the tests
-    /// use it to show that they do.
-    pub fn with_stack(mut self, stack: TraversalStack) -> Self {
-        self.stack = stack;
-        self
-    }
-
-    /// Deepest inner node below the root (root = 0); obvhs's fixed stack handles up to
-    /// [`traversal::FIXED_STACK_MAX_DEPTH`].
+    /// Depth of the deepest inner node (root = 1); trees deeper than
+    /// [`wide::FIXED_STACK_DEPTH`] are traversed with a growable stack.
     pub fn depth(&self) -> u32 {
-        self.depth
+        self.wide.depth()
     }
 
-    /// The traversal stack in use.
+    /// The traversal stack its depth calls for.
     pub fn stack(&self) -> TraversalStack {
-        self.stack
+        self.wide.stack()
     }
 
     /// Closest hit along `origin + t·direction`, 0 < t < t_max (world units; `direction` unit).
@@ -168,26 +137,14 @@ impl Bvh {
         let origin = Vec3A::from(origin * self.scale);
         let direction = without_negative_zeros(direction);
         let shear = WatertightRay::new(origin, direction);
-        let ray = Ray::new(origin, direction, 0.0, t_max * self.scale);
-        let mut hit = obvhs::ray::RayHit::none();
-        let test = |r: &Ray, leaf: usize| {
-            shear
-                .intersect(&self.leaf_triangles[leaf], r.tmax)
-                .map_or(f32::INFINITY, |h| h.t)
-        };
-        let found = match self.stack {
-            TraversalStack::Fixed => self.cwbvh.ray_traverse(ray, &mut hit, test),
-            TraversalStack::Growable => traversal::closest_hit(&self.cwbvh, ray, &mut hit, test),
-        };
-        if !found {
-            return None;
-        }
-        let leaf = hit.primitive_id as usize;
-        // Recompute the barycentrics of the winning triangle only.
-        let h = shear.intersect(&self.leaf_triangles[leaf], f32::INFINITY)?;
+        let ray = WideRay::new(origin, direction, shear.columns());
+        let (quad, hit) = self.wide.closest_hit(&ray, t_max * self.scale)?;
+        let triangle = self.wide.primitive(quad, hit.lane);
+        // Barycentrics of the winning triangle only (the same arithmetic as its lane).
+        let h = shear.intersect(&self.wide.vertices(quad, hit.lane), f32::INFINITY)?;
         Some(Hit {
-            triangle: self.leaf_to_triangle[leaf],
-            t: h.t / self.scale,
+            triangle,
+            t: hit.t / self.scale,
             b1: h.b1,
             b2: h.b2,
         })
@@ -199,21 +156,12 @@ impl Bvh {
         let origin = Vec3A::from(origin * self.scale);
         let direction = without_negative_zeros(direction);
         let shear = WatertightRay::new(origin, direction);
-        let ray = Ray::new(origin, direction, 0.0, t_max * self.scale);
-        let test = |r: &Ray, leaf: usize| {
-            shear
-                .intersect(&self.leaf_triangles[leaf], r.tmax)
-                .map_or(f32::INFINITY, |h| h.t)
-        };
-        match self.stack {
-            TraversalStack::Fixed => !self.cwbvh.ray_traverse_miss(ray, test),
-            TraversalStack::Growable => traversal::any_hit(&self.cwbvh, ray, test),
-        }
+        self.wide.any_hit(&WideRay::new(origin, direction, shear.columns()), t_max * self.scale)
     }
 
-    /// Number of primitives the BVH references (triangles, plus duplicates from pre-splitting).
+    /// Number of primitives the BVH references (every triangle with an area, once).
     pub fn primitive_count(&self) -> usize {
-        self.leaf_to_triangle.len()
+        self.wide.primitive_count()
     }
 
     /// World length of one BVH-space unit (about the scene's size / 200): the unit the
@@ -222,9 +170,9 @@ impl Bvh {
         1.0 / self.scale
     }
 
-    /// Number of CWBVH nodes.
+    /// Number of 4-wide nodes.
     pub fn node_count(&self) -> usize {
-        self.cwbvh.nodes.len()
+        self.wide.node_count()
     }
 }
 

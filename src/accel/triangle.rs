@@ -61,6 +61,12 @@ impl WatertightRay {
         Self { origin, columns }
     }
 
+    /// The shear as the images of the x, y and z axes (for the 4-wide test).
+    #[inline(always)]
+    pub fn columns(&self) -> [Vec3A; 3] {
+        self.columns
+    }
+
     /// `v − origin` permuted and sheared: (x', y') for the edge functions, z' for the distance.
     #[inline(always)]
     fn shear(&self, v: Vec3A) -> Vec3A {

@@ -1,0 +1,432 @@
+//! A 4-wide BVH for traversal: obvhs builds a binary tree (PLOC, reinsertion, leaves of up to
+//! four triangles, padded leaf boxes), and this module collapses it into nodes of four children
+//! with their boxes stored as float lanes, and leaves of four triangles stored as float lanes.
+//!
+//! One node test is then 12 lane-wise subtractions/multiplications and a few min/max — four
+//! boxes at once, with no dequantisation — and one leaf test runs the watertight
+//! ray/triangle test (Woop et al.) on four triangles at once ([`TriangleQuad::intersect`]),
+//! bit-identical per lane to the scalar test in [`super::triangle`].
+//!
+//! Traversal keeps a stack of (node, entry distance) pairs. A node pushes at most three
+//! children besides the one it descends into, so a tree of depth D needs at most 3·D + 1
+//! entries: a fixed array serves every tree up to [`FIXED_STACK_DEPTH`] levels, a growable one
+//! the (rare, pathological) deeper trees — nothing is ever dropped.
+
+use glam::{BVec4A, Vec3A, Vec4};
+use obvhs::bvh2::Bvh2;
+
+/// Marks a child slot that holds a leaf (the rest of the value is the quad index).
+const LEAF: u32 = 1 << 31;
+/// Marks an unused child slot.
+const EMPTY: u32 = u32::MAX;
+
+/// Deepest tree the fixed-size traversal stack serves (3·21 + 1 = 64 entries).
+pub const FIXED_STACK_DEPTH: u32 = 21;
+
+/// Which stack a tree is traversed with (chosen from its depth at build time).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TraversalStack {
+    /// A 64-entry array: trees of depth ≤ [`FIXED_STACK_DEPTH`] (every ordinary mesh).
+    Fixed,
+    /// A growable vector: deeper trees.
+    Growable,
+}
+const FIXED_STACK: usize = 64;
+
+/// Four child boxes, lane k = child k; `bounds[axis][0]` = minima, `[1]` = maxima.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(16))]
+struct Node4 {
+    bounds: [[Vec4; 2]; 3],
+    child: [u32; 4],
+}
+
+/// Four triangles in lanes: `v[vertex][axis]`. Unused lanes repeat lane 0 and are masked off.
+#[derive(Clone, Copy, Debug)]
+pub struct TriangleQuad {
+    v: [[Vec4; 3]; 3],
+    lanes: BVec4A,
+}
+
+/// The closest hit found in a quad.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct QuadHit {
+    /// Lane of the hit triangle.
+    pub lane: usize,
+    /// Distance along the ray (units of its direction).
+    pub t: f32,
+}
+
+/// A ray prepared for the wide traversal (BVH space).
+#[derive(Clone, Copy, Debug)]
+pub struct WideRay {
+    origin: [Vec4; 3],
+    inv_dir: [Vec4; 3],
+    /// Per axis: which of `bounds[axis]` is the near plane (0 = minimum for a positive direction).
+    near: [usize; 3],
+    /// The shear of the watertight test, as the images of the x, y, z axes (see
+    /// [`super::triangle::WatertightRay`]), each coefficient splat across lanes.
+    shear: [[Vec4; 3]; 3],
+}
+
+impl WideRay {
+    /// Prepares `origin + t·direction`. `direction` must be finite, non-zero and free of −0.0
+    /// (the caller normalises −0.0 to +0.0 so that 1/d and the near-plane choice agree).
+    #[inline]
+    pub fn new(origin: Vec3A, direction: Vec3A, shear_columns: [Vec3A; 3]) -> Self {
+        let inv = direction.recip();
+        let splat3 = |v: Vec3A| [Vec4::splat(v.x), Vec4::splat(v.y), Vec4::splat(v.z)];
+        Self {
+            origin: splat3(origin),
+            inv_dir: splat3(inv),
+            near: [(inv.x < 0.0) as usize, (inv.y < 0.0) as usize, (inv.z < 0.0) as usize],
+            shear: shear_columns.map(splat3),
+        }
+    }
+
+    /// Which of the node's four boxes the segment [0, t_max] enters, and where.
+    ///
+    /// NaN-safe: a zero direction component gives ±∞ in `inv_dir`, and an origin exactly on that
+    /// slab's plane gives 0·∞ = NaN. `max`/`min` are applied with the per-axis value as the first
+    /// operand, which SSE (and glam's scalar fallback) answer with the other operand when it is
+    /// NaN: that axis then does not restrict the interval — right, since the ray runs inside
+    /// the (closed) slab.
+    #[inline(always)]
+    fn boxes(&self, node: &Node4, t_max: f32) -> (u32, Vec4) {
+        let mut t_near = Vec4::ZERO;
+        let mut t_far = Vec4::splat(t_max);
+        for axis in 0..3 {
+            let near = (node.bounds[axis][self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
+            let far = (node.bounds[axis][1 - self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
+            t_near = near.max(t_near);
+            t_far = far.min(t_far);
+        }
+        (t_near.cmple(t_far).bitmask(), t_near)
+    }
+}
+
+impl TriangleQuad {
+    /// The quad of up to four triangles (given as vertex triples).
+    fn new(triangles: &[[Vec3A; 3]]) -> Self {
+        debug_assert!((1..=4).contains(&triangles.len()));
+        let lane = |k: usize| triangles[k.min(triangles.len() - 1)];
+        let mut v = [[Vec4::ZERO; 3]; 3];
+        for (vertex, row) in v.iter_mut().enumerate() {
+            for (axis, value) in row.iter_mut().enumerate() {
+                *value = Vec4::from_array([0, 1, 2, 3].map(|k| lane(k)[vertex][axis]));
+            }
+        }
+        let n = triangles.len();
+        Self { v, lanes: BVec4A::new(n > 0, n > 1, n > 2, n > 3) }
+    }
+
+    /// The closest of the four triangles the ray hits with 0 < t < `t_max`, if any.
+    ///
+    /// Lane by lane this is [`super::triangle::WatertightRay::intersect`]: the same sheared
+    /// coordinates (each a sum of exact 1·x, 0·y terms and one product), the same edge functions
+    /// with the same f64 recomputation of exact zeros, the same sign-folded distance test.
+    #[inline(always)]
+    pub fn intersect(&self, ray: &WideRay, t_max: f32) -> Option<QuadHit> {
+        let s = &ray.shear;
+        let sheared = |vertex: usize| -> [Vec4; 3] {
+            let d = [0, 1, 2].map(|axis| self.v[vertex][axis] - ray.origin[axis]);
+            [0, 1, 2].map(|out| d[0] * s[0][out] + d[1] * s[1][out] + d[2] * s[2][out])
+        };
+        let (a, b, c) = (sheared(0), sheared(1), sheared(2));
+        let mut u = c[0] * b[1] - c[1] * b[0];
+        let mut v = a[0] * c[1] - a[1] * c[0];
+        let mut w = b[0] * a[1] - b[1] * a[0];
+        let zero = Vec4::ZERO;
+        let exact_edge = (u.cmpeq(zero) | v.cmpeq(zero) | w.cmpeq(zero)) & self.lanes;
+        if exact_edge.any() {
+            // Exactly on an edge in f32: decide in f64 so neighbours agree (the paper's fallback).
+            let (mut ua, mut va, mut wa) = (u.to_array(), v.to_array(), w.to_array());
+            for k in (0..4).filter(|&k| exact_edge.test(k)) {
+                let f = |x: Vec4| x.to_array()[k] as f64;
+                let (ax, ay, bx, by, cx, cy) = (f(a[0]), f(a[1]), f(b[0]), f(b[1]), f(c[0]), f(c[1]));
+                ua[k] = (cx * by - cy * bx) as f32;
+                va[k] = (ax * cy - ay * cx) as f32;
+                wa[k] = (bx * ay - by * ax) as f32;
+            }
+            (u, v, w) = (Vec4::from_array(ua), Vec4::from_array(va), Vec4::from_array(wa));
+        }
+        let negative = u.cmplt(zero) | v.cmplt(zero) | w.cmplt(zero);
+        let positive = u.cmpgt(zero) | v.cmpgt(zero) | w.cmpgt(zero);
+        let det = u + v + w;
+        let mut hit = self.lanes & !(negative & positive) & det.cmpne(zero);
+        if !hit.any() {
+            return None;
+        }
+        let t_scaled = u * a[2] + v * b[2] + w * c[2];
+        // Fold det's sign into both terms, then 0 < t_scaled < t_max·|det| without dividing.
+        let flip = det.cmplt(zero);
+        let t_scaled = Vec4::select(flip, -t_scaled, t_scaled);
+        let det_abs = Vec4::select(flip, -det, det);
+        hit &= t_scaled.cmpgt(zero) & t_scaled.cmplt(det_abs * t_max);
+        if !hit.any() {
+            return None;
+        }
+        let t = (t_scaled / det_abs).to_array();
+        let mut best: Option<QuadHit> = None;
+        for (lane, &t) in t.iter().enumerate() {
+            if hit.test(lane) && best.is_none_or(|b| t < b.t) {
+                best = Some(QuadHit { lane, t });
+            }
+        }
+        best
+    }
+}
+
+/// The collapsed tree: nodes, leaf quads in traversal order, and each lane's input triangle.
+pub struct WideBvh {
+    nodes: Vec<Node4>,
+    quads: Vec<TriangleQuad>,
+    quad_triangles: Vec<[u32; 4]>,
+    depth: u32,
+}
+
+/// A traversal stack of (child value, entry distance) pairs.
+trait Stack {
+    fn push(&mut self, entry: (u32, f32));
+    fn pop(&mut self) -> Option<(u32, f32)>;
+}
+
+struct FixedStack {
+    entries: [(u32, f32); FIXED_STACK],
+    len: usize,
+}
+
+impl Stack for FixedStack {
+    #[inline(always)]
+    fn push(&mut self, entry: (u32, f32)) {
+        // Capacity 64 ≥ 3·depth + 1 for every tree this stack is used with (checked at build).
+        self.entries[self.len] = entry;
+        self.len += 1;
+    }
+    #[inline(always)]
+    fn pop(&mut self) -> Option<(u32, f32)> {
+        self.len = self.len.checked_sub(1)?;
+        Some(self.entries[self.len])
+    }
+}
+
+impl Stack for Vec<(u32, f32)> {
+    #[inline(always)]
+    fn push(&mut self, entry: (u32, f32)) {
+        Vec::push(self, entry);
+    }
+    #[inline(always)]
+    fn pop(&mut self) -> Option<(u32, f32)> {
+        Vec::pop(self)
+    }
+}
+
+impl WideBvh {
+    /// Collapses `bvh2` (leaves of at most four primitives; `triangles[i]` are the vertices of
+    /// its primitive i) into a 4-wide tree.
+    pub fn from_bvh2(bvh2: &Bvh2, triangles: &[[Vec3A; 3]]) -> Self {
+        let mut out = WideBvh { nodes: Vec::new(), quads: Vec::new(), quad_triangles: Vec::new(), depth: 0 };
+        if bvh2.nodes.is_empty() {
+            return out;
+        }
+        if bvh2.nodes[0].is_leaf() {
+            // A tree of one leaf: a root whose only child is that leaf.
+            out.nodes.push(Node4 { bounds: empty_bounds(), child: [EMPTY; 4] });
+            out.set_child(0, 0, bvh2, 0, triangles, 1);
+        } else {
+            out.emit(bvh2, 0, triangles, 1);
+        }
+        out
+    }
+
+    /// Writes node `node2` (inner) of `bvh2` and, recursively, its subtree; returns its index.
+    fn emit(&mut self, bvh2: &Bvh2, node2: usize, triangles: &[[Vec3A; 3]], depth: u32) -> u32 {
+        self.depth = self.depth.max(depth);
+        // Open the largest inner child until there are four children or only leaves are left.
+        let first = bvh2.nodes[node2].first_index as usize;
+        let mut slots = vec![first, first + 1];
+        while slots.len() < 4 {
+            let widest = slots
+                .iter()
+                .enumerate()
+                .filter(|(_, &n)| !bvh2.nodes[n].is_leaf())
+                .max_by(|(_, &a), (_, &b)| bvh2.nodes[a].aabb().half_area().total_cmp(&bvh2.nodes[b].aabb().half_area()))
+                .map(|(i, _)| i);
+            let Some(i) = widest else { break };
+            let opened = bvh2.nodes[slots[i]].first_index as usize;
+            slots[i] = opened;
+            slots.push(opened + 1);
+        }
+        let index = self.nodes.len();
+        self.nodes.push(Node4 { bounds: empty_bounds(), child: [EMPTY; 4] });
+        for (k, &slot) in slots.iter().enumerate() {
+            self.set_child(index, k, bvh2, slot, triangles, depth);
+        }
+        index as u32
+    }
+
+    fn set_child(&mut self, index: usize, k: usize, bvh2: &Bvh2, slot: usize, triangles: &[[Vec3A; 3]], depth: u32) {
+        let node2 = &bvh2.nodes[slot];
+        let child = if node2.is_leaf() {
+            let range = node2.first_index as usize..(node2.first_index + node2.prim_count) as usize;
+            let prims: Vec<u32> = bvh2.primitive_indices[range].to_vec();
+            let tris: Vec<[Vec3A; 3]> = prims.iter().map(|&p| triangles[p as usize]).collect();
+            self.quads.push(TriangleQuad::new(&tris));
+            self.quad_triangles.push([0, 1, 2, 3].map(|l| prims.get(l).copied().unwrap_or(EMPTY)));
+            LEAF | (self.quads.len() as u32 - 1)
+        } else {
+            self.emit(bvh2, slot, triangles, depth + 1)
+        };
+        let b = node2.aabb();
+        let node = &mut self.nodes[index];
+        for axis in 0..3 {
+            node.bounds[axis][0][k] = b.min[axis];
+            node.bounds[axis][1][k] = b.max[axis];
+        }
+        node.child[k] = child;
+    }
+
+    /// Depth of the deepest inner node (root = 1).
+    pub fn depth(&self) -> u32 {
+        self.depth
+    }
+
+    /// The stack this tree is traversed with.
+    pub fn stack(&self) -> TraversalStack {
+        if self.depth <= FIXED_STACK_DEPTH {
+            TraversalStack::Fixed
+        } else {
+            TraversalStack::Growable
+        }
+    }
+
+    /// Number of nodes.
+    pub fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Replaces every stored primitive index p by `f(p)` (e.g. to the scene's triangle index).
+    pub fn map_primitives(&mut self, f: impl Fn(u32) -> u32) {
+        for q in &mut self.quad_triangles {
+            for p in q.iter_mut().filter(|p| **p != EMPTY) {
+                *p = f(*p);
+            }
+        }
+    }
+
+    /// The vertices of lane `lane` of quad `quad`.
+    pub fn vertices(&self, quad: u32, lane: usize) -> [Vec3A; 3] {
+        let v = &self.quads[quad as usize].v;
+        [0, 1, 2].map(|vertex| Vec3A::new(v[vertex][0][lane], v[vertex][1][lane], v[vertex][2][lane]))
+    }
+
+    /// The input primitive of lane `lane` of quad `quad`.
+    #[inline(always)]
+    pub fn primitive(&self, quad: u32, lane: usize) -> u32 {
+        self.quad_triangles[quad as usize][lane]
+    }
+
+    /// Number of primitive references (each input triangle once).
+    pub fn primitive_count(&self) -> usize {
+        self.quad_triangles.iter().flatten().filter(|&&p| p != EMPTY).count()
+    }
+
+    /// The closest hit with 0 < t < `t_max`: (quad, lane, t).
+    #[inline]
+    pub fn closest_hit(&self, ray: &WideRay, t_max: f32) -> Option<(u32, QuadHit)> {
+        if self.stack() == TraversalStack::Fixed {
+            self.closest_hit_with(ray, t_max, &mut FixedStack { entries: [(0, 0.0); FIXED_STACK], len: 0 })
+        } else {
+            self.closest_hit_with(ray, t_max, &mut Vec::new())
+        }
+    }
+
+    /// Whether anything lies at 0 < t < `t_max` (stops at the first hit found).
+    #[inline]
+    pub fn any_hit(&self, ray: &WideRay, t_max: f32) -> bool {
+        if self.stack() == TraversalStack::Fixed {
+            self.any_hit_with(ray, t_max, &mut FixedStack { entries: [(0, 0.0); FIXED_STACK], len: 0 })
+        } else {
+            self.any_hit_with(ray, t_max, &mut Vec::new())
+        }
+    }
+
+    #[inline(always)]
+    fn closest_hit_with(&self, ray: &WideRay, t_max: f32, stack: &mut impl Stack) -> Option<(u32, QuadHit)> {
+        if self.nodes.is_empty() {
+            return None;
+        }
+        let mut best: Option<(u32, QuadHit)> = None;
+        let mut t_max = t_max;
+        let mut current = (0u32, 0.0f32);
+        loop {
+            let (child, t_enter) = current;
+            if t_enter < t_max {
+                if child & LEAF != 0 {
+                    let quad = child & !LEAF;
+                    if let Some(h) = self.quads[quad as usize].intersect(ray, t_max) {
+                        t_max = h.t;
+                        best = Some((quad, h));
+                    }
+                } else {
+                    let node = &self.nodes[child as usize];
+                    let (mask, t_near) = ray.boxes(node, t_max);
+                    if mask != 0 {
+                        // Visit the nearest child next; push the others farthest first.
+                        let t = t_near.to_array();
+                        let mut order = [(f32::INFINITY, EMPTY); 4];
+                        let mut n = 0;
+                        for k in (0..4).filter(|&k| mask & (1 << k) != 0) {
+                            let mut i = n;
+                            while i > 0 && order[i - 1].0 < t[k] {
+                                order[i] = order[i - 1];
+                                i -= 1;
+                            }
+                            order[i] = (t[k], node.child[k]);
+                            n += 1;
+                        }
+                        for &(t, c) in &order[..n - 1] {
+                            stack.push((c, t));
+                        }
+                        current = (order[n - 1].1, order[n - 1].0);
+                        continue;
+                    }
+                }
+            }
+            match stack.pop() {
+                Some(next) => current = next,
+                None => return best,
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn any_hit_with(&self, ray: &WideRay, t_max: f32, stack: &mut impl Stack) -> bool {
+        if self.nodes.is_empty() {
+            return false;
+        }
+        let mut current = 0u32;
+        loop {
+            if current & LEAF != 0 {
+                if self.quads[(current & !LEAF) as usize].intersect(ray, t_max).is_some() {
+                    return true;
+                }
+            } else {
+                let node = &self.nodes[current as usize];
+                let (mask, _) = ray.boxes(node, t_max);
+                for k in (0..4).filter(|&k| mask & (1 << k) != 0) {
+                    stack.push((node.child[k], 0.0));
+                }
+            }
+            match stack.pop() {
+                Some((next, _)) => current = next,
+                None => return false,
+            }
+        }
+    }
+}
+
+/// Boxes that no ray enters (min = +∞, max = −∞ on every axis).
+fn empty_bounds() -> [[Vec4; 2]; 3] {
+    [[Vec4::splat(f32::INFINITY), Vec4::splat(f32::NEG_INFINITY)]; 3]
+}
