@@ -111,13 +111,28 @@ impl Bvh {
             .collect();
         // Leaf boxes padded by LEAF_PADDING: see `PaddedTriangle`. Leaves hold up to four
         // triangles: one SIMD quad each.
-        let padded: Vec<PaddedTriangle> =
-            triangles.iter().map(|t| PaddedTriangle(obvhs::triangle::Triangle { v0: t[0], v1: t[1], v2: t[2] })).collect();
-        let params = BvhBuildParams { max_prims_per_leaf: 4, ..preset.params() };
+        let padded: Vec<PaddedTriangle> = triangles
+            .iter()
+            .map(|t| {
+                PaddedTriangle(obvhs::triangle::Triangle {
+                    v0: t[0],
+                    v1: t[1],
+                    v2: t[2],
+                })
+            })
+            .collect();
+        let params = BvhBuildParams {
+            max_prims_per_leaf: 4,
+            ..preset.params()
+        };
         let bvh2 = obvhs::bvh2::builder::build_bvh2(&padded, params, &mut Duration::default());
         let mut wide = WideBvh::from_bvh2(&bvh2, &triangles);
         wide.map_primitives(|p| kept[p as usize]);
-        Bvh { wide, scale, build_time: start.elapsed() }
+        Bvh {
+            wide,
+            scale,
+            build_time: start.elapsed(),
+        }
     }
 
     /// Depth of the deepest inner node (root = 1); trees deeper than
@@ -137,7 +152,7 @@ impl Bvh {
         let origin = Vec3A::from(origin * self.scale);
         let direction = without_negative_zeros(direction);
         let shear = WatertightRay::new(origin, direction);
-        let ray = WideRay::new(origin, direction, shear.columns());
+        let ray = WideRay::new(origin, direction, &shear);
         let (quad, hit) = self.wide.closest_hit(&ray, t_max * self.scale)?;
         let triangle = self.wide.primitive(quad, hit.lane);
         // Barycentrics of the winning triangle only (the same arithmetic as its lane).
@@ -156,7 +171,8 @@ impl Bvh {
         let origin = Vec3A::from(origin * self.scale);
         let direction = without_negative_zeros(direction);
         let shear = WatertightRay::new(origin, direction);
-        self.wide.any_hit(&WideRay::new(origin, direction, shear.columns()), t_max * self.scale)
+        self.wide
+            .any_hit(&WideRay::new(origin, direction, &shear), t_max * self.scale)
     }
 
     /// Number of primitives the BVH references (every triangle with an area, once).

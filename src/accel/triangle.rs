@@ -7,19 +7,17 @@
 
 use glam::Vec3A;
 
-/// A ray prepared for the watertight test: the axis permutation and shear as a linear map.
+/// A ray prepared for the watertight test: the axis permutation and the shear constants.
 ///
 /// Woop et al. permute the axes so that the ray's largest component is z (kz), then shear:
-/// x' = a[kx] − s_x·a[kz], y' = a[ky] − s_y·a[kz], z' = s_z·a[kz], for a = v − origin. That map is
-/// stored here as three columns, so a vertex is sheared with three SIMD multiplies and adds and
-/// no component is selected by a runtime index. Each output lane has exactly two non-zero terms
-/// (or one), and adding the exact products 1·x and 0·y changes nothing, so the sheared values are
-/// bit-identical to the paper's scalar formulas — and so is watertightness.
+/// x' = a[kx] − s_x·a[kz], y' = a[ky] − s_y·a[kz], z' = s_z·a[kz], for a = v − origin.
 #[derive(Clone, Copy, Debug)]
 pub struct WatertightRay {
     origin: Vec3A,
-    /// Images of the world x, y and z axes under the permutation and shear.
-    columns: [Vec3A; 3],
+    /// kx, ky, kz.
+    axes: [usize; 3],
+    /// s_x, s_y, s_z.
+    shear: [f32; 3],
 }
 
 /// Where a ray meets a triangle: distance and the barycentric weights of vertices 1 and 2.
@@ -53,25 +51,32 @@ impl WatertightRay {
         }
         // direction[kz] is the largest component of a non-zero vector: never 0.
         let dz = direction[kz];
-        let (sx, sy, sz) = (direction[kx] / dz, direction[ky] / dz, 1.0 / dz);
-        let mut columns = [Vec3A::ZERO; 3];
-        columns[kx].x = 1.0;
-        columns[ky].y = 1.0;
-        columns[kz] = Vec3A::new(-sx, -sy, sz);
-        Self { origin, columns }
+        Self {
+            origin,
+            axes: [kx, ky, kz],
+            shear: [direction[kx] / dz, direction[ky] / dz, 1.0 / dz],
+        }
     }
 
-    /// The shear as the images of the x, y and z axes (for the 4-wide test).
+    /// kx, ky, kz: the permutation that makes the ray's largest component z.
     #[inline(always)]
-    pub fn columns(&self) -> [Vec3A; 3] {
-        self.columns
+    pub fn axes(&self) -> [usize; 3] {
+        self.axes
+    }
+
+    /// s_x, s_y, s_z: the shear constants.
+    #[inline(always)]
+    pub fn shear_constants(&self) -> [f32; 3] {
+        self.shear
     }
 
     /// `v − origin` permuted and sheared: (x', y') for the edge functions, z' for the distance.
     #[inline(always)]
     fn shear(&self, v: Vec3A) -> Vec3A {
-        let a = v - self.origin;
-        self.columns[0] * a.x + self.columns[1] * a.y + self.columns[2] * a.z
+        let a = (v - self.origin).to_array();
+        let [kx, ky, kz] = self.axes;
+        let [sx, sy, sz] = self.shear;
+        Vec3A::new(a[kx] - sx * a[kz], a[ky] - sy * a[kz], sz * a[kz])
     }
 
     /// Intersects triangle (v0, v1, v2); hits with 0 < t < t_max count. Both faces are hit.

@@ -12,7 +12,11 @@
 //! entries: a fixed array serves every tree up to [`FIXED_STACK_DEPTH`] levels, a growable one
 //! the (rare, pathological) deeper trees — nothing is ever dropped.
 
+use std::mem::MaybeUninit;
+
 use glam::{BVec4A, Vec3A, Vec4};
+
+use super::triangle::WatertightRay;
 use obvhs::bvh2::Bvh2;
 
 /// Marks a child slot that holds a leaf (the rest of the value is the quad index).
@@ -64,23 +68,25 @@ pub struct WideRay {
     inv_dir: [Vec4; 3],
     /// Per axis: which of `bounds[axis]` is the near plane (0 = minimum for a positive direction).
     near: [usize; 3],
-    /// The shear of the watertight test, as the images of the x, y, z axes (see
-    /// [`super::triangle::WatertightRay`]), each coefficient splat across lanes.
-    shear: [[Vec4; 3]; 3],
+    /// The watertight test's permutation kx, ky, kz (see [`WatertightRay`]).
+    axes: [usize; 3],
+    /// Its shear constants s_x, s_y, s_z, each splat across lanes.
+    shear: [Vec4; 3],
 }
 
 impl WideRay {
     /// Prepares `origin + t·direction`. `direction` must be finite, non-zero and free of −0.0
     /// (the caller normalises −0.0 to +0.0 so that 1/d and the near-plane choice agree).
     #[inline]
-    pub fn new(origin: Vec3A, direction: Vec3A, shear_columns: [Vec3A; 3]) -> Self {
+    pub fn new(origin: Vec3A, direction: Vec3A, watertight: &WatertightRay) -> Self {
         let inv = direction.recip();
         let splat3 = |v: Vec3A| [Vec4::splat(v.x), Vec4::splat(v.y), Vec4::splat(v.z)];
         Self {
             origin: splat3(origin),
             inv_dir: splat3(inv),
             near: [(inv.x < 0.0) as usize, (inv.y < 0.0) as usize, (inv.z < 0.0) as usize],
-            shear: shear_columns.map(splat3),
+            axes: watertight.axes(),
+            shear: watertight.shear_constants().map(Vec4::splat),
         }
     }
 
@@ -117,20 +123,24 @@ impl TriangleQuad {
             }
         }
         let n = triangles.len();
-        Self { v, lanes: BVec4A::new(n > 0, n > 1, n > 2, n > 3) }
+        Self {
+            v,
+            lanes: BVec4A::new(n > 0, n > 1, n > 2, n > 3),
+        }
     }
 
     /// The closest of the four triangles the ray hits with 0 < t < `t_max`, if any.
     ///
-    /// Lane by lane this is [`super::triangle::WatertightRay::intersect`]: the same sheared
-    /// coordinates (each a sum of exact 1·x, 0·y terms and one product), the same edge functions
-    /// with the same f64 recomputation of exact zeros, the same sign-folded distance test.
+    /// Lane by lane this is [`WatertightRay::intersect`]: the same sheared coordinates, the same
+    /// edge functions with the same f64 recomputation of exact zeros, the same sign-folded
+    /// distance test — bit-identical results.
     #[inline(always)]
     pub fn intersect(&self, ray: &WideRay, t_max: f32) -> Option<QuadHit> {
-        let s = &ray.shear;
+        let [kx, ky, kz] = ray.axes;
+        let [sx, sy, sz] = ray.shear;
         let sheared = |vertex: usize| -> [Vec4; 3] {
             let d = [0, 1, 2].map(|axis| self.v[vertex][axis] - ray.origin[axis]);
-            [0, 1, 2].map(|out| d[0] * s[0][out] + d[1] * s[1][out] + d[2] * s[2][out])
+            [d[kx] - sx * d[kz], d[ky] - sy * d[kz], sz * d[kz]]
         };
         let (a, b, c) = (sheared(0), sheared(1), sheared(2));
         let mut u = c[0] * b[1] - c[1] * b[0];
@@ -191,22 +201,35 @@ trait Stack {
     fn pop(&mut self) -> Option<(u32, f32)>;
 }
 
+/// A 64-entry stack that is not zeroed per ray (512 bytes of memset showed in profiles).
 struct FixedStack {
-    entries: [(u32, f32); FIXED_STACK],
+    entries: [MaybeUninit<(u32, f32)>; FIXED_STACK],
     len: usize,
+}
+
+impl FixedStack {
+    #[inline(always)]
+    fn new() -> Self {
+        Self {
+            entries: [const { MaybeUninit::uninit() }; FIXED_STACK],
+            len: 0,
+        }
+    }
 }
 
 impl Stack for FixedStack {
     #[inline(always)]
     fn push(&mut self, entry: (u32, f32)) {
-        // Capacity 64 ≥ 3·depth + 1 for every tree this stack is used with (checked at build).
-        self.entries[self.len] = entry;
+        // Capacity 64 ≥ 3·depth + 1 for every tree this stack is used with ([`WideBvh::stack`]);
+        // indexing is still bounds-checked, so a wrong bound panics instead of corrupting.
+        self.entries[self.len].write(entry);
         self.len += 1;
     }
     #[inline(always)]
     fn pop(&mut self) -> Option<(u32, f32)> {
         self.len = self.len.checked_sub(1)?;
-        Some(self.entries[self.len])
+        // SAFETY: every index below `len` was written by `push` before `len` passed it.
+        Some(unsafe { self.entries[self.len].assume_init() })
     }
 }
 
@@ -225,13 +248,21 @@ impl WideBvh {
     /// Collapses `bvh2` (leaves of at most four primitives; `triangles[i]` are the vertices of
     /// its primitive i) into a 4-wide tree.
     pub fn from_bvh2(bvh2: &Bvh2, triangles: &[[Vec3A; 3]]) -> Self {
-        let mut out = WideBvh { nodes: Vec::new(), quads: Vec::new(), quad_triangles: Vec::new(), depth: 0 };
+        let mut out = WideBvh {
+            nodes: Vec::new(),
+            quads: Vec::new(),
+            quad_triangles: Vec::new(),
+            depth: 0,
+        };
         if bvh2.nodes.is_empty() {
             return out;
         }
         if bvh2.nodes[0].is_leaf() {
             // A tree of one leaf: a root whose only child is that leaf.
-            out.nodes.push(Node4 { bounds: empty_bounds(), child: [EMPTY; 4] });
+            out.nodes.push(Node4 {
+                bounds: empty_bounds(),
+                child: [EMPTY; 4],
+            });
             out.set_child(0, 0, bvh2, 0, triangles, 1);
         } else {
             out.emit(bvh2, 0, triangles, 1);
@@ -250,7 +281,12 @@ impl WideBvh {
                 .iter()
                 .enumerate()
                 .filter(|(_, &n)| !bvh2.nodes[n].is_leaf())
-                .max_by(|(_, &a), (_, &b)| bvh2.nodes[a].aabb().half_area().total_cmp(&bvh2.nodes[b].aabb().half_area()))
+                .max_by(|(_, &a), (_, &b)| {
+                    bvh2.nodes[a]
+                        .aabb()
+                        .half_area()
+                        .total_cmp(&bvh2.nodes[b].aabb().half_area())
+                })
                 .map(|(i, _)| i);
             let Some(i) = widest else { break };
             let opened = bvh2.nodes[slots[i]].first_index as usize;
@@ -258,7 +294,10 @@ impl WideBvh {
             slots.push(opened + 1);
         }
         let index = self.nodes.len();
-        self.nodes.push(Node4 { bounds: empty_bounds(), child: [EMPTY; 4] });
+        self.nodes.push(Node4 {
+            bounds: empty_bounds(),
+            child: [EMPTY; 4],
+        });
         for (k, &slot) in slots.iter().enumerate() {
             self.set_child(index, k, bvh2, slot, triangles, depth);
         }
@@ -272,7 +311,8 @@ impl WideBvh {
             let prims: Vec<u32> = bvh2.primitive_indices[range].to_vec();
             let tris: Vec<[Vec3A; 3]> = prims.iter().map(|&p| triangles[p as usize]).collect();
             self.quads.push(TriangleQuad::new(&tris));
-            self.quad_triangles.push([0, 1, 2, 3].map(|l| prims.get(l).copied().unwrap_or(EMPTY)));
+            self.quad_triangles
+                .push([0, 1, 2, 3].map(|l| prims.get(l).copied().unwrap_or(EMPTY)));
             LEAF | (self.quads.len() as u32 - 1)
         } else {
             self.emit(bvh2, slot, triangles, depth + 1)
@@ -335,7 +375,7 @@ impl WideBvh {
     #[inline]
     pub fn closest_hit(&self, ray: &WideRay, t_max: f32) -> Option<(u32, QuadHit)> {
         if self.stack() == TraversalStack::Fixed {
-            self.closest_hit_with(ray, t_max, &mut FixedStack { entries: [(0, 0.0); FIXED_STACK], len: 0 })
+            self.closest_hit_with(ray, t_max, &mut FixedStack::new())
         } else {
             self.closest_hit_with(ray, t_max, &mut Vec::new())
         }
@@ -345,7 +385,7 @@ impl WideBvh {
     #[inline]
     pub fn any_hit(&self, ray: &WideRay, t_max: f32) -> bool {
         if self.stack() == TraversalStack::Fixed {
-            self.any_hit_with(ray, t_max, &mut FixedStack { entries: [(0, 0.0); FIXED_STACK], len: 0 })
+            self.any_hit_with(ray, t_max, &mut FixedStack::new())
         } else {
             self.any_hit_with(ray, t_max, &mut Vec::new())
         }

@@ -93,8 +93,11 @@ pub fn pixel_offsets(kind: SamplerKind, seed: u64, x: u32, y: u32, first: u32, o
             );
             for (i, o) in (first..).zip(out.iter_mut()) {
                 let index = nested_uniform_scramble(i, seed_index);
-                let sx = nested_uniform_scramble(index.reverse_bits(), seed_x);
-                let sy = nested_uniform_scramble(sobol_second_dimension(index), seed_y);
+                // Dimension 0 is reverse(index); its scramble reverse(LK(reverse(reverse(index))))
+                // is reverse(LK(index)): two bit reversals saved. Dimension 1 likewise uses the
+                // bit-reversed direction tables, so reverse(sobol2(index)) comes for free.
+                let sx = laine_karras_permutation(index, seed_x).reverse_bits();
+                let sy = laine_karras_permutation(reversed_sobol_second_dimension(index), seed_y).reverse_bits();
                 *o = Vec2::new(unit_float(sx), unit_float(sy));
             }
         }
@@ -108,18 +111,76 @@ pub fn pixel_offsets(kind: SamplerKind, seed: u64, x: u32, y: u32, first: u32, o
     }
 }
 
-/// The second Sobol dimension: direction numbers v_{k+1} = v_k ⊕ (v_k >> 1), v_0 = 2^31.
-fn sobol_second_dimension(mut index: u32) -> u32 {
-    let mut v = 1u32 << 31;
-    let mut result = 0;
-    while index != 0 {
-        if index & 1 != 0 {
-            result ^= v;
-        }
-        index >>= 1;
-        v ^= v >> 1;
+/// Direction numbers of the second Sobol dimension: v_0 = 2^31, v_{k+1} = v_k ⊕ (v_k >> 1).
+const fn sobol_directions() -> [u32; 32] {
+    let mut v = [0u32; 32];
+    v[0] = 1 << 31;
+    let mut k = 1;
+    while k < 32 {
+        v[k] = v[k - 1] ^ (v[k - 1] >> 1);
+        k += 1;
     }
-    result
+    v
+}
+
+/// The second dimension for every value of each byte of the index: entry [b][x] is the XOR of
+/// the direction numbers of the bits set in x, shifted to byte b.
+const SOBOL_BYTE_TABLES: [[u32; 256]; 4] = {
+    let v = sobol_directions();
+    let mut t = [[0u32; 256]; 4];
+    let mut b = 0;
+    while b < 4 {
+        let mut x = 0;
+        while x < 256 {
+            let mut r = 0;
+            let mut bit = 0;
+            while bit < 8 {
+                if x & (1 << bit) != 0 {
+                    r ^= v[8 * b + bit];
+                }
+                bit += 1;
+            }
+            t[b][x] = r;
+            x += 1;
+        }
+        b += 1;
+    }
+    t
+};
+
+/// The second Sobol dimension of `index`: the XOR of v_k over its set bits k, four table
+/// lookups (the scrambled indices use all 32 bits, where a bit loop would take 32 steps).
+#[cfg(test)]
+fn sobol_second_dimension(index: u32) -> u32 {
+    let t = &SOBOL_BYTE_TABLES;
+    t[0][(index & 0xff) as usize]
+        ^ t[1][((index >> 8) & 0xff) as usize]
+        ^ t[2][((index >> 16) & 0xff) as usize]
+        ^ t[3][(index >> 24) as usize]
+}
+
+/// The same tables with every entry bit-reversed (reversal distributes over XOR).
+const REVERSED_SOBOL_BYTE_TABLES: [[u32; 256]; 4] = {
+    let mut t = SOBOL_BYTE_TABLES;
+    let mut b = 0;
+    while b < 4 {
+        let mut x = 0;
+        while x < 256 {
+            t[b][x] = t[b][x].reverse_bits();
+            x += 1;
+        }
+        b += 1;
+    }
+    t
+};
+
+/// reverse(sobol_second_dimension(index)), by the reversed tables.
+fn reversed_sobol_second_dimension(index: u32) -> u32 {
+    let t = &REVERSED_SOBOL_BYTE_TABLES;
+    t[0][(index & 0xff) as usize]
+        ^ t[1][((index >> 8) & 0xff) as usize]
+        ^ t[2][((index >> 16) & 0xff) as usize]
+        ^ t[3][(index >> 24) as usize]
 }
 
 /// Laine–Karras style hash that permutes bits only towards higher positions (Burley 2020, eq. 4
@@ -165,6 +226,23 @@ mod tests {
         let mut v = vec![Vec2::ZERO; spp];
         pixel_offsets(kind, 7, x, y, 0, &mut v);
         v
+    }
+
+    #[test]
+    fn second_dimension_tables_match_the_direction_numbers() {
+        let v = sobol_directions();
+        for index in [0u32, 1, 2, 3, 255, 256, 0x1234_5678, u32::MAX] {
+            let by_bits = (0..32).filter(|k| index & (1 << k) != 0).fold(0, |r, k| r ^ v[k]);
+            assert_eq!(sobol_second_dimension(index), by_bits, "{index:#x}");
+        }
+        // The first points of the (unscrambled) sequence: 0, 1/2, 3/4, 1/4.
+        assert_eq!([0, 1, 2, 3].map(sobol_second_dimension), [0, 1 << 31, 3 << 30, 1 << 30]);
+        for index in [7u32, 0xdead_beef] {
+            assert_eq!(
+                reversed_sobol_second_dimension(index),
+                sobol_second_dimension(index).reverse_bits()
+            );
+        }
     }
 
     #[test]
