@@ -24,6 +24,9 @@ pub struct ConvergenceArgs {
     /// pointshade samplers (comma-separated): sobol, adaptive, grid, independent.
     #[arg(long, default_value = "sobol,adaptive")]
     sampler: String,
+    /// Threshold of the adaptive sampler (default: the scene's, 0.01 unless it sets one).
+    #[arg(long)]
+    adaptive_threshold: Option<f32>,
     /// Repeats per point; the median time is kept.
     #[arg(long, default_value_t = 3)]
     repeats: u32,
@@ -88,6 +91,7 @@ pub fn run_command(args: ConvergenceArgs) -> Result<(), InputError> {
         samplers,
         repeats: args.repeats,
         shadow_offset,
+        adaptive_threshold: args.adaptive_threshold,
         mitsuba,
         out: args.out.clone(),
     };

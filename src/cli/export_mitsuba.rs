@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use crate::cli::option_error;
 use crate::error::InputError;
+use crate::film::SamplerKind;
 use crate::output::write_all_or_nothing;
 use crate::scene;
 use crate::validation::mitsuba::{export, BsdfChoice};
@@ -19,6 +20,9 @@ pub struct ExportArgs {
     /// Samples per pixel (default: the scene's).
     #[arg(long)]
     spp: Option<u32>,
+    /// Sampler (default: the scene's): grid → Mitsuba's stratified without jitter, independent.
+    #[arg(long)]
+    sampler: Option<String>,
     /// Also write one file per light (OUTPUT with .lightK.xml), for deterministic references.
     #[arg(long)]
     per_light: bool,
@@ -30,10 +34,13 @@ pub struct ExportArgs {
 /// Runs `pointshade export-mitsuba`.
 pub fn run(args: ExportArgs) -> Result<(), InputError> {
     let mut scene = scene::load(&args.scene)?;
+    if let Some(name) = &args.sampler {
+        scene.film.sampler = SamplerKind::parse(name).map_err(|e| option_error("--sampler", e))?;
+    }
     if let Some(spp) = args.spp {
         scene.film.spp = spp;
-        scene.film.validate().map_err(|e| option_error("--spp", e))?;
     }
+    scene.film.validate().map_err(|e| option_error("--spp", e))?;
     let choice = if args.plugin_everywhere {
         BsdfChoice::PluginEverywhere
     } else {

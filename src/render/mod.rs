@@ -137,6 +137,7 @@ fn assemble(region: PixelRect, tiles: &[PixelRect], parts: Vec<PixelSums>, aovs:
             let (x, y) = (t.x0 + i as u32 % t.width(), t.y0 + i as u32 / t.width());
             let at = ((y - region.y0) * region.width() + (x - region.x0)) as usize;
             all.radiance[at] = *v;
+            all.surface[at] = part.surface[i];
             for k in 0..aovs {
                 all.aovs[k][at] = part.aovs[k][i];
             }

@@ -34,6 +34,9 @@ pub struct PixelSums {
     pub radiance: Vec<Vec3>,
     /// One buffer per requested AOV, in the plan's order.
     pub aovs: Vec<Vec<Vec3>>,
+    /// What the last sample of each slot hit: 0 = nothing, m + 1 = a surface of material m
+    /// (the adaptive sampler compares neighbours' centre samples with it).
+    pub surface: Vec<u32>,
 }
 
 impl PixelSums {
@@ -42,6 +45,7 @@ impl PixelSums {
         Self {
             radiance: vec![Vec3::ZERO; pixels],
             aovs: vec![vec![Vec3::ZERO; pixels]; aovs],
+            surface: vec![0; pixels],
         }
     }
 }
@@ -136,6 +140,7 @@ impl<'a> Context<'a> {
         let mut rays = 0u64;
         for SurfaceSample(s) in scratch.iter() {
             sums.radiance[s.slot as usize] += self.shader.shade(&s.point, &mut rays);
+            sums.surface[s.slot as usize] = s.point.material + 1;
         }
         for (k, aov) in plan.aovs.iter().enumerate() {
             for SurfaceSample(s) in scratch.iter() {

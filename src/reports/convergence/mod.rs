@@ -62,6 +62,8 @@ pub struct Sweep {
     pub repeats: u32,
     /// Shadow-ray offset of pointshade's renders (`mitsuba` when comparing with Mitsuba).
     pub shadow_offset: ShadowOffset,
+    /// The adaptive sampler's threshold, if not the scene's.
+    pub adaptive_threshold: Option<f32>,
     /// Run Mitsuba's grid and independent samplers too.
     pub mitsuba: Option<MitsubaRunner>,
     /// Folder for the outputs (and Mitsuba's scene files).
@@ -87,6 +89,9 @@ fn load(sweep: &Sweep, sampler: SamplerKind, spp: u32) -> InputResult<Scene> {
     scene.film.sampler = sampler;
     scene.film.spp = spp;
     scene.shadow_offset = sweep.shadow_offset;
+    if let Some(t) = sweep.adaptive_threshold {
+        scene.film.adaptive_threshold = t;
+    }
     scene.film.validate().map_err(|e| InputError::new(&sweep.scene, e))?;
     Ok(scene)
 }
