@@ -1,6 +1,7 @@
 //! BVH build time and primary/shadow ray throughput on the Stanford dragon, per obvhs preset.
 //!
-//! `cargo bench --bench rays` prints a table (medians of 5 runs; `--quick`: 1 run, two presets).
+//! `cargo bench --bench rays` prints a table (medians of 9 runs after one warm-up run; `--quick`:
+//! 1 run, two presets).
 //! Rays are traced through the real pipeline pieces: the automatic camera, `Bvh::intersect`
 //! for primary rays, and the shader's shadow-ray construction + `Bvh::any_hit`.
 
@@ -44,7 +45,7 @@ fn main() {
         LightKind::Point { position } => position,
         _ => unreachable!(),
     };
-    let runs = if quick { 1 } else { 5 };
+    let runs = if quick { 1 } else { 9 };
     let presets: &[BvhPreset] = if quick {
         &[BvhPreset::Fast, BvhPreset::Medium]
     } else {
@@ -102,6 +103,8 @@ fn main() {
             .collect();
         let rate = |n: usize, d: Duration| n as f64 / d.as_secs_f64() / 1e6;
         let time = |f: &dyn Fn() -> usize| {
+            // One untimed run first: the clock ramps up and caches fill.
+            std::hint::black_box(f());
             median(
                 (0..runs)
                     .map(|_| {
