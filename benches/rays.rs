@@ -5,6 +5,9 @@
 //! Rays are traced through the real pipeline pieces: the automatic camera, `Bvh::intersect`
 //! for primary rays, and the shader's shadow-ray construction + `Bvh::any_hit`.
 
+mod common;
+
+use common::median;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
@@ -20,11 +23,6 @@ use pointshade::shading::shadow::ShadowRay;
 use pointshade::surface::camera::Camera;
 
 const SIZE: u32 = 512;
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");

@@ -5,6 +5,9 @@
 //! (`--quick`: 1 run instead of 5). The surface and shading columns are summed over threads, as
 //! the CLI reports them. Scenes from ../shared/data are skipped with a warning when it is absent.
 
+mod common;
+
+use common::median;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -14,11 +17,6 @@ use pointshade::render::render;
 use pointshade::scene;
 
 const SIZE: u32 = 512;
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");

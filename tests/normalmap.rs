@@ -5,6 +5,8 @@
 //! written here (it does not call the shader or the BRDF module). Tests that need
 //! ../shared/data print SKIPPED and return when it is absent.
 
+mod support;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -17,18 +19,7 @@ use pointshade::surface::normal_image::{TpScaling, Viewer};
 const BRDFS: [&str; 3] = ["lambert", "blinn-phong", "cook-torrance"];
 
 fn shared_normal_map(name: &str) -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data/normalmaps")
-        .join(name);
-    if p.is_file() {
-        Some(p)
-    } else {
-        eprintln!(
-            "SKIPPED: {} is missing; this test needs the shared test data",
-            p.display()
-        );
-        None
-    }
+    support::shared_data("normalmaps").map(|dir| dir.join(name))
 }
 
 /// A scratch directory, removed on drop.
