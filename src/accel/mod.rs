@@ -1,16 +1,15 @@
-//! Acceleration: an obvhs CWBVH over the scene's triangles, traversed with a watertight test.
+//! Acceleration: a BVH over the scene's triangles — built by obvhs, traversed by pointshade as a
+//! 4-wide SIMD tree ([`wide`]) with a watertight ray/triangle test ([`triangle`]).
 //!
-//! Two choices shape this module:
-//! - **Power-of-two rescaling.** obvhs clamps the entry distance of every node to 1e-4 (an
-//!   absolute distance), which would cull geometry in scenes measured in micrometres and contact
-//!   occluders at any scale. The BVH therefore lives in "BVH space" = world × 2^e, with e chosen so
-//!   the scene's bounding-box diagonal is about 256. Multiplying by a power of two is exact in
-//!   floating point, so nothing is lost; distances come back divided by the same factor.
-//! - **Leaf-ordered triangles.** Triangle vertices are copied in the order the BVH's leaves
-//!   reference them, so traversal reads memory linearly and needs no index indirection.
-//! - **No lost subtrees.** obvhs's traversal stack has 32 entries and overwrites silently when
-//!   full; the build measures the BVH's depth and traverses deep BVHs with a growable stack
-//!   ([`traversal`]).
+//! Choices that shape this module:
+//! - **Power-of-two rescaling.** The BVH lives in "BVH space" = world × 2^e, with e chosen so the
+//!   scene's bounding-box diagonal is about 256, so the leaf-box padding and every absolute
+//!   tolerance mean the same at any scene scale. Multiplying by a power of two is exact in
+//!   floating point; distances come back divided by the same factor.
+//! - **Leaf-ordered triangles.** Triangle vertices are copied into the leaves' SIMD quads in
+//!   traversal order, so traversal reads memory linearly and needs no index indirection.
+//! - **No lost subtrees.** Deep trees (which PLOC builds for geometric chains) are traversed with
+//!   a growable stack ([`TraversalStack`]); padded leaf boxes keep rays through shared vertices.
 
 pub mod triangle;
 pub mod wide;
@@ -202,10 +201,11 @@ impl Occluder for Bvh {
 /// `direction` with every −0.0 component turned into +0.0 (x + 0.0 does exactly that and leaves
 /// every other value unchanged).
 ///
-/// obvhs's CWBVH traversal orders children by the direction's octant, taken from `d < 0` (false
-/// for −0.0), but intersects node slabs with 1/d (−∞ for −0.0): the two disagree and whole
-/// subtrees are culled. Directions like −(0, −a, −a) of a light are common, so this is not rare:
-/// Mitsuba validation caught shadows missing under a directional light.
+/// Traversal decides a slab's near plane from a sign and intersects it with 1/d; for −0.0 the two
+/// must agree, and with +0.0 they do by construction. (obvhs's CWBVH traversal, used before,
+/// took the sign from `d < 0` but divided by −0.0, and culled whole subtrees: Mitsuba validation
+/// caught shadows missing under a directional light of direction (0, −1, −1). The regression
+/// test stays.)
 #[inline(always)]
 fn without_negative_zeros(direction: Vec3) -> Vec3A {
     Vec3A::from(direction) + Vec3A::ZERO
