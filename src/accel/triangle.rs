@@ -10,7 +10,7 @@ use glam::Vec3A;
 /// A ray prepared for the watertight test: the axis permutation and the shear constants.
 ///
 /// Woop et al. permute the axes so that the ray's largest component is z (kz), then shear:
-/// x' = a[kx] − s_x·a[kz], y' = a[ky] − s_y·a[kz], z' = s_z·a[kz], for a = v − origin.
+/// `x' = a[kx] − s_x·a[kz]`, `y' = a[ky] − s_y·a[kz]`, `z' = s_z·a[kz]`, for `a = v − origin`.
 #[derive(Clone, Copy, Debug)]
 pub struct WatertightRay {
     origin: Vec3A,
