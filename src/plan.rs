@@ -87,8 +87,10 @@ pub struct RenderPlan {
     pub aovs: Vec<Aov>,
     /// Every decision, for `--explain`.
     pub stages: Vec<StageDecision>,
-    /// Primary rays that will be traced.
+    /// Primary rays the render traces: exactly, for fixed sampling; at most, for adaptive.
     pub primary_rays: u64,
+    /// The adaptive sampler decides per pixel how many samples it takes.
+    pub adaptive: bool,
     /// Upper bound on shadow rays (one per primary hit and light in front of the surface).
     pub max_shadow_rays: u64,
     /// How the shader forms its dot products.
@@ -215,11 +217,7 @@ impl RenderPlan {
                 format!("requested: {aov_list}")
             },
         );
-        let primary_rays = if trace_rays {
-            scene.film.pixel_count() as u64 * scene.film.spp as u64
-        } else {
-            0
-        };
+        let primary_rays = if trace_rays { primary_ray_bound(&scene.film) } else { 0 };
         let max_shadow_rays = if shadows {
             primary_rays * scene.lights.len() as u64
         } else {
@@ -236,6 +234,7 @@ impl RenderPlan {
             aovs: if trace_rays { aovs.to_vec() } else { Vec::new() },
             stages,
             primary_rays,
+            adaptive: scene.film.sampler == crate::film::SamplerKind::Adaptive,
             max_shadow_rays,
             convention: ShadingConvention::Physical,
         }
@@ -298,6 +297,7 @@ impl RenderPlan {
             aovs: Vec::new(),
             stages,
             primary_rays: 0,
+            adaptive: false,
             max_shadow_rays: 0,
             convention,
         }
@@ -335,9 +335,10 @@ impl RenderPlan {
                 d.why
             );
         }
+        let bound = if self.adaptive { "at most " } else { "" };
         let _ = writeln!(
             s,
-            "  rays: {} primary, at most {} shadow",
+            "  rays: {bound}{} primary, at most {} shadow",
             self.primary_rays, self.max_shadow_rays
         );
         s
@@ -380,4 +381,17 @@ fn texture_summary(used: &[&Material], scene: &Scene) -> String {
         images.len(),
         images.join(", ")
     )
+}
+
+/// Camera rays a render of `film` traces: spp per pixel of the rendered region; with the adaptive
+/// sampler at most that, plus one centre sample per pixel of the region and its two-pixel apron.
+fn primary_ray_bound(film: &crate::film::FilmSettings) -> u64 {
+    let r = film.region();
+    let pixels = r.width() as u64 * r.height() as u64;
+    if film.sampler != crate::film::SamplerKind::Adaptive {
+        return pixels * film.spp as u64;
+    }
+    let apron = (r.x1.saturating_add(2).min(film.width) - r.x0.saturating_sub(2)) as u64
+        * (r.y1.saturating_add(2).min(film.height) - r.y0.saturating_sub(2)) as u64;
+    apron + pixels * film.spp as u64
 }
