@@ -10,6 +10,7 @@ use std::time::Instant;
 use glam::{Vec2, Vec3};
 
 use crate::accel::Bvh;
+use crate::film::SamplerKind;
 use crate::plan::{Aov, RenderPlan};
 use crate::scene::Scene;
 use crate::shading::shader::Shader;
@@ -80,6 +81,10 @@ pub struct Context<'a> {
     bvh: Option<&'a Bvh>,
     shader: Shader<'a, Bvh>,
     size: Vec2,
+    /// The depth AOV was asked for (the only reader of a sample's distance from the camera).
+    depth_aov: bool,
+    /// The adaptive sampler reads what each centre sample hit.
+    record_surface: bool,
     /// Counters and stage times.
     pub counters: Counters,
 }
@@ -104,6 +109,8 @@ impl<'a> Context<'a> {
                 shadow_offset: scene.shadow_offset,
             },
             size: Vec2::new(film.width as f32, film.height as f32),
+            depth_aov: plan.aovs.contains(&Aov::Depth),
+            record_surface: film.sampler == SamplerKind::Adaptive,
             counters: Counters::default(),
         })
     }
@@ -124,7 +131,12 @@ impl<'a> Context<'a> {
                     if plan.normal_textures {
                         apply_normal_texture(&mut point, &scene.mesh, &hit, &scene.materials, &scene.textures);
                     }
-                    let depth = hit.t + (ray.origin - scene.camera.position).length();
+                    // Decided once per render: no square root per hit unless the AOV is written.
+                    let depth = if self.depth_aov {
+                        hit.t + (ray.origin - scene.camera.position).length()
+                    } else {
+                        0.0
+                    };
                     scratch.push(SurfaceSample(Sample {
                         slot: job.slot,
                         point,
@@ -140,7 +152,11 @@ impl<'a> Context<'a> {
         let mut rays = 0u64;
         for SurfaceSample(s) in scratch.iter() {
             sums.radiance[s.slot as usize] += self.shader.shade(&s.point, &mut rays);
-            sums.surface[s.slot as usize] = s.point.material + 1;
+        }
+        if self.record_surface {
+            for SurfaceSample(s) in scratch.iter() {
+                sums.surface[s.slot as usize] = s.point.material + 1;
+            }
         }
         for (k, aov) in plan.aovs.iter().enumerate() {
             for SurfaceSample(s) in scratch.iter() {
