@@ -6,11 +6,12 @@
 
 use std::path::{Path, PathBuf};
 
+use pointshade::film::SamplerKind;
 use pointshade::output::read_linear;
 use pointshade::shading::shadow::ShadowOffset;
 use pointshade::validation::compare::compare;
 use pointshade::validation::mitsuba::{export, BsdfChoice};
-use pointshade::validation::run::{load_for_validation, meets_thresholds, render_ours, TOLERANCE};
+use pointshade::validation::run::{load_sampled, meets_thresholds, render_ours, TOLERANCE};
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -32,9 +33,9 @@ fn check(scene: &Path) -> bool {
     let reference_path = root().join("validation/references").join(format!("{name}.exr"));
     let reference = read_linear(&reference_path)
         .unwrap_or_else(|e| panic!("{e}: every validation scene needs a committed reference (pointshade validate --update-references validation/references)"));
-    let s = load_for_validation(scene, 1).unwrap();
+    let s = load_sampled(scene, SamplerKind::Grid, 1).unwrap();
     let exact = export(&s, 1, BsdfChoice::NativeWhereExact).differences.is_empty();
-    let (ours, _) = render_ours(&s, ShadowOffset::Mitsuba).unwrap();
+    let ours = render_ours(&s, ShadowOffset::Mitsuba).unwrap().0.image;
     let c = compare(&ours, &reference, TOLERANCE, 3);
     eprintln!(
         "{name:<26} {:.3}% within {TOLERANCE:.0e}, mean relative error {:.2e}{}",

@@ -13,7 +13,7 @@ use crate::error::{InputError, InputResult};
 use crate::film::{Image, SamplerKind};
 use crate::output::{encode, read_linear, write_all_or_nothing, Format};
 use crate::plan::RenderPlan;
-use crate::render::render_scene;
+use crate::render::{render_scene, Rendered};
 use crate::scene::{self, Scene};
 use crate::shading::shadow::ShadowOffset;
 use crate::validation::compare::{compare, Comparison};
@@ -58,7 +58,7 @@ impl MitsubaRunner {
 
     /// Renders `xml_files` and writes their sum to `out`; returns the variant and the seconds
     /// Mitsuba spent loading and rendering (Python start-up excluded).
-    pub fn render(&self, xml_files: &[PathBuf], out: &Path) -> InputResult<MitsubaTiming> {
+    fn render(&self, xml_files: &[PathBuf], out: &Path) -> InputResult<MitsubaTiming> {
         let output = Command::new(&self.python)
             .arg(&self.script)
             .arg("--out")
@@ -78,6 +78,51 @@ impl MitsubaRunner {
         }
         MitsubaTiming::parse(&stdout)
             .ok_or_else(|| InputError::new(&self.script, format!("unexpected output: {stdout}")))
+    }
+}
+
+/// An export's per-light scenes written to disk, ready for Mitsuba to render and sum.
+#[derive(Clone, Debug)]
+pub struct MitsubaJob {
+    xmls: Vec<PathBuf>,
+    size: (u32, u32),
+}
+
+impl MitsubaJob {
+    /// Writes `per_light` (one XML scene per light, [`export`]'s `per_light`) as
+    /// `{stem}.light{k}.xml`, for a film of `size`.
+    pub fn write(per_light: &[String], stem: &Path, size: (u32, u32)) -> InputResult<Self> {
+        let files: Vec<(PathBuf, Vec<u8>)> = per_light
+            .iter()
+            .enumerate()
+            .map(|(k, xml)| {
+                (
+                    PathBuf::from(format!("{}.light{k}.xml", stem.display())),
+                    xml.clone().into_bytes(),
+                )
+            })
+            .collect();
+        write_all_or_nothing(&files)?;
+        Ok(Self {
+            xmls: files.into_iter().map(|(p, _)| p).collect(),
+            size,
+        })
+    }
+}
+
+impl MitsubaRunner {
+    /// Renders `job` (its lights summed) into `out`. A scene without lights is black in both
+    /// renderers: the black image is written without running Mitsuba.
+    pub fn render_job(&self, job: &MitsubaJob, out: &Path) -> InputResult<MitsubaTiming> {
+        if job.xmls.is_empty() {
+            write_image(out, &Image::new(job.size.0, job.size.1))?;
+            return Ok(MitsubaTiming {
+                variant: "none (no lights)".into(),
+                load: Duration::ZERO,
+                render: Duration::ZERO,
+            });
+        }
+        self.render(&job.xmls, out)
     }
 }
 
@@ -174,23 +219,24 @@ pub fn meets_thresholds(c: &Comparison) -> bool {
     c.within_tolerance >= REQUIRED_WITHIN && c.mean_relative_error <= REQUIRED_MEAN_RELATIVE_ERROR
 }
 
-/// Loads `path` for validation: grid sampler, the given spp.
-pub fn load_for_validation(path: &Path, spp: u32) -> InputResult<Scene> {
+/// Loads `path` with its sampler and spp replaced (and checked).
+pub fn load_sampled(path: &Path, sampler: SamplerKind, spp: u32) -> InputResult<Scene> {
     let mut scene = scene::load(path)?;
-    scene.film.sampler = SamplerKind::Grid;
+    scene.film.sampler = sampler;
     scene.film.spp = spp;
     scene.film.validate().map_err(|e| InputError::new(path, e))?;
     Ok(scene)
 }
 
-/// Renders `scene` with pointshade using `offset`; returns the image and the time taken.
-pub fn render_ours(scene: &Scene, offset: ShadowOffset) -> InputResult<(Image, Duration)> {
+/// Renders `scene` with pointshade using `offset`; returns the render and the time its plan,
+/// BVH and render took.
+pub fn render_ours(scene: &Scene, offset: ShadowOffset) -> InputResult<(Rendered, Duration)> {
     let mut scene = scene.clone();
     scene.shadow_offset = offset;
     let start = Instant::now();
     let plan = RenderPlan::new(&scene, &[]);
     let rendered = render_scene(&scene, &plan, &|_| {}).map_err(|e| InputError::new(&scene.source, e))?;
-    Ok((rendered.image, start.elapsed()))
+    Ok((rendered, start.elapsed()))
 }
 
 /// Validates one scene at pixel centres and on a `grid`×`grid` grid, writing the files of the
@@ -220,40 +266,23 @@ pub fn validate_scene(
         plugin_check: None,
     };
     for spp in counts {
-        let scene = load_for_validation(path, spp)?;
+        let scene = load_sampled(path, SamplerKind::Grid, spp)?;
         let exported = export(&scene, spp, BsdfChoice::NativeWhereExact);
         result.differences = exported.differences.clone();
         result.material_notes = exported.material_notes.clone();
-        let mut files = Vec::new();
-        let mut xml_paths = Vec::new();
-        for (k, xml) in exported.per_light.iter().enumerate() {
-            let p = dir.join(format!("mitsuba-spp{spp}.light{k}.xml"));
-            files.push((p.clone(), xml.clone().into_bytes()));
-            xml_paths.push(p);
-        }
-        files.push((dir.join(format!("mitsuba-spp{spp}.xml")), exported.scene.into_bytes()));
-        write_all_or_nothing(&files)?;
+        write_all_or_nothing(&[(dir.join(format!("mitsuba-spp{spp}.xml")), exported.scene.into_bytes())])?;
+        let size = (scene.film.width, scene.film.height);
+        let job = MitsubaJob::write(&exported.per_light, &dir.join(format!("mitsuba-spp{spp}")), size)?;
         let reference_path = dir.join(format!("mitsuba-spp{spp}.exr"));
-        let timing = if xml_paths.is_empty() {
-            // No lights: Mitsuba's image is black, as ours.
-            let black = Image::new(scene.film.width, scene.film.height);
-            write_image(&reference_path, &black)?;
-            MitsubaTiming {
-                variant: "none (no lights)".into(),
-                load: Duration::ZERO,
-                render: Duration::ZERO,
-            }
-        } else {
-            mitsuba.render(&xml_paths, &reference_path)?
-        };
+        let timing = mitsuba.render_job(&job, &reference_path)?;
         let reference = read_linear(&reference_path)?;
-        if spp == 1 && exported.material_notes.iter().any(|n| n.contains("exact)")) && !xml_paths.is_empty() {
+        if spp == 1 && exported.material_notes.iter().any(|n| n.contains("exact)")) && !exported.per_light.is_empty() {
             result.plugin_check = Some(plugin_against_native(&scene, &dir, mitsuba, &reference)?);
         }
         let mut ours = Vec::new();
         let mut heat = Vec::new();
         for offset in [ShadowOffset::Mitsuba, ShadowOffset::ErrorBound] {
-            let (image, time) = render_ours(&scene, offset)?;
+            let (Rendered { image, .. }, time) = render_ours(&scene, offset)?;
             let comparison = compare(&image, &reference, TOLERANCE, 8);
             let stem = format!("ours-spp{spp}-{}", offset.name());
             write_image(&dir.join(format!("{stem}.exr")), &image)?;
@@ -291,14 +320,10 @@ fn plugin_against_native(
     native: &Image,
 ) -> InputResult<Comparison> {
     let exported = export(scene, 1, BsdfChoice::PluginEverywhere);
-    let mut files = Vec::new();
-    for (k, xml) in exported.per_light.iter().enumerate() {
-        files.push((dir.join(format!("plugin-spp1.light{k}.xml")), xml.clone().into_bytes()));
-    }
-    write_all_or_nothing(&files)?;
-    let paths: Vec<PathBuf> = files.into_iter().map(|(p, _)| p).collect();
+    let size = (scene.film.width, scene.film.height);
+    let job = MitsubaJob::write(&exported.per_light, &dir.join("plugin-spp1"), size)?;
     let out = dir.join("plugin-spp1.exr");
-    mitsuba.render(&paths, &out)?;
+    mitsuba.render_job(&job, &out)?;
     Ok(compare(&read_linear(&out)?, native, TOLERANCE, 3))
 }
 

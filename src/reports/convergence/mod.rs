@@ -15,13 +15,11 @@ use std::time::{Duration, Instant};
 use crate::error::{InputError, InputResult};
 use crate::film::{Image, SamplerKind};
 use crate::output::{encode, write_all_or_nothing, Format};
-use crate::plan::RenderPlan;
-use crate::render::render_scene;
-use crate::scene::{self, Scene};
+use crate::scene::Scene;
 use crate::shading::shadow::ShadowOffset;
 use crate::validation::compare::compare;
 use crate::validation::mitsuba::{export, BsdfChoice};
-use crate::validation::run::MitsubaRunner;
+use crate::validation::run::{load_sampled, render_ours, MitsubaJob, MitsubaRunner};
 
 /// Relative tolerance of the "within" column.
 pub const TOLERANCE: f32 = 1e-3;
@@ -85,14 +83,11 @@ fn median(v: &[f64]) -> f64 {
 }
 
 fn load(sweep: &Sweep, sampler: SamplerKind, spp: u32) -> InputResult<Scene> {
-    let mut scene = scene::load(&sweep.scene)?;
-    scene.film.sampler = sampler;
-    scene.film.spp = spp;
-    scene.shadow_offset = sweep.shadow_offset;
+    let mut scene = load_sampled(&sweep.scene, sampler, spp)?;
     if let Some(t) = sweep.adaptive_threshold {
         scene.film.adaptive_threshold = t;
+        scene.film.validate().map_err(|e| InputError::new(&sweep.scene, e))?;
     }
-    scene.film.validate().map_err(|e| InputError::new(&sweep.scene, e))?;
     Ok(scene)
 }
 
@@ -100,8 +95,7 @@ fn load(sweep: &Sweep, sampler: SamplerKind, spp: u32) -> InputResult<Scene> {
 fn render_once(sweep: &Sweep, sampler: SamplerKind, spp: u32) -> InputResult<(Image, f64, Duration)> {
     let start = Instant::now();
     let scene = load(sweep, sampler, spp)?;
-    let plan = RenderPlan::new(&scene, &[]);
-    let rendered = render_scene(&scene, &plan, &|_| {}).map_err(|e| InputError::new(&sweep.scene, e))?;
+    let (rendered, _) = render_ours(&scene, sweep.shadow_offset)?;
     let elapsed = start.elapsed();
     let pixels = (rendered.image.width * rendered.image.height) as f64;
     Ok((rendered.image, rendered.stats.primary_rays as f64 / pixels, elapsed))
@@ -180,19 +174,12 @@ pub fn run(sweep: &Sweep, reference: &Reference, progress: &mut dyn FnMut(&Point
                 }
                 let scene = load(sweep, sampler, spp)?;
                 let exported = export(&scene, spp, BsdfChoice::NativeWhereExact);
-                let mut files = Vec::new();
-                for (k, xml) in exported.per_light.iter().enumerate() {
-                    files.push((
-                        sweep.out.join(format!("mitsuba-{}-{spp}.light{k}.xml", sampler.name())),
-                        xml.clone().into_bytes(),
-                    ));
-                }
-                write_all_or_nothing(&files)?;
-                let xmls: Vec<PathBuf> = files.into_iter().map(|(p, _)| p).collect();
-                let out = sweep.out.join(format!("mitsuba-{}-{spp}.exr", sampler.name()));
+                let stem = sweep.out.join(format!("mitsuba-{}-{spp}", sampler.name()));
+                let job = MitsubaJob::write(&exported.per_light, &stem, (scene.film.width, scene.film.height))?;
+                let out = stem.with_extension("exr");
                 let mut times = Vec::new();
                 for _ in 0..sweep.repeats.max(1) {
-                    let t = mitsuba.render(&xmls, &out)?;
+                    let t = mitsuba.render_job(&job, &out)?;
                     times.push((t.load + t.render).as_secs_f64());
                 }
                 let image = crate::output::read_linear(&out)?;
