@@ -174,11 +174,6 @@ impl Bvh {
             .any_hit(&WideRay::new(origin, direction, &shear), t_max * self.scale)
     }
 
-    /// Number of primitives the BVH references (every triangle with an area, once).
-    pub fn primitive_count(&self) -> usize {
-        self.wide.primitive_count()
-    }
-
     /// World length of one BVH-space unit (about the scene's size / 200): the unit the
     /// shadow-ray offset is measured in.
     pub fn scene_unit(&self) -> f32 {

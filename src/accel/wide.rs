@@ -366,11 +366,6 @@ impl WideBvh {
         self.quad_triangles[quad as usize][lane]
     }
 
-    /// Number of primitive references (each input triangle once).
-    pub fn primitive_count(&self) -> usize {
-        self.quad_triangles.iter().flatten().filter(|&&p| p != EMPTY).count()
-    }
-
     /// The closest hit with 0 < t < `t_max`: (quad, lane, t).
     #[inline]
     pub fn closest_hit(&self, ray: &WideRay, t_max: f32) -> Option<(u32, QuadHit)> {

@@ -48,9 +48,16 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
     let at = |x: u32, y: u32| ((y - apron.y0) * apron.width() + (x - apron.x0)) as usize;
     let centre_at = |x: u32, y: u32| (centre.radiance[at(x, y)], centre.surface[at(x, y)]);
     let bent_area = grow(region, 1);
-    let bent: Vec<(bool, f32)> = (bent_area.y0..bent_area.y1)
-        .flat_map(|y| (bent_area.x0..bent_area.x1).map(move |x| (x, y)))
-        .map(|(x, y)| neighbourhood(&centre_at, film.width, film.height, x, y, film.adaptive_threshold))
+    // One decision per pixel, in parallel (an indexed collect keeps the row-major order).
+    let bent: Vec<(bool, f32)> = (0..bent_area.width() * bent_area.height())
+        .into_par_iter()
+        .map(|i| {
+            let (x, y) = (
+                bent_area.x0 + i % bent_area.width(),
+                bent_area.y0 + i / bent_area.width(),
+            );
+            neighbourhood(&centre_at, film.width, film.height, x, y, film.adaptive_threshold)
+        })
         .collect();
     let bent_at = |x: u32, y: u32| bent[((y - bent_area.y0) * bent_area.width() + (x - bent_area.x0)) as usize];
     let active_at = |x: u32, y: u32| {
