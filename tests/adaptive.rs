@@ -40,7 +40,9 @@ fn smooth_pixels_take_one_sample_and_edges_take_more() {
         maxed > 20,
         "silhouette and shadow-edge pixels take the most samples: {maxed}"
     );
-    assert!(mean < 4.0, "mean spp {mean}");
+    // A refined pixel takes at least 16 samples; at this small size the edge bands are a large
+    // share of the image, so the mean is far below 64 but not below 4.
+    assert!(mean < 8.0, "mean spp {mean}");
     // The sphere's lit interior (smooth Lambert shading) keeps one sample; a row across its
     // silhouette reaches many.
     let at = |x: u32, y: u32| counts[(y * 128 + x) as usize];
