@@ -3,7 +3,7 @@
 //! (f(ω_i, ω_o) = f(ω_o, ω_i)); Lambert's white furnace returns k_d·albedo; the normalised
 //! Cook-Torrance lobes (Smith masking, F ≤ 1) never reflect more than they receive.
 
-use pointshade::shading::brdf::{FresnelTerm, LocalDots, MaskingShadowing, MicrofacetDistribution, Real};
+use pointshade::shading::brdf::{FresnelTerm, LocalDots, MaskingShadowing, MicrofacetDistribution, Scalar};
 use pointshade::shading::material::{BlinnPhong, CookTorrance, Material, Specular};
 use proptest::prelude::*;
 use std::f64::consts::PI;
@@ -68,7 +68,7 @@ fn any_material() -> impl Strategy<Value = Material> {
     ]
 }
 
-fn eval<R: Real>(m: &Material, n: [f64; 3], wi: [f64; 3], wo: [f64; 3]) -> Option<[f64; 3]> {
+fn eval<R: Scalar>(m: &Material, n: [f64; 3], wi: [f64; 3], wo: [f64; 3]) -> Option<[f64; 3]> {
     let c = |v: [f64; 3]| v.map(|x| R::lit(x as f32 as f64));
     LocalDots::from_unit_vectors(c(n), c(wi), c(wo)).map(|d| m.eval(&d).map(|v| v.as_f64()))
 }

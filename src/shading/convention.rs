@@ -39,7 +39,7 @@ impl ShadingConvention {
 
 /// The dot products of the assignment's convention at one point for one light.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AssignmentDots<R> {
+pub struct AssignmentDots<R: Real> {
     /// n·ω_i, n·ω_o, n·ω_h, ω_i·ω_h, each clamped to [0, 1]; the last two are 0 when there is no
     /// half vector.
     pub dots: LocalDots<R>,
@@ -47,7 +47,7 @@ pub struct AssignmentDots<R> {
     /// vector) and when ω_i + ω_o = 0, where ω_h = (ω_i + ω_o)/‖ω_i + ω_o‖ is 0/0 — the light
     /// and the viewer lie on the same ray from the point. Without it the shader adds only the
     /// diffuse part (a specular lobe has no half vector to be evaluated at; see README.md).
-    pub half_vector: bool,
+    pub half_vector: R::Mask,
 }
 
 #[inline(always)]
@@ -85,22 +85,19 @@ pub fn assignment_dots<R: Real>(
     } else {
         R::zero()
     };
-    if !(len > R::zero()) {
-        return AssignmentDots {
-            dots: LocalDots::from_cosines(n_dot_i, n_dot_o, R::zero(), R::zero()),
-            half_vector: false,
-        };
-    }
-    let inv = len.recip();
+    let half_vector = len.gt(R::zero());
+    // Without a half vector, divide by 1 instead and report 0 (nothing NaN in any lane).
+    let inv = R::select(half_vector, len, R::one()).recip();
+    let keep = |v: R| R::select(half_vector, v, R::zero());
     // sin²θ_h = (1 − c)(1 + c) from the clamped c: the report's D is a function of that c.
     AssignmentDots {
         dots: LocalDots::from_cosines(
             n_dot_i,
             n_dot_o,
-            clamp01(dot(n, sum) * inv),
-            clamp01(dot(wi, sum) * inv),
+            keep(clamp01(dot(n, sum) * inv)),
+            keep(clamp01(dot(wi, sum) * inv)),
         ),
-        half_vector: true,
+        half_vector,
     }
 }
 

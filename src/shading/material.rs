@@ -10,7 +10,7 @@ use glam::{Vec2, Vec3};
 
 use crate::shading::brdf::{
     blinn_phong, fresnel_conductor, fresnel_schlick, fresnel_schlick_sg, ggx_d, lambert, schlick_f0_dielectric,
-    FresnelTerm, LocalDots, MaskingShadowing, MicrofacetDistribution, Real,
+    FresnelTerm, LocalDots, Mask, MaskingShadowing, MicrofacetDistribution, Real,
 };
 use crate::shading::texture::{ColorSpace, TextureImage, TextureRef};
 
@@ -353,11 +353,8 @@ impl PbrPoint {
     pub fn eval<R: Real>(&self, dots: &LocalDots<R>) -> [R; 3] {
         let alpha = R::of(self.alpha);
         let v = MaskingShadowing::SmithGgxCorrelated.visibility(dots.n_dot_i, dots.n_dot_o, alpha);
-        let dv = if v == R::zero() {
-            R::zero()
-        } else {
-            ggx_d(dots.n_dot_h, dots.sin2_h, alpha) * v
-        };
+        // D is finite (capped at its peak), so D·V is 0 where V is: D is skipped there.
+        let dv = R::choose(v.eq(R::zero()), R::zero, || ggx_d(dots.n_dot_h, dots.sin2_h, alpha) * v);
         let metallic = R::of(self.metallic);
         // Dielectric F0 of glTF: ior 1.5 → ((1.5 − 1)/(1.5 + 1))² = 0.04.
         let f0_dielectric = schlick_f0_dielectric(R::lit(1.5));
@@ -400,11 +397,13 @@ impl CookTorrance {
     pub fn eval<R: Real>(&self, dots: &LocalDots<R>) -> [R; 3] {
         let alpha = R::of(self.alpha);
         let v = self.g.visibility(dots.n_dot_i, dots.n_dot_o, alpha);
-        if v == R::zero() {
+        let unlit = v.eq(R::zero());
+        if unlit.all() {
             return [R::zero(); 3];
         }
+        // D and F are finite, so where V = 0 the product is 0 as well.
         let dv = self.d.eval(dots.n_dot_h, dots.sin2_h, alpha) * v;
-        self.fresnel(dots.i_dot_h).map(|f| f * dv)
+        self.fresnel(dots.i_dot_h).map(|f| R::select(unlit, R::zero(), f * dv))
     }
 }
 

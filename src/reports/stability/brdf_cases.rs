@@ -21,7 +21,7 @@
 use super::{num, rel_err, Case, REL_TOL};
 use crate::shading::brdf::{
     blinn_phong, fresnel_conductor, fresnel_schlick, fresnel_schlick_sg, lambert, schlick_f0_dielectric, LocalDots,
-    MaskingShadowing, MicrofacetDistribution, Real,
+    MaskingShadowing, MicrofacetDistribution, Scalar,
 };
 use crate::shading::material::{BlinnPhong, CookTorrance, Material, Specular};
 
@@ -54,11 +54,11 @@ enum Eval {
     MaterialFromCosines(Box<Material>, [f64; 3], [f64; 3], [f64; 3]),
 }
 
-fn r<R: Real>(v: f64) -> R {
+fn r<R: Scalar>(v: f64) -> R {
     R::lit(v as f32 as f64)
 }
 
-fn value<R: Real>(e: &Eval) -> R {
+fn value<R: Scalar>(e: &Eval) -> R {
     match e {
         Eval::D(d, c, s2, a) => d.eval(r(*c), r(*s2), r(*a)),
         Eval::G(g, ci, co, a) => g.g(r(*ci), r(*co), r(*a)),

@@ -1,7 +1,7 @@
 //! The dot products every BRDF term is a function of.
 
 use super::microfacet::one_minus_squared;
-use super::Real;
+use super::{Real, Scalar};
 
 /// n·ω_i, n·ω_o, n·ω_h, sin²θ_h and ω_i·ω_h for one pair of directions at one surface point.
 ///
@@ -59,32 +59,44 @@ impl<R: Real> LocalDots<R> {
     /// directions by construction (so every model is exactly reciprocal), clamped to ≤ 1;
     /// n·h to [−1, 1] and sin²θ_h to [0, 1].
     #[inline(always)]
-    pub fn from_unit_vectors(n: [R; 3], wi: [R; 3], wo: [R; 3]) -> Option<Self> {
+    pub fn from_unit_vectors(n: [R; 3], wi: [R; 3], wo: [R; 3]) -> Option<Self>
+    where
+        R: Scalar,
+    {
+        let (dots, frame) = Self::from_unit_vectors_masked(n, wi, wo);
+        frame.then_some(dots)
+    }
+
+    /// [`LocalDots::from_unit_vectors`] for any [`Real`]: the products, and where a shading frame
+    /// exists (where it does not, the products are finite placeholders that must not be used).
+    #[inline(always)]
+    pub fn from_unit_vectors_masked(n: [R; 3], wi: [R; 3], wo: [R; 3]) -> (Self, R::Mask) {
         let sum = [wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]];
         let len = dot(sum, sum).sqrt();
         let n_len2 = dot(n, n);
         // len = 0 (exactly opposite directions), n = 0, or NaN/infinite input: no frame. A normal
         // whose |n|² is subnormal (|n| < 1.1e-19 in f32) or overflows (|n| > 1.8e19) has lost its
         // direction's precision and counts as no normal too.
-        if !(len > R::zero() && n_len2 >= R::min_positive_value() && (len * n_len2).is_finite()) {
-            return None;
-        }
+        let frame = len.gt(R::zero()) & n_len2.ge(R::min_positive_value()) & (len * n_len2).is_finite();
+        // Where there is no frame, divide by 1 instead: nothing below is then NaN or infinite
+        // in lanes that will be discarded (their products are replaced by 0).
+        let (len, n_len2) = (R::select(frame, len, R::one()), R::select(frame, n_len2, R::one()));
         let n_len = n_len2.sqrt();
         let inv = len.recip();
         let inv_n = n_len.recip();
         let nxs = cross(n, sum);
         let sin2_h = (dot(nxs, nxs) * (inv * inv_n) * (inv * inv_n)).min(R::one());
-        Some(Self {
-            n_dot_i: dot(n, wi) * inv_n,
-            n_dot_o: dot(n, wo) * inv_n,
-            n_dot_h: (dot(n, sum) * (inv * inv_n)).max(-R::one()).min(R::one()),
-            sin2_h,
-            i_dot_h: (len * R::lit(0.5)).min(R::one()),
-        })
+        let keep = |v: R| R::select(frame, v, R::zero());
+        let dots = Self {
+            n_dot_i: keep(dot(n, wi) * inv_n),
+            n_dot_o: keep(dot(n, wo) * inv_n),
+            n_dot_h: keep((dot(n, sum) * (inv * inv_n)).max(-R::one()).min(R::one())),
+            sin2_h: keep(sin2_h),
+            i_dot_h: keep((len * R::lit(0.5)).min(R::one())),
+        };
+        (dots, frame)
     }
 
-    /// The products from the four cosines, with sin²θ_h = (1 − c)(1 + c) from c = n·ω_h
-    /// (accurate for the given c; use [`LocalDots::from_unit_vectors`] where the vectors exist).
     #[inline(always)]
     pub fn from_cosines(n_dot_i: R, n_dot_o: R, n_dot_h: R, i_dot_h: R) -> Self {
         let n_dot_h = n_dot_h.max(-R::one()).min(R::one());
@@ -98,7 +110,10 @@ impl<R: Real> LocalDots<R> {
     }
 
     /// The same products in another precision.
-    pub fn cast<S: Real>(&self) -> LocalDots<S> {
+    pub fn cast<S: Scalar>(&self) -> LocalDots<S>
+    where
+        R: Scalar,
+    {
         LocalDots {
             n_dot_i: S::lit(self.n_dot_i.as_f64()),
             n_dot_o: S::lit(self.n_dot_o.as_f64()),

@@ -81,29 +81,36 @@ pub fn fresnel_conductor<R: Real>(i_dot_h: R, eta: R, k: R) -> R {
     let t1 = eta * eta - k * k - s2;
     let eta_k = eta * k;
     let a_sq = (t1 * t1 + R::lit(4.0) * eta_k * eta_k).sqrt();
-    let (a, b) = if t1 >= R::zero() {
-        let a = ((a_sq + t1) * R::lit(0.5)).sqrt();
-        // a = 0 only if A = t1 = 0, which needs ηκ = 0.
-        (a, if a > R::zero() { eta_k / a } else { R::zero() })
-    } else {
-        // −t1 > 0, so b > 0.
-        let b = ((a_sq - t1) * R::lit(0.5)).sqrt();
-        (eta_k / b, b)
-    };
+    // t1 ≥ 0: a = √((A + t1)/2), b = ηκ/a (a = 0 only if A = t1 = 0, which needs ηκ = 0: b = 0).
+    // t1 < 0: b = √((A − t1)/2) > 0, a = ηκ/b. Both roots are √((A + |t1|)/2).
+    let root = ((a_sq + t1.abs()) * R::lit(0.5)).sqrt();
+    let root_positive = root.gt(R::zero());
+    let quotient = R::select(
+        root_positive,
+        eta_k / R::select(root_positive, root, R::one()),
+        R::zero(),
+    );
+    let t1_non_negative = t1.ge(R::zero());
+    let a = R::select(t1_non_negative, root, quotient);
+    let b = R::select(t1_non_negative, quotient, root);
     let b2 = b * b;
     let rs_den = (c + a) * (c + a) + b2;
-    if !(rs_den > R::zero()) {
-        return R::one();
-    }
-    let rs = ((c - a) * (c - a) + b2) / rs_den;
+    // rs_den = 0 needs c = a = b = 0: F = 1 there.
+    let rs_valid = rs_den.gt(R::zero());
+    let rs = ((c - a) * (c - a) + b2) / R::select(rs_valid, rs_den, R::one());
     let (ac, b2c2) = (a * c, b2 * c * c);
     let rp_den = (ac + s2) * (ac + s2) + b2c2;
-    let rp = if rp_den > R::zero() {
-        rs * ((ac - s2) * (ac - s2) + b2c2) / rp_den
-    } else {
-        rs
-    };
-    ((rs + rp) * R::lit(0.5)).max(R::zero()).min(R::one())
+    let rp_valid = rp_den.gt(R::zero());
+    let rp = R::select(
+        rp_valid,
+        rs * ((ac - s2) * (ac - s2) + b2c2) / R::select(rp_valid, rp_den, R::one()),
+        rs,
+    );
+    R::select(
+        rs_valid,
+        ((rs + rp) * R::lit(0.5)).max(R::zero()).min(R::one()),
+        R::one(),
+    )
 }
 
 #[cfg(test)]

@@ -20,17 +20,15 @@ pub fn lambert<R: Real>(kd: R, albedo: R) -> R {
 /// [`LocalDots`]: super::LocalDots
 #[inline(always)]
 pub fn blinn_phong<R: Real>(ks: R, n_dot_h: R, sin2_h: R, shininess: R) -> R {
-    if shininess == R::zero() {
-        return ks;
-    }
     let c = n_dot_h.max(R::zero()).min(R::one());
     let s2 = sin2_h.max(R::zero()).min(R::one());
-    let lobe = if s2 < R::lit(0.5) && c > R::zero() {
-        (R::lit(0.5) * shininess * (-s2).ln_1p()).exp()
-    } else {
-        c.powf(shininess)
-    };
-    ks * lobe
+    let near_peak = s2.lt(R::lit(0.5)) & c.gt(R::zero());
+    let lobe = R::choose(
+        near_peak,
+        || (R::lit(0.5) * shininess * (-s2).ln_1p()).exp(),
+        || c.powf(shininess),
+    );
+    ks * R::select(shininess.eq(R::zero()), R::one(), lobe)
 }
 
 #[cfg(test)]

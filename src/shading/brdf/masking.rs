@@ -69,11 +69,12 @@ pub fn g1_smith_ggx<R: Real>(n_dot_w: R, alpha: R) -> R {
 pub fn smith_ggx_correlated<R: Real>(n_dot_i: R, n_dot_o: R, alpha: R) -> R {
     let a2 = alpha * alpha;
     let denom = n_dot_i * ggx_lambda_root(n_dot_o, a2) + n_dot_o * ggx_lambda_root(n_dot_i, a2);
-    if denom > R::zero() {
-        R::lit(2.0) * n_dot_i * n_dot_o / denom
-    } else {
-        R::zero()
-    }
+    let positive = denom.gt(R::zero());
+    R::select(
+        positive,
+        R::lit(2.0) * n_dot_i * n_dot_o / R::select(positive, denom, R::one()),
+        R::zero(),
+    )
 }
 
 impl MaskingShadowing {
@@ -100,13 +101,15 @@ impl MaskingShadowing {
     /// α ≥ `MIN_ALPHA` bounds every denominator below by about α², so V is always finite.
     #[inline(always)]
     pub fn visibility<R: Real>(self, n_dot_i: R, n_dot_o: R, alpha: R) -> R {
-        if !(n_dot_i > R::zero() && n_dot_o > R::zero()) {
-            return R::zero();
-        }
-        let (ci, co) = (n_dot_i.min(R::one()), n_dot_o.min(R::one()));
+        let lit = n_dot_i.gt(R::zero()) & n_dot_o.gt(R::zero());
+        // Cosines in (0, 1]; where either is ≤ 0 or NaN, 1 stands in and the result is 0.
+        let (ci, co) = (
+            R::select(lit, n_dot_i.min(R::one()), R::one()),
+            R::select(lit, n_dot_o.min(R::one()), R::one()),
+        );
         let alpha = alpha.max(R::lit(MIN_ALPHA));
         let quarter = R::lit(0.25);
-        match self {
+        let v = match self {
             // G1(c)/c = 1/(c(1 − k) + k).
             Self::SchlickSmith | Self::SchlickKaris => {
                 let k = if self == Self::SchlickSmith {
@@ -126,7 +129,8 @@ impl MaskingShadowing {
                 let a2 = alpha * alpha;
                 R::lit(0.5) / (ci * ggx_lambda_root(co, a2) + co * ggx_lambda_root(ci, a2))
             }
-        }
+        };
+        R::select(lit, v, R::zero())
     }
 }
 

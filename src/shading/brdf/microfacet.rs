@@ -60,15 +60,13 @@ fn alpha_squared<R: Real>(alpha: R) -> R {
 /// [`LocalDots`]: super::LocalDots
 #[inline(always)]
 pub fn ggx_d<R: Real>(n_dot_h: R, sin2_h: R, alpha: R) -> R {
-    if !(n_dot_h > R::zero()) {
-        return R::zero();
-    }
     let c = n_dot_h.min(R::one());
     let s2 = sin2_h.max(R::zero()).min(R::one());
     let a2 = alpha_squared(alpha);
     let t = s2 + a2 * c * c;
     let peak = (R::PI() * a2).recip();
-    (a2 / (R::PI() * t * t)).min(peak)
+    // Test the raw input: `min` turned a NaN into 1.
+    R::select(n_dot_h.gt(R::zero()), (a2 / (R::PI() * t * t)).min(peak), R::zero())
 }
 
 /// Beckmann: D = χ⁺(n·ω_h) exp(−tan²θ_h / α²) / (π α² cos⁴θ_h), tan²θ_h = sin²θ_h / cos²θ_h,
@@ -78,23 +76,17 @@ pub fn ggx_d<R: Real>(n_dot_h: R, sin2_h: R, alpha: R) -> R {
 /// so the factor (1 + tan²)² is below 1.1e4: no overflow and no 0/0 anywhere.
 #[inline(always)]
 pub fn beckmann_d<R: Real>(n_dot_h: R, sin2_h: R, alpha: R) -> R {
-    // Test the raw input: `min` would turn a NaN into 1.
-    if !(n_dot_h > R::zero()) {
-        return R::zero();
-    }
     let c = n_dot_h.min(R::one());
     let c2 = c * c;
-    if !(c2 > R::zero()) {
-        return R::zero();
-    }
+    // c² > 0 also rejects n·ω_h ≤ 0 and NaN (min absorbs NaN into 1, hence the first test).
+    let lobe = n_dot_h.gt(R::zero()) & c2.gt(R::zero());
+    let c2 = R::select(lobe, c2, R::one());
     let a2 = alpha_squared(alpha);
     let tan2 = sin2_h.max(R::zero()).min(R::one()) / c2;
     let e = (-tan2 / a2).exp();
-    if e == R::zero() {
-        return R::zero();
-    }
     let sec2 = R::one() + tan2;
-    e * sec2 * sec2 / (R::PI() * a2)
+    // e = 0 where sec⁴ may overflow: the product is 0, not 0·∞.
+    R::select(lobe & e.gt(R::zero()), e * sec2 * sec2 / (R::PI() * a2), R::zero())
 }
 
 #[cfg(test)]

@@ -1,43 +1,444 @@
-//! The scalar type BRDF terms are generic over.
+//! The number types BRDF terms are generic over: f32 (rendering), f64 (reference) and
+//! [`F32x8`] (eight f32 lanes, for shading eight points per instruction).
+//!
+//! The terms are written once, without data-dependent `if`: a condition is a [`Real::Mask`]
+//! (a `bool` for scalars, one flag per lane for [`F32x8`]) and picks values with
+//! [`Real::select`] or [`Real::choose`]. For scalars that is exactly the branchy code it
+//! replaces; for lanes every lane follows its own side. Every lane operation is the f32
+//! operation of that lane (IEEE-exact division and square root, the same `max`/`min` NaN rules,
+//! the same `exp`/`powf`), so a lane computes what the f32 code computes, to the bit except
+//! for the sign of a zero (`max(-0.0, 0.0)` may be either).
 
-use num_traits::{Float, FloatConst};
+use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
-/// A floating-point type the BRDF terms can be evaluated in: f32 (rendering) or f64 (reference).
-pub trait Real: Float + FloatConst + Send + Sync + std::fmt::Debug + std::fmt::Display + 'static {
-    /// The constant `v` in this precision (rounded once).
+/// A condition per lane: `bool` for scalars, [`Mask8`] for [`F32x8`].
+pub trait Mask:
+    Copy + BitAnd<Output = Self> + BitOr<Output = Self> + Not<Output = Self> + PartialEq + std::fmt::Debug
+{
+    /// True in every lane.
+    fn all(self) -> bool;
+    /// True in at least one lane.
+    fn any(self) -> bool;
+}
+
+impl Mask for bool {
+    #[inline(always)]
+    fn all(self) -> bool {
+        self
+    }
+    #[inline(always)]
+    fn any(self) -> bool {
+        self
+    }
+}
+
+/// A floating-point type the BRDF terms can be evaluated in.
+///
+/// `max`/`min` follow `f32::max`/`f32::min`: a NaN operand yields the other one, which is how
+/// the terms' clamps absorb NaN inputs. Comparisons are false for NaN, as `>`/`<` are.
+#[allow(non_snake_case)]
+pub trait Real:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + Send
+    + Sync
+    + std::fmt::Debug
+    + 'static
+{
+    /// The result of a comparison.
+    type Mask: Mask;
+
+    /// The constant `v` in this precision (rounded once), in every lane.
     fn lit(v: f64) -> Self;
-    /// Converts a material parameter stored in f32.
+    /// A material parameter stored in f32, in every lane.
     fn of(v: f32) -> Self;
+    /// 0.
+    #[inline(always)]
+    fn zero() -> Self {
+        Self::lit(0.0)
+    }
+    /// 1.
+    #[inline(always)]
+    fn one() -> Self {
+        Self::lit(1.0)
+    }
+    /// π.
+    #[inline(always)]
+    fn PI() -> Self {
+        Self::lit(std::f64::consts::PI)
+    }
+    /// 1/π.
+    #[inline(always)]
+    fn FRAC_1_PI() -> Self {
+        Self::lit(std::f64::consts::FRAC_1_PI)
+    }
+    /// The smallest positive normal number of the precision.
+    fn min_positive_value() -> Self;
+
+    /// The larger of the two (the other one where either is NaN).
+    fn max(self, other: Self) -> Self;
+    /// The smaller of the two (the other one where either is NaN).
+    fn min(self, other: Self) -> Self;
+    /// √self (NaN below 0).
+    fn sqrt(self) -> Self;
+    /// 1/self.
+    fn recip(self) -> Self;
+    /// |self|.
+    fn abs(self) -> Self;
+    /// e^self.
+    fn exp(self) -> Self;
+    /// 2^self.
+    fn exp2(self) -> Self;
+    /// ln(1 + self), accurate near 0.
+    fn ln_1p(self) -> Self;
+    /// self^e.
+    fn powf(self, e: Self) -> Self;
+
+    /// self > other.
+    fn gt(self, other: Self) -> Self::Mask;
+    /// self ≥ other.
+    fn ge(self, other: Self) -> Self::Mask;
+    /// self < other.
+    fn lt(self, other: Self) -> Self::Mask;
+    /// self == other.
+    fn eq(self, other: Self) -> Self::Mask;
+    /// Neither infinite nor NaN.
+    fn is_finite(self) -> Self::Mask;
+
+    /// `a` where `mask`, else `b`.
+    fn select(mask: Self::Mask, a: Self, b: Self) -> Self;
+    /// `a()` where `mask`, else `b()`: like [`Real::select`], but a side no lane takes is not
+    /// evaluated (scalars run one side, as an `if` does).
+    #[inline(always)]
+    fn choose(mask: Self::Mask, a: impl FnOnce() -> Self, b: impl FnOnce() -> Self) -> Self {
+        if mask.all() {
+            a()
+        } else if !mask.any() {
+            b()
+        } else {
+            Self::select(mask, a(), b())
+        }
+    }
+}
+
+/// A scalar [`Real`] (f32 or f64): ordered, printable, convertible to f64 — what the stability
+/// checks and conversions between precisions need.
+pub trait Scalar: Real<Mask = bool> + PartialOrd + std::fmt::Display {
     /// This value as f64 (exact for both precisions).
     fn as_f64(self) -> f64;
 }
 
-impl Real for f32 {
+macro_rules! scalar_real {
+    ($t:ty) => {
+        impl Real for $t {
+            type Mask = bool;
+            #[inline(always)]
+            fn lit(v: f64) -> Self {
+                v as $t
+            }
+            #[inline(always)]
+            fn of(v: f32) -> Self {
+                v as $t
+            }
+            #[inline(always)]
+            fn min_positive_value() -> Self {
+                <$t>::MIN_POSITIVE
+            }
+            #[inline(always)]
+            fn max(self, other: Self) -> Self {
+                <$t>::max(self, other)
+            }
+            #[inline(always)]
+            fn min(self, other: Self) -> Self {
+                <$t>::min(self, other)
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                <$t>::sqrt(self)
+            }
+            #[inline(always)]
+            fn recip(self) -> Self {
+                <$t>::recip(self)
+            }
+            #[inline(always)]
+            fn abs(self) -> Self {
+                <$t>::abs(self)
+            }
+            #[inline(always)]
+            fn exp(self) -> Self {
+                <$t>::exp(self)
+            }
+            #[inline(always)]
+            fn exp2(self) -> Self {
+                <$t>::exp2(self)
+            }
+            #[inline(always)]
+            fn ln_1p(self) -> Self {
+                <$t>::ln_1p(self)
+            }
+            #[inline(always)]
+            fn powf(self, e: Self) -> Self {
+                <$t>::powf(self, e)
+            }
+            #[inline(always)]
+            fn gt(self, other: Self) -> bool {
+                self > other
+            }
+            #[inline(always)]
+            fn ge(self, other: Self) -> bool {
+                self >= other
+            }
+            #[inline(always)]
+            fn lt(self, other: Self) -> bool {
+                self < other
+            }
+            #[inline(always)]
+            fn eq(self, other: Self) -> bool {
+                self == other
+            }
+            #[inline(always)]
+            fn is_finite(self) -> bool {
+                <$t>::is_finite(self)
+            }
+            #[inline(always)]
+            fn select(mask: bool, a: Self, b: Self) -> Self {
+                if mask {
+                    a
+                } else {
+                    b
+                }
+            }
+        }
+
+        impl Scalar for $t {
+            #[inline(always)]
+            fn as_f64(self) -> f64 {
+                self as f64
+            }
+        }
+    };
+}
+
+scalar_real!(f32);
+scalar_real!(f64);
+
+/// Lanes of [`F32x8`].
+pub const LANES: usize = 8;
+
+/// Eight f32 values operated on together. Plain arrays with per-lane loops: the compiler turns
+/// them into SIMD instructions (two SSE or one AVX register) on any target, with no `unsafe`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct F32x8(pub [f32; LANES]);
+
+/// A per-lane condition of [`F32x8`]: all bits set for true, clear for false (the layout SIMD
+/// comparisons produce).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Mask8(pub [u32; LANES]);
+
+impl Mask8 {
     #[inline(always)]
-    fn lit(v: f64) -> Self {
-        v as f32
+    fn from_fn(f: impl Fn(usize) -> bool) -> Self {
+        Mask8(std::array::from_fn(|i| if f(i) { u32::MAX } else { 0 }))
     }
+
+    /// Lane `i`.
     #[inline(always)]
-    fn of(v: f32) -> Self {
-        v
-    }
-    #[inline(always)]
-    fn as_f64(self) -> f64 {
-        self as f64
+    pub fn test(self, i: usize) -> bool {
+        self.0[i] != 0
     }
 }
 
-impl Real for f64 {
+impl F32x8 {
+    /// Every lane `v`.
+    #[inline(always)]
+    pub fn splat(v: f32) -> Self {
+        F32x8([v; LANES])
+    }
+
+    #[inline(always)]
+    fn map(self, f: impl Fn(f32) -> f32) -> Self {
+        F32x8(self.0.map(f))
+    }
+
+    #[inline(always)]
+    fn zip(self, other: Self, f: impl Fn(f32, f32) -> f32) -> Self {
+        F32x8(std::array::from_fn(|i| f(self.0[i], other.0[i])))
+    }
+
+    #[inline(always)]
+    fn compare(self, other: Self, f: impl Fn(f32, f32) -> bool) -> Mask8 {
+        Mask8::from_fn(|i| f(self.0[i], other.0[i]))
+    }
+}
+
+macro_rules! lane_ops {
+    ($($op:ident $method:ident $sym:tt),+) => {$(
+        impl $op for F32x8 {
+            type Output = Self;
+            #[inline(always)]
+            fn $method(self, other: Self) -> Self {
+                self.zip(other, |a, b| a $sym b)
+            }
+        }
+    )+};
+}
+lane_ops!(Add add +, Sub sub -, Mul mul *, Div div /);
+
+impl Neg for F32x8 {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        self.map(|a| -a)
+    }
+}
+
+macro_rules! mask_ops {
+    ($($op:ident $method:ident $sym:tt),+) => {$(
+        impl $op for Mask8 {
+            type Output = Self;
+            #[inline(always)]
+            fn $method(self, other: Self) -> Self {
+                Mask8(std::array::from_fn(|i| self.0[i] $sym other.0[i]))
+            }
+        }
+    )+};
+}
+mask_ops!(BitAnd bitand &, BitOr bitor |);
+
+impl Not for Mask8 {
+    type Output = Self;
+    #[inline(always)]
+    fn not(self) -> Self {
+        Mask8(self.0.map(|m| !m))
+    }
+}
+
+impl Mask for Mask8 {
+    #[inline(always)]
+    fn all(self) -> bool {
+        self.0.iter().fold(u32::MAX, |a, &m| a & m) != 0
+    }
+    #[inline(always)]
+    fn any(self) -> bool {
+        self.0.iter().fold(0, |a, &m| a | m) != 0
+    }
+}
+
+impl Real for F32x8 {
+    type Mask = Mask8;
     #[inline(always)]
     fn lit(v: f64) -> Self {
-        v
+        Self::splat(v as f32)
     }
     #[inline(always)]
     fn of(v: f32) -> Self {
-        v as f64
+        Self::splat(v)
     }
     #[inline(always)]
-    fn as_f64(self) -> f64 {
-        self
+    fn min_positive_value() -> Self {
+        Self::splat(f32::MIN_POSITIVE)
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        self.zip(other, f32::max)
+    }
+    #[inline(always)]
+    fn min(self, other: Self) -> Self {
+        self.zip(other, f32::min)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        self.map(f32::sqrt)
+    }
+    #[inline(always)]
+    fn recip(self) -> Self {
+        self.map(f32::recip)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        self.map(f32::abs)
+    }
+    // The transcendental functions call the f32 ones lane by lane: the same values as the
+    // scalar code (a vector approximation would differ in the last bits).
+    #[inline(always)]
+    fn exp(self) -> Self {
+        self.map(f32::exp)
+    }
+    #[inline(always)]
+    fn exp2(self) -> Self {
+        self.map(f32::exp2)
+    }
+    #[inline(always)]
+    fn ln_1p(self) -> Self {
+        self.map(f32::ln_1p)
+    }
+    #[inline(always)]
+    fn powf(self, e: Self) -> Self {
+        self.zip(e, f32::powf)
+    }
+    #[inline(always)]
+    fn gt(self, other: Self) -> Mask8 {
+        self.compare(other, |a, b| a > b)
+    }
+    #[inline(always)]
+    fn ge(self, other: Self) -> Mask8 {
+        self.compare(other, |a, b| a >= b)
+    }
+    #[inline(always)]
+    fn lt(self, other: Self) -> Mask8 {
+        self.compare(other, |a, b| a < b)
+    }
+    #[inline(always)]
+    fn eq(self, other: Self) -> Mask8 {
+        self.compare(other, |a, b| a == b)
+    }
+    #[inline(always)]
+    fn is_finite(self) -> Mask8 {
+        Mask8::from_fn(|i| self.0[i].is_finite())
+    }
+    #[inline(always)]
+    fn select(mask: Mask8, a: Self, b: Self) -> Self {
+        F32x8(std::array::from_fn(|i| {
+            f32::from_bits((a.0[i].to_bits() & mask.0[i]) | (b.0[i].to_bits() & !mask.0[i]))
+        }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lanes_follow_the_f32_rules_for_nan() {
+        let a = F32x8([f32::NAN, 1.0, -0.0, 0.0, f32::INFINITY, -1.0, 2.0, f32::NAN]);
+        let b = F32x8([1.0, f32::NAN, 0.0, -0.0, 1.0, -2.0, 2.0, f32::NAN]);
+        for i in 0..LANES {
+            let (x, y) = (a.0[i], b.0[i]);
+            // Equal as numbers: `f32::max(-0.0, 0.0)` may return either zero, and does differ
+            // between the scalar and the vector instructions.
+            let same = |u: f32, v: f32| u == v || (u.is_nan() && v.is_nan());
+            assert!(same(a.max(b).0[i], x.max(y)), "max lane {i}");
+            assert!(same(a.min(b).0[i], x.min(y)), "min lane {i}");
+            assert_eq!(a.gt(b).test(i), x > y);
+            assert_eq!(a.eq(b).test(i), x == y);
+            assert_eq!(a.is_finite().test(i), x.is_finite());
+            assert!(same((a / b).0[i], x / y), "division lane {i}");
+        }
+    }
+
+    #[test]
+    fn select_and_choose_pick_per_lane_and_skip_unused_sides() {
+        let m = Mask8::from_fn(|i| i % 3 == 0);
+        let s = F32x8::select(m, F32x8::splat(1.0), F32x8::splat(2.0));
+        assert_eq!(s.0, [1.0, 2.0, 2.0, 1.0, 2.0, 2.0, 1.0, 2.0]);
+        assert!(!m.all() && m.any() && (m | !m).all() && !(m & !m).any());
+        let none = Mask8::from_fn(|_| false);
+        let v = F32x8::choose(none, || panic!("no lane takes this side"), || F32x8::splat(3.0));
+        assert_eq!(v, F32x8::splat(3.0));
+        assert_eq!(f32::choose(true, || 1.0, || panic!("not evaluated")), 1.0);
     }
 }
