@@ -12,13 +12,16 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
+use glam::Vec3;
 use pointshade::film::Image;
 use pointshade::normal_map::{image_surface, shade_image};
 use pointshade::plan::RenderPlan;
 use pointshade::scene::normal_map::{ModelName, NormalMapScene, Preset};
 use pointshade::shading::brdf::LocalDots;
-use pointshade::shading::convention::assignment_dots;
+use pointshade::shading::brdf::LANES;
+use pointshade::shading::convention::{assignment_dots, ShadingConvention};
 use pointshade::surface::normal_image::NormalImage;
+use pointshade::surface::SurfacePoint;
 
 /// Median and minimum of a set of times.
 #[derive(Clone, Copy)]
@@ -159,6 +162,40 @@ fn time_material_eval(scene: &NormalMapScene, image: &NormalImage, repeats: usiz
     )
 }
 
+/// The shader alone on the surface points of every pixel (made beforehand), one thread: one
+/// point at a time (`Shader::shade`) and eight at a time (`Shader::shade_lanes`).
+fn time_shader(scene: &NormalMapScene, image: &NormalImage, repeats: usize) -> (Times, Times) {
+    let surface = image_surface(scene, image).expect("normal.png has a range");
+    let mut points = Vec::new();
+    for row in 0..image.height {
+        surface.row_points(image, row, &mut points);
+    }
+    let points: Vec<SurfacePoint> = points.into_iter().map(|(_, p)| p).collect();
+    let shader = pointshade::normal_map::shader(scene, ShadingConvention::Assignment);
+    let mut out = vec![Vec3::ZERO; points.len() + LANES];
+    let time = |lanes: bool, out: &mut Vec<Vec3>| {
+        Times::of(
+            (0..repeats)
+                .map(|_| {
+                    let t = Instant::now();
+                    if lanes {
+                        for (group, o) in points.chunks_exact(LANES).zip(out.chunks_exact_mut(LANES)) {
+                            o.copy_from_slice(&shader.shade_lanes(group.try_into().unwrap(), &mut 0));
+                        }
+                    } else {
+                        for (p, o) in points.iter().zip(out.iter_mut()) {
+                            *o = shader.shade(p, &mut 0);
+                        }
+                    }
+                    std::hint::black_box(&mut *out);
+                    t.elapsed().as_secs_f64()
+                })
+                .collect(),
+        )
+    };
+    (time(false, &mut out), time(true, &mut out))
+}
+
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
     let repeats = if quick { 5 } else { 51 };
@@ -207,6 +244,7 @@ fn main() {
     let all_threads = time_shading(all);
     let (ours, stats) = shade();
     let eval_only = time_material_eval(&scene, &image, repeats);
+    let (shader_scalar, shader_lanes) = time_shader(&scene, &image, repeats);
 
     let tmp = std::env::temp_dir().join(format!("pointshade-bench-nm-{}", std::process::id()));
     std::fs::create_dir_all(&tmp).unwrap();
@@ -260,7 +298,15 @@ fn main() {
         );
     }
     row("pointshade shading, 1 thread", one_thread);
-    row("  of which Material::eval alone (the BRDF), 1 thread", eval_only);
+    row("  the shader alone, one point at a time, 1 thread", shader_scalar);
+    row(
+        "  the shader alone, eight points per lane group, 1 thread",
+        shader_lanes,
+    );
+    row(
+        "  Material::eval alone (the BRDF), one point at a time, 1 thread",
+        eval_only,
+    );
     row(&format!("pointshade shading, {all} threads"), all_threads);
     row("pointshade normalmap process (decode + shade + encode)", process);
     match &numpy {

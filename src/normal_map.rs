@@ -13,6 +13,7 @@ use rayon::prelude::*;
 use crate::film::Image;
 use crate::plan::RenderPlan;
 use crate::scene::normal_map::{NormalMapScene, Preset};
+use crate::shading::brdf::LANES;
 use crate::shading::convention::ShadingConvention;
 use crate::shading::shader::Shader;
 use crate::shading::shadow::NoOcclusion;
@@ -50,7 +51,8 @@ pub fn image_surface(scene: &NormalMapScene, image: &NormalImage) -> Result<Imag
     })
 }
 
-fn shader<'a>(scene: &'a NormalMapScene, convention: ShadingConvention) -> Shader<'a, NoOcclusion> {
+/// The shader of a normal-map scene: its material and lights, no occluder.
+pub fn shader<'a>(scene: &'a NormalMapScene, convention: ShadingConvention) -> Shader<'a, NoOcclusion> {
     Shader {
         materials: std::slice::from_ref(&scene.material),
         lights: &scene.lights,
@@ -84,10 +86,7 @@ pub fn shade_image(
                 let t0 = Instant::now();
                 surface.row_points(image, row as u32, row_points);
                 let t1 = Instant::now();
-                let mut no_rays = 0;
-                for (col, sp) in row_points.iter() {
-                    pixels[*col as usize] = shader.shade(sp, &mut no_rays);
-                }
+                shade_row(&shader, row_points, pixels);
                 let t2 = Instant::now();
                 surface_ns.fetch_add((t1 - t0).as_nanos() as u64, Ordering::Relaxed);
                 shading_ns.fetch_add((t2 - t1).as_nanos() as u64, Ordering::Relaxed);
@@ -101,6 +100,19 @@ pub fn shade_image(
         wall_time: start.elapsed(),
     };
     (out, stats)
+}
+
+/// Shades `points` into `pixels` (indexed by column), eight points at a time through the
+/// shader's lanes; the last group is padded with copies of its last point, whose results are
+/// dropped.
+fn shade_row(shader: &Shader<NoOcclusion>, points: &[(u32, SurfacePoint)], pixels: &mut [Vec3]) {
+    for group in points.chunks(LANES) {
+        let lanes = std::array::from_fn(|i| group[i.min(group.len() - 1)].1);
+        let shaded = shader.shade_lanes(&lanes, &mut 0);
+        for ((col, _), value) in group.iter().zip(shaded) {
+            pixels[*col as usize] = value;
+        }
+    }
 }
 
 /// One pixel of the `tp` preset, decoded and shaded by exactly the code `pointshade normalmap

@@ -13,6 +13,10 @@
 
 use glam::Vec3;
 
+#[cfg(doc)]
+use crate::shading::brdf::F32x8;
+use crate::shading::brdf::Real;
+
 /// How a positional light's irradiance falls with distance.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Falloff {
@@ -63,66 +67,110 @@ pub struct LightSample {
     pub irradiance: Vec3,
 }
 
+/// [`LightSample`]s of several points at once, in any [`Real`] (one f32 or [`F32x8`] lanes).
+#[derive(Clone, Copy, Debug)]
+pub struct LightSamples<R: Real> {
+    /// Unit direction towards the light.
+    pub wi: [R; 3],
+    /// Distance to the light.
+    pub distance: R,
+    /// Irradiance on a surface facing the light.
+    pub irradiance: [R; 3],
+    /// Where the light sends something; elsewhere the other fields are 0 (directions and
+    /// irradiance) and must not be used.
+    pub lit: R::Mask,
+}
+
+#[inline(always)]
+fn dot<R: Real>(a: [R; 3], b: [R; 3]) -> R {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
 impl Light {
     /// The light seen from `p`, or `None` when it sends nothing there: outside a spot's cone, or
     /// at the light's own position (d = 0, where the direction is undefined; such a point is
     /// documented to receive no light rather than an infinite amount).
     #[inline(always)]
     pub fn sample(&self, p: Vec3) -> Option<LightSample> {
+        let s = self.sample_points::<f32>(p.to_array());
+        s.lit.then(|| LightSample {
+            wi: Vec3::from(s.wi),
+            distance: s.distance,
+            irradiance: Vec3::from(s.irradiance),
+        })
+    }
+
+    /// [`Light::sample`] at the points `p`, in any [`Real`]: the one implementation of every
+    /// light, used by the scalar shader (f32) and by the eight-lane one ([`F32x8`]).
+    #[inline(always)]
+    pub fn sample_points<R: Real>(&self, p: [R; 3]) -> LightSamples<R> {
+        let lane = |v: Vec3| v.to_array().map(R::of);
         match self.kind {
-            LightKind::Directional { direction } => Some(LightSample {
-                wi: -direction,
-                distance: f32::INFINITY,
-                irradiance: self.power,
-            }),
-            LightKind::Point { position } => self.positional(p, position, 1.0),
+            LightKind::Directional { direction } => LightSamples {
+                wi: lane(-direction),
+                distance: R::of(f32::INFINITY),
+                irradiance: lane(self.power),
+                lit: R::zero().eq(R::zero()),
+            },
+            LightKind::Point { position } => self.positional(p, lane(position), R::one()),
             LightKind::Spot {
                 position,
                 direction,
                 cos_inner,
                 cos_outer,
             } => {
-                let to_point = (p - position).normalize_or_zero();
-                let scale = 1.0 / (cos_inner - cos_outer).max(0.001);
-                let cone = (to_point.dot(direction) * scale - cos_outer * scale).clamp(0.0, 1.0);
-                if cone == 0.0 {
-                    return None;
-                }
-                self.positional(p, position, cone * cone)
+                let position = lane(position);
+                let v = [p[0] - position[0], p[1] - position[1], p[2] - position[2]];
+                // normalize_or_zero: 1/|v| where finite and > 0, else the zero vector.
+                let rcp = dot(v, v).sqrt().recip();
+                let rcp = R::select(rcp.is_finite() & rcp.gt(R::zero()), rcp, R::zero());
+                let to_point = v.map(|c| c * rcp);
+                let scale = R::of(1.0 / (cos_inner - cos_outer).max(0.001));
+                let cos_outer = R::of(cos_outer);
+                let cone = (dot(to_point, lane(direction)) * scale - cos_outer * scale)
+                    .max(R::zero())
+                    .min(R::one());
+                let mut s = self.positional(p, position, cone * cone);
+                s.lit = s.lit & cone.gt(R::zero());
+                s
             }
         }
     }
 
     #[inline(always)]
-    fn positional(&self, p: Vec3, position: Vec3, factor: f32) -> Option<LightSample> {
-        let offset = position - p;
-        let distance = offset.length();
+    fn positional<R: Real>(&self, p: [R; 3], position: [R; 3], factor: R) -> LightSamples<R> {
+        let offset = [position[0] - p[0], position[1] - p[1], position[2] - p[2]];
+        let distance = dot(offset, offset).sqrt();
         // d = 0: no direction; d underflowing in d² would give an infinite irradiance.
         let d2 = distance * distance;
-        if !(d2 > 0.0) || !d2.is_finite() {
-            return None;
-        }
+        let mut lit = d2.gt(R::zero()) & d2.is_finite();
+        let safe_d2 = R::select(lit, d2, R::one());
         let falloff = match self.falloff {
-            Falloff::InverseSquare => 1.0 / d2,
-            Falloff::None => 1.0,
+            Falloff::InverseSquare => R::one() / safe_d2,
+            Falloff::None => R::one(),
             Falloff::InverseSquareWithin { range } => {
-                let r = distance / range;
+                let r = distance / R::of(range);
                 let r2 = r * r;
-                let window = (1.0 - r2 * r2).clamp(0.0, 1.0);
-                if window == 0.0 {
-                    return None;
-                }
-                window / d2
+                let window = (R::one() - r2 * r2).max(R::zero()).min(R::one());
+                lit = lit & window.gt(R::zero());
+                window / safe_d2
             }
         };
         // Saturate instead of overflowing: huge intensities at tiny distances stay finite, so no
         // inf·0 = NaN can arise downstream.
-        let irradiance = (self.power * (factor * falloff.min(f32::MAX))).min(Vec3::splat(f32::MAX));
-        Some(LightSample {
-            wi: offset * distance.recip(),
+        let max = R::of(f32::MAX);
+        let scale = factor * falloff.min(max);
+        let irradiance = self
+            .power
+            .to_array()
+            .map(|c| R::select(lit, (R::of(c) * scale).min(max), R::zero()));
+        let inv_distance = R::select(lit, distance, R::one()).recip();
+        LightSamples {
+            wi: offset.map(|c| R::select(lit, c * inv_distance, R::zero())),
             distance,
             irradiance,
-        })
+            lit,
+        }
     }
 }
 

@@ -242,7 +242,11 @@ pub struct Mask8(pub [u32; LANES]);
 impl Mask8 {
     #[inline(always)]
     fn from_fn(f: impl Fn(usize) -> bool) -> Self {
-        Mask8(std::array::from_fn(|i| if f(i) { u32::MAX } else { 0 }))
+        let mut m = [0; LANES];
+        for (i, m) in m.iter_mut().enumerate() {
+            *m = if f(i) { u32::MAX } else { 0 };
+        }
+        Mask8(m)
     }
 
     /// Lane `i`.
@@ -259,14 +263,24 @@ impl F32x8 {
         F32x8([v; LANES])
     }
 
+    /// Lane `i` is `f(i)`. (Plain loops: `array::map` and `from_fn` are not always inlined.)
+    #[inline(always)]
+    pub fn from_fn(f: impl Fn(usize) -> f32) -> Self {
+        let mut v = [0.0; LANES];
+        for (i, v) in v.iter_mut().enumerate() {
+            *v = f(i);
+        }
+        F32x8(v)
+    }
+
     #[inline(always)]
     fn map(self, f: impl Fn(f32) -> f32) -> Self {
-        F32x8(self.0.map(f))
+        Self::from_fn(|i| f(self.0[i]))
     }
 
     #[inline(always)]
     fn zip(self, other: Self, f: impl Fn(f32, f32) -> f32) -> Self {
-        F32x8(std::array::from_fn(|i| f(self.0[i], other.0[i])))
+        Self::from_fn(|i| f(self.0[i], other.0[i]))
     }
 
     #[inline(always)]
@@ -302,18 +316,26 @@ macro_rules! mask_ops {
             type Output = Self;
             #[inline(always)]
             fn $method(self, other: Self) -> Self {
-                Mask8(std::array::from_fn(|i| self.0[i] $sym other.0[i]))
+                let mut m = self.0;
+                for (m, o) in m.iter_mut().zip(other.0) {
+                    *m $sym o;
+                }
+                Mask8(m)
             }
         }
     )+};
 }
-mask_ops!(BitAnd bitand &, BitOr bitor |);
+mask_ops!(BitAnd bitand &=, BitOr bitor |=);
 
 impl Not for Mask8 {
     type Output = Self;
     #[inline(always)]
     fn not(self) -> Self {
-        Mask8(self.0.map(|m| !m))
+        let mut m = self.0;
+        for m in m.iter_mut() {
+            *m = !*m;
+        }
+        Mask8(m)
     }
 }
 
@@ -402,9 +424,7 @@ impl Real for F32x8 {
     }
     #[inline(always)]
     fn select(mask: Mask8, a: Self, b: Self) -> Self {
-        F32x8(std::array::from_fn(|i| {
-            f32::from_bits((a.0[i].to_bits() & mask.0[i]) | (b.0[i].to_bits() & !mask.0[i]))
-        }))
+        Self::from_fn(|i| f32::from_bits((a.0[i].to_bits() & mask.0[i]) | (b.0[i].to_bits() & !mask.0[i])))
     }
 }
 
