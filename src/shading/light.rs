@@ -15,7 +15,7 @@ use glam::Vec3;
 
 #[cfg(doc)]
 use crate::shading::brdf::F32x8;
-use crate::shading::brdf::Real;
+use crate::shading::brdf::{Mask, Real};
 
 /// How a positional light's irradiance falls with distance.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -110,7 +110,7 @@ impl Light {
                 wi: lane(-direction),
                 distance: R::of(f32::INFINITY),
                 irradiance: lane(self.power),
-                lit: R::zero().eq(R::zero()),
+                lit: R::Mask::splat(true),
             },
             LightKind::Point { position } => self.positional(p, lane(position), R::one()),
             LightKind::Spot {

@@ -15,6 +15,8 @@ use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 pub trait Mask:
     Copy + BitAnd<Output = Self> + BitOr<Output = Self> + Not<Output = Self> + PartialEq + std::fmt::Debug
 {
+    /// `v` in every lane.
+    fn splat(v: bool) -> Self;
     /// True in every lane.
     fn all(self) -> bool;
     /// True in at least one lane.
@@ -22,6 +24,10 @@ pub trait Mask:
 }
 
 impl Mask for bool {
+    #[inline(always)]
+    fn splat(v: bool) -> Self {
+        v
+    }
     #[inline(always)]
     fn all(self) -> bool {
         self
@@ -340,6 +346,10 @@ impl Not for Mask8 {
 }
 
 impl Mask for Mask8 {
+    #[inline(always)]
+    fn splat(v: bool) -> Self {
+        Mask8::from_fn(|_| v)
+    }
     #[inline(always)]
     fn all(self) -> bool {
         self.0.iter().fold(u32::MAX, |a, &m| a & m) != 0
