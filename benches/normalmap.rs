@@ -130,17 +130,22 @@ fn run_numpy(npy: &Path, out: &Path, repeats: usize, ours: &Image) -> Option<Num
     })
 }
 
-/// The BRDF's share of the shading: `Material::eval` alone on the LocalDots of every shaded
-/// pixel (formed beforehand, as the shader forms them), one thread.
-fn time_material_eval(scene: &NormalMapScene, image: &NormalImage, repeats: usize) -> Times {
+/// The surface points of every foreground pixel, as the shading makes them.
+fn surface_points(scene: &NormalMapScene, image: &NormalImage) -> Vec<SurfacePoint> {
     let surface = image_surface(scene, image).expect("normal.png has a range");
     let mut points = Vec::new();
     for row in 0..image.height {
         surface.row_points(image, row, &mut points);
     }
-    let dots: Vec<LocalDots<f32>> = points
+    points.into_iter().map(|(_, p)| p).collect()
+}
+
+/// The BRDF's share of the shading: `Material::eval` alone on the LocalDots of every shaded
+/// pixel (formed beforehand, as the shader forms them), one thread.
+fn time_material_eval(scene: &NormalMapScene, image: &NormalImage, repeats: usize) -> Times {
+    let dots: Vec<LocalDots<f32>> = surface_points(scene, image)
         .iter()
-        .filter_map(|(_, sp)| {
+        .filter_map(|sp| {
             let ls = scene.lights[0].sample(sp.position)?;
             let n = sp.shading_normal.to_array();
             let a = assignment_dots(n, (-ls.wi).to_array(), sp.to_viewer.to_array(), true);
@@ -165,12 +170,7 @@ fn time_material_eval(scene: &NormalMapScene, image: &NormalImage, repeats: usiz
 /// The shader alone on the surface points of every pixel (made beforehand), one thread: one
 /// point at a time (`Shader::shade`) and eight at a time (`Shader::shade_lanes`).
 fn time_shader(scene: &NormalMapScene, image: &NormalImage, repeats: usize) -> (Times, Times) {
-    let surface = image_surface(scene, image).expect("normal.png has a range");
-    let mut points = Vec::new();
-    for row in 0..image.height {
-        surface.row_points(image, row, &mut points);
-    }
-    let points: Vec<SurfacePoint> = points.into_iter().map(|(_, p)| p).collect();
+    let points = surface_points(scene, image);
     let shader = pointshade::normal_map::shader(scene, ShadingConvention::Assignment);
     let mut out = vec![Vec3::ZERO; points.len() + LANES];
     let time = |lanes: bool, out: &mut Vec<Vec3>| {
