@@ -14,11 +14,11 @@ use std::time::Instant;
 
 use glam::Vec3;
 use pointshade::film::Image;
-use pointshade::normal_map::{image_surface, shade_image};
+use pointshade::normal_map::{image_surface, shade_image_with};
 use pointshade::plan::RenderPlan;
 use pointshade::scene::normal_map::{ModelName, NormalMapScene, Preset};
 use pointshade::shading::brdf::LocalDots;
-use pointshade::shading::brdf::LANES;
+use pointshade::shading::brdf::{LaneInstructions, LANES};
 use pointshade::shading::convention::{assignment_dots, ShadingConvention};
 use pointshade::surface::normal_image::NormalImage;
 use pointshade::surface::SurfacePoint;
@@ -213,12 +213,15 @@ fn main() {
     let scene = NormalMapScene::from_preset(&path, Preset::Tp, ModelName::CookTorrance);
     let plan = RenderPlan::for_normal_map(&scene, &image, "benchmark");
     // What numpy's shade() does too: the tp scaling's global min and max, then every pixel.
-    let shade = || {
+    let shade_with = |instructions: LaneInstructions| {
         let surface = image_surface(&scene, &image).expect("normal.png has a range");
-        shade_image(&scene, &plan, &image, &surface)
+        shade_image_with(&scene, &plan, &image, &surface, instructions)
     };
+    let best = LaneInstructions::detect();
+    let shade = || shade_with(best);
 
-    let time_shading = |threads: usize| {
+    let time_shading = |threads: usize, instructions: LaneInstructions| {
+        let shade = || shade_with(instructions);
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| {
             // Warm-up for a second: short runs on a cold core measure the clock ramping up, not
@@ -240,8 +243,9 @@ fn main() {
         })
     };
     let all = rayon::current_num_threads();
-    let one_thread = time_shading(1);
-    let all_threads = time_shading(all);
+    let one_thread = time_shading(1, best);
+    let all_threads = time_shading(all, best);
+    let portable = (best != LaneInstructions::Portable).then(|| time_shading(all, LaneInstructions::Portable));
     let (ours, stats) = shade();
     let eval_only = time_material_eval(&scene, &image, repeats);
     let (shader_scalar, shader_lanes) = time_shader(&scene, &image, repeats);
@@ -307,7 +311,16 @@ fn main() {
         "  Material::eval alone (the BRDF), one point at a time, 1 thread",
         eval_only,
     );
-    row(&format!("pointshade shading, {all} threads"), all_threads);
+    row(
+        &format!("pointshade shading, {all} threads ({best:?} lanes, detected)"),
+        all_threads,
+    );
+    if let Some(portable) = portable {
+        row(
+            &format!("  the same with the portable (baseline) lanes, {all} threads"),
+            portable,
+        );
+    }
     row("pointshade normalmap process (decode + shade + encode)", process);
     match &numpy {
         Some(n) => {

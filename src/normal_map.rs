@@ -8,17 +8,16 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use glam::Vec3;
-use rayon::prelude::*;
 
 use crate::film::Image;
 use crate::plan::RenderPlan;
 use crate::scene::normal_map::{NormalMapScene, Preset};
-use crate::shading::brdf::LANES;
+use crate::shading::brdf::{LaneInstructions, LANES};
 use crate::shading::convention::ShadingConvention;
 use crate::shading::shader::Shader;
 use crate::shading::shadow::NoOcclusion;
 use crate::surface::normal_image::{ImageSurface, NormalDecoding, NormalImage, PixelPositions, TpScaling};
-use crate::surface::SurfacePoint;
+use crate::surface::{SurfaceLanes, SurfacePoint};
 
 /// Counters and per-stage times of one normal-map shading.
 #[derive(Clone, Debug, Default)]
@@ -66,33 +65,69 @@ pub fn shader<'a>(scene: &'a NormalMapScene, convention: ShadingConvention) -> S
 }
 
 /// Shades every pixel of `image` (linear L_o; background pixels 0) following `plan`.
+///
+/// Under the assignment convention (the `tp` preset) a row's foreground pixels become
+/// [`SurfaceLanes`] eight at a time, straight from the image, and go through
+/// [`Shader::shade_assignment_lanes`]; otherwise each becomes a [`SurfacePoint`] for
+/// [`Shader::shade`]. Either way the same decoding and the same BRDF.
 pub fn shade_image(
     scene: &NormalMapScene,
     plan: &RenderPlan,
     image: &NormalImage,
     surface: &ImageSurface,
 ) -> (Image, NormalMapStats) {
+    shade_image_with(scene, plan, image, surface, LaneInstructions::detect())
+}
+
+/// [`shade_image`] with the lane path compiled for `instructions` (which must be available on
+/// this CPU: [`LaneInstructions::detect`] says which are; others fall back to the portable code).
+/// Every choice gives the same image, bit for bit: the benchmark compares their speed, a test
+/// their results.
+pub fn shade_image_with(
+    scene: &NormalMapScene,
+    plan: &RenderPlan,
+    image: &NormalImage,
+    surface: &ImageSurface,
+    instructions: LaneInstructions,
+) -> (Image, NormalMapStats) {
+    let instructions = instructions.min(LaneInstructions::detect());
     let start = Instant::now();
     let shader = shader(scene, plan.convention);
     let (surface_ns, shading_ns, points) = (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
-    let mut out = Image::new(image.width, image.height);
-    out.pixels
-        .par_chunks_mut(image.width as usize)
-        .enumerate()
-        .for_each_init(
-            || Vec::with_capacity(image.width as usize),
-            |row_points: &mut Vec<(u32, SurfacePoint)>, (row, pixels)| {
-                row_points.clear();
-                let t0 = Instant::now();
-                surface.row_points(image, row as u32, row_points);
-                let t1 = Instant::now();
-                shade_row(&shader, row_points, pixels);
-                let t2 = Instant::now();
-                surface_ns.fetch_add((t1 - t0).as_nanos() as u64, Ordering::Relaxed);
-                shading_ns.fetch_add((t2 - t1).as_nanos() as u64, Ordering::Relaxed);
-                points.fetch_add(row_points.len() as u64, Ordering::Relaxed);
-            },
-        );
+    let out = Image::par_from_rows(
+        image.width,
+        image.height,
+        RowBuffers::default,
+        |buffers, row, pixels| {
+            let t0 = Instant::now();
+            let (count, t1) = match plan.convention {
+                ShadingConvention::Assignment => {
+                    let t1 = match instructions {
+                        LaneInstructions::Portable => lanes_row(&shader, surface, image, row, buffers, pixels),
+                        #[cfg(target_arch = "x86_64")]
+                        // SAFETY: `instructions` is at most what `detect` found on this CPU.
+                        LaneInstructions::Avx2 => unsafe {
+                            lanes_row_avx2(&shader, surface, image, row, buffers, pixels)
+                        },
+                    };
+                    (buffers.columns.len(), t1)
+                }
+                ShadingConvention::Physical => {
+                    buffers.points.clear();
+                    surface.row_points(image, row, &mut buffers.points);
+                    let t1 = Instant::now();
+                    for (col, sp) in &buffers.points {
+                        pixels[*col as usize] = shader.shade(sp, &mut 0);
+                    }
+                    (buffers.points.len(), t1)
+                }
+            };
+            let t2 = Instant::now();
+            surface_ns.fetch_add((t1 - t0).as_nanos() as u64, Ordering::Relaxed);
+            shading_ns.fetch_add((t2 - t1).as_nanos() as u64, Ordering::Relaxed);
+            points.fetch_add(count as u64, Ordering::Relaxed);
+        },
+    );
     let stats = NormalMapStats {
         surface_points: points.into_inner(),
         surface_time: Duration::from_nanos(surface_ns.into_inner()),
@@ -102,15 +137,85 @@ pub fn shade_image(
     (out, stats)
 }
 
-/// Shades `points` into `pixels` (indexed by column), eight points at a time through the
-/// shader's lanes; the last group is padded with copies of its last point, whose results are
-/// dropped.
-fn shade_row(shader: &Shader<NoOcclusion>, points: &[(u32, SurfacePoint)], pixels: &mut [Vec3]) {
-    for group in points.chunks(LANES) {
-        let lanes = std::array::from_fn(|i| group[i.min(group.len() - 1)].1);
-        let shaded = shader.shade_lanes(&lanes, &mut 0);
-        for ((col, _), value) in group.iter().zip(shaded) {
-            pixels[*col as usize] = value;
+/// One thread's surface points of the row it is shading, reused from row to row.
+#[derive(Default)]
+struct RowBuffers {
+    /// Scalar path: the points and their columns.
+    points: Vec<(u32, SurfacePoint)>,
+    /// Lane path: the columns of the foreground pixels…
+    columns: Vec<u32>,
+    /// …and their surface points, eight per entry; the last entry is padded with copies of the
+    /// row's last foreground pixel.
+    lanes: Vec<SurfaceLanes>,
+}
+
+/// The lane path of one row: its foreground pixels' [`SurfaceLanes`] into `buffers`, then
+/// shaded into `pixels`. Returns the time at which the surface stage ended.
+#[inline(always)]
+fn lanes_row(
+    shader: &Shader<NoOcclusion>,
+    surface: &ImageSurface,
+    image: &NormalImage,
+    row: u32,
+    buffers: &mut RowBuffers,
+    pixels: &mut [Vec3],
+) -> Instant {
+    buffers.surface_lanes(surface, image, row);
+    let t1 = Instant::now();
+    shade_lanes_row(shader, buffers, pixels);
+    t1
+}
+
+/// [`lanes_row`] compiled with AVX2 (256-bit registers: an [`F32x8`](crate::shading::brdf::F32x8)
+/// operation is one instruction instead of two). No FMA: fused products round differently, and
+/// every path must give the same bits.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn lanes_row_avx2(
+    shader: &Shader<NoOcclusion>,
+    surface: &ImageSurface,
+    image: &NormalImage,
+    row: u32,
+    buffers: &mut RowBuffers,
+    pixels: &mut [Vec3],
+) -> Instant {
+    lanes_row(shader, surface, image, row, buffers, pixels)
+}
+
+impl RowBuffers {
+    /// The surface lanes of row `row`'s foreground pixels.
+    #[inline(always)]
+    fn surface_lanes(&mut self, surface: &ImageSurface, image: &NormalImage, row: u32) {
+        self.columns.clear();
+        self.lanes.clear();
+        surface.foreground_columns(image, row, &mut self.columns);
+        for group in self.columns.chunks(LANES) {
+            let cols = std::array::from_fn(|i| group[i.min(group.len() - 1)]);
+            self.lanes.push(surface.lanes(image, row, cols));
+        }
+    }
+}
+
+/// Shades the lanes of `buffers` into `pixels` (indexed by column); the padding lanes' results
+/// are dropped.
+#[inline(always)]
+fn shade_lanes_row(shader: &Shader<NoOcclusion>, buffers: &RowBuffers, pixels: &mut [Vec3]) {
+    for (group, lanes) in buffers.columns.chunks(LANES).zip(&buffers.lanes) {
+        let radiance = shader.shade_assignment_lanes(lanes);
+        let pixel = |i: usize| Vec3::new(radiance[0].0[i], radiance[1].0[i], radiance[2].0[i]);
+        let first = group[0] as usize;
+        match pixels.get_mut(first..first + LANES) {
+            // Eight neighbours (inside an object, most groups): one run of stores.
+            Some(run) if group.len() == LANES && group[LANES - 1] as usize == first + LANES - 1 => {
+                for (i, out) in run.iter_mut().enumerate() {
+                    *out = pixel(i);
+                }
+            }
+            _ => {
+                for (i, &col) in group.iter().enumerate() {
+                    pixels[col as usize] = pixel(i);
+                }
+            }
         }
     }
 }

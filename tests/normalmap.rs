@@ -282,32 +282,73 @@ fn all_finite(v: Vec3) -> bool {
     v.is_finite() && v.min_element() >= 0.0
 }
 
-#[test]
-fn single_pixel_function_is_the_image_path() {
-    use pointshade::normal_map::{image_surface, shade_image};
+/// Shades `image` with the tp preset through `shade_image_with` for every lane instruction set
+/// and compares each pixel with `shade_tp_pixel` (one scalar point at a time): equal as numbers.
+fn assert_image_path_is_the_single_pixel_function(image: &pointshade::surface::normal_image::NormalImage) {
+    use pointshade::normal_map::{image_surface, shade_image_with};
     use pointshade::plan::RenderPlan;
-    use pointshade::surface::normal_image::NormalImage;
-    let Some(input) = shared_normal_map("nmap2.png") else {
-        return;
-    };
-    let image = NormalImage::load(&input).unwrap();
+    use pointshade::shading::brdf::LaneInstructions;
+    let scaling = TpScaling::of(image).unwrap();
+    let mut sets = vec![LaneInstructions::Portable, LaneInstructions::detect()];
+    sets.dedup();
     for brdf in ModelName::ALL {
-        let scene = NormalMapScene::from_preset(&input, Preset::Tp, brdf);
-        let surface = image_surface(&scene, &image).unwrap();
-        let plan = RenderPlan::for_normal_map(&scene, &image, "test");
-        let (shaded, _) = shade_image(&scene, &plan, &image, &surface);
-        let scaling = TpScaling::of(&image).unwrap();
-        for row in 0..image.height {
-            for col in 0..image.width {
-                let (rgb, _) = image.pixel((row * image.width + col) as usize);
-                assert_eq!(
-                    shade_tp_pixel(&scene, scaling, rgb, row, col),
-                    shaded.get(col, row),
-                    "{brdf:?} ({col}, {row})"
-                );
+        let scene = NormalMapScene::from_preset(&image.source, Preset::Tp, brdf);
+        let surface = image_surface(&scene, image).unwrap();
+        let plan = RenderPlan::for_normal_map(&scene, image, "test");
+        for &set in &sets {
+            let (shaded, _) = shade_image_with(&scene, &plan, image, &surface, set);
+            for row in 0..image.height {
+                for col in 0..image.width {
+                    let (rgb, _) = image.pixel((row * image.width + col) as usize);
+                    assert_eq!(
+                        shade_tp_pixel(&scene, scaling, rgb, row, col),
+                        shaded.get(col, row),
+                        "{} {brdf:?} {set:?} ({col}, {row})",
+                        image.source.display()
+                    );
+                }
             }
         }
     }
+}
+
+#[test]
+fn single_pixel_function_is_the_image_path() {
+    use pointshade::surface::normal_image::NormalImage;
+    // Synthetic images first (always run): 8- and 16-bit, with background runs, isolated
+    // foreground pixels and rows whose foreground count is not a multiple of eight, so every
+    // branch of the row code (whole blocks, partial blocks, runs of eight neighbours, padded
+    // last groups) is taken.
+    let dir = Dir::new("image-path");
+    let value = |x: u32, y: u32, c: u32| ((x * 37 + y * 101 + c * 53) ^ (x * y)) % 256;
+    // Holes every few pixels left of x = 15, a background run over x ∈ [21, 29) and row 2,
+    // runs of eight or more neighbours elsewhere.
+    let foreground =
+        |x: u32, y: u32| !((x < 15 && (x * 7 + y * 3).is_multiple_of(4)) || y == 2 || (21..29).contains(&x));
+    let rgb8 = image::RgbImage::from_fn(43, 9, |x, y| {
+        image::Rgb(if foreground(x, y) {
+            [0, 1, 2].map(|c| value(x, y, c) as u8)
+        } else {
+            [4, 2, 0]
+        })
+    });
+    let rgba16 = image::ImageBuffer::<image::Rgba<u16>, _>::from_fn(37, 7, |x, y| {
+        image::Rgba(if foreground(x, y) {
+            [0, 1, 2, 3].map(|c| (value(x, y, c) * 257 + x) as u16)
+        } else {
+            [1000, 0, 1028, 65535]
+        })
+    });
+    let (a, b) = (dir.path("rgb8.png"), dir.path("rgba16.png"));
+    rgb8.save(&a).unwrap();
+    rgba16.save(&b).unwrap();
+    for path in [a, b] {
+        assert_image_path_is_the_single_pixel_function(&NormalImage::load(&path).unwrap());
+    }
+    let Some(input) = shared_normal_map("nmap2.png") else {
+        return;
+    };
+    assert_image_path_is_the_single_pixel_function(&NormalImage::load(&input).unwrap());
 }
 
 #[test]

@@ -5,7 +5,10 @@
 
 pub mod sampler;
 
+use std::mem::MaybeUninit;
+
 use glam::Vec3;
+use rayon::prelude::*;
 pub use sampler::SamplerKind;
 
 /// Largest image a render accepts (width × height), a guard against absurd sizes.
@@ -167,6 +170,36 @@ pub struct Image {
 }
 
 impl Image {
+    /// An image made row by row in parallel: `row(state, y, pixels)` writes row `y`, whose pixels
+    /// start black; `init` makes each worker's scratch `state` (as rayon's `for_each_init`).
+    ///
+    /// Unlike [`Image::new`] followed by a parallel pass, no thread zeroes the whole buffer first:
+    /// each row is cleared by the worker that is about to write it, in its cache, so the
+    /// memory is written once, in parallel.
+    pub fn par_from_rows<T>(
+        width: u32,
+        height: u32,
+        init: impl Fn() -> T + Sync + Send,
+        row: impl Fn(&mut T, u32, &mut [Vec3]) + Sync + Send,
+    ) -> Image {
+        let (w, n) = (width as usize, width as usize * height as usize);
+        let mut pixels: Vec<Vec3> = Vec::with_capacity(n);
+        pixels.spare_capacity_mut()[..n]
+            .par_chunks_mut(w.max(1))
+            .enumerate()
+            .for_each_init(init, |state, (y, chunk)| {
+                chunk.fill(MaybeUninit::new(Vec3::ZERO));
+                // SAFETY: every element of `chunk` was initialised on the line above, and
+                // `MaybeUninit<Vec3>` has the layout of `Vec3`.
+                let chunk = unsafe { &mut *(chunk as *mut [MaybeUninit<Vec3>] as *mut [Vec3]) };
+                row(state, y as u32, chunk);
+            });
+        // SAFETY: the chunks above cover the first `n` elements, and each was initialised (a
+        // panic in `row` propagates before this line, leaving the vector empty).
+        unsafe { pixels.set_len(n) };
+        Image { width, height, pixels }
+    }
+
     /// A black image.
     pub fn new(width: u32, height: u32) -> Self {
         Self {
@@ -179,5 +212,41 @@ impl Image {
     /// The pixel at column `x`, row `y`.
     pub fn get(&self, x: u32, y: u32) -> Vec3 {
         self.pixels[y as usize * self.width as usize + x as usize]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rows_made_in_parallel_start_black_and_keep_what_was_written() {
+        // Fill the allocator with non-zero memory first, so a missed clear would show.
+        drop(vec![Vec3::splat(7.0); 64 * 64]);
+        let image = Image::par_from_rows(
+            13,
+            9,
+            || 0u32,
+            |calls, y, pixels| {
+                *calls += 1;
+                assert_eq!(pixels.len(), 13);
+                assert!(pixels.iter().all(|p| *p == Vec3::ZERO), "row {y} starts black");
+                pixels[y as usize] = Vec3::new(y as f32, 1.0, *calls as f32);
+            },
+        );
+        assert_eq!((image.width, image.height, image.pixels.len()), (13, 9, 117));
+        for y in 0..9 {
+            for x in 0..13 {
+                let p = image.get(x, y);
+                if x == y {
+                    assert_eq!((p.x, p.y), (y as f32, 1.0));
+                } else {
+                    assert_eq!(p, Vec3::ZERO, "({x}, {y})");
+                }
+            }
+        }
+        assert!(Image::par_from_rows(0, 0, || (), |_, _, _| panic!("no rows"))
+            .pixels
+            .is_empty());
     }
 }

@@ -13,7 +13,7 @@
 //!
 //! [`Material::eval`]: crate::shading::material::Material::eval
 
-use super::brdf::{LocalDots, Real};
+use super::brdf::{dot3 as dot, LocalDots, Real};
 
 /// Which convention the shader follows; chosen once per render by the plan.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -48,11 +48,6 @@ pub struct AssignmentDots<R: Real> {
     /// and the viewer lie on the same ray from the point. Without it the shader adds only the
     /// diffuse part (a specular lobe has no half vector to be evaluated at; see README.md).
     pub half_vector: R::Mask,
-}
-
-#[inline(always)]
-fn dot<R: Real>(a: [R; 3], b: [R; 3]) -> R {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 #[inline(always)]

@@ -15,7 +15,7 @@ use glam::Vec3;
 
 #[cfg(doc)]
 use crate::shading::brdf::F32x8;
-use crate::shading::brdf::{Mask, Real};
+use crate::shading::brdf::{dot3 as dot, map3, normalize_or_zero, Mask, Real};
 
 /// How a positional light's irradiance falls with distance.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -81,11 +81,6 @@ pub struct LightSamples<R: Real> {
     pub lit: R::Mask,
 }
 
-#[inline(always)]
-fn dot<R: Real>(a: [R; 3], b: [R; 3]) -> R {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
 impl Light {
     /// The light seen from `p`, or `None` when it sends nothing there: outside a spot's cone, or
     /// at the light's own position (d = 0, where the direction is undefined; such a point is
@@ -104,7 +99,7 @@ impl Light {
     /// light, used by the scalar shader (f32) and by the eight-lane one ([`F32x8`]).
     #[inline(always)]
     pub fn sample_points<R: Real>(&self, p: [R; 3]) -> LightSamples<R> {
-        let lane = |v: Vec3| v.to_array().map(R::of);
+        let lane = |v: Vec3| map3(v.to_array(), R::of);
         match self.kind {
             LightKind::Directional { direction } => LightSamples {
                 wi: lane(-direction),
@@ -121,10 +116,7 @@ impl Light {
             } => {
                 let position = lane(position);
                 let v = [p[0] - position[0], p[1] - position[1], p[2] - position[2]];
-                // normalize_or_zero: 1/|v| where finite and > 0, else the zero vector.
-                let rcp = dot(v, v).sqrt().recip();
-                let rcp = R::select(rcp.is_finite() & rcp.gt(R::zero()), rcp, R::zero());
-                let to_point = v.map(|c| c * rcp);
+                let to_point = normalize_or_zero(v);
                 let scale = R::of(1.0 / (cos_inner - cos_outer).max(0.001));
                 let cos_outer = R::of(cos_outer);
                 let cone = (dot(to_point, lane(direction)) * scale - cos_outer * scale)
@@ -160,13 +152,12 @@ impl Light {
         // inf·0 = NaN can arise downstream.
         let max = R::of(f32::MAX);
         let scale = factor * falloff.min(max);
-        let irradiance = self
-            .power
-            .to_array()
-            .map(|c| R::select(lit, (R::of(c) * scale).min(max), R::zero()));
+        let irradiance = map3(self.power.to_array(), |c| {
+            R::select(lit, (R::of(c) * scale).min(max), R::zero())
+        });
         let inv_distance = R::select(lit, distance, R::one()).recip();
         LightSamples {
-            wi: offset.map(|c| R::select(lit, c * inv_distance, R::zero())),
+            wi: map3(offset, |c| R::select(lit, c * inv_distance, R::zero())),
             distance,
             irradiance,
             lit,

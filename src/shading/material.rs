@@ -9,7 +9,7 @@
 use glam::{Vec2, Vec3};
 
 use crate::shading::brdf::{
-    blinn_phong, fresnel_conductor, fresnel_schlick, fresnel_schlick_sg, ggx_d, lambert, schlick_f0_dielectric,
+    blinn_phong, fresnel_conductor, fresnel_schlick, fresnel_schlick_sg, ggx_d, lambert, map3, schlick_f0_dielectric,
     FresnelTerm, LocalDots, Mask, MaskingShadowing, MicrofacetDistribution, Real,
 };
 use crate::shading::texture::{ColorSpace, TextureImage, TextureRef};
@@ -251,7 +251,7 @@ impl Material {
     #[inline(always)]
     pub fn diffuse<R: Real>(&self) -> [R; 3] {
         let kd = R::of(self.kd);
-        self.albedo.map(|a| lambert(kd, R::of(a)))
+        map3(self.albedo, |a| lambert(kd, R::of(a)))
     }
 
     /// f_r = diffuse + specular, per channel, for the given dot products. Finite and ≥ 0 for any
@@ -264,11 +264,11 @@ impl Material {
             Specular::None => d,
             Specular::BlinnPhong(bp) => {
                 let s = blinn_phong(R::of(bp.ks), dots.n_dot_h, dots.sin2_h, R::of(bp.shininess));
-                [0, 1, 2].map(|c| d[c] + s * R::of(bp.color[c]))
+                map3([0, 1, 2], |c| d[c] + s * R::of(bp.color[c]))
             }
             Specular::CookTorrance(ct) => {
                 let s = ct.eval(dots);
-                [0, 1, 2].map(|c| d[c] + s[c])
+                map3([0, 1, 2], |c| d[c] + s[c])
             }
             Specular::GltfPbr(p) => p.constant_point(self.albedo).eval(dots),
         }
@@ -358,7 +358,7 @@ impl PbrPoint {
         let metallic = R::of(self.metallic);
         // Dielectric F0 of glTF: ior 1.5 → ((1.5 − 1)/(1.5 + 1))² = 0.04.
         let f0_dielectric = schlick_f0_dielectric(R::lit(1.5));
-        self.base_color.map(|b| {
+        map3(self.base_color, |b| {
             let base = R::of(b);
             let f0 = f0_dielectric + (base - f0_dielectric) * metallic;
             let f = fresnel_schlick(f0, dots.i_dot_h);
@@ -372,7 +372,7 @@ impl CookTorrance {
     #[inline(always)]
     pub fn f0<R: Real>(&self) -> [R; 3] {
         if self.metallic {
-            self.specular_color.map(R::of)
+            map3(self.specular_color, R::of)
         } else {
             [schlick_f0_dielectric(R::of(self.ior)); 3]
         }
@@ -382,12 +382,12 @@ impl CookTorrance {
     #[inline(always)]
     pub fn fresnel<R: Real>(&self, i_dot_h: R) -> [R; 3] {
         match self.f {
-            FresnelTerm::Schlick => self.f0::<R>().map(|f0| fresnel_schlick(f0, i_dot_h)),
-            FresnelTerm::SchlickSg => self.f0::<R>().map(|f0| fresnel_schlick_sg(f0, i_dot_h)),
-            FresnelTerm::Conductor => [0, 1, 2].map(|c| {
+            FresnelTerm::Schlick => map3(self.f0::<R>(), |f0| fresnel_schlick(f0, i_dot_h)),
+            FresnelTerm::SchlickSg => map3(self.f0::<R>(), |f0| fresnel_schlick_sg(f0, i_dot_h)),
+            FresnelTerm::Conductor => map3([0, 1, 2], |c| {
                 fresnel_conductor(i_dot_h, R::of(self.eta[c]), R::of(self.k[c])) * R::of(self.specular_color[c])
             }),
-            FresnelTerm::Constant => self.specular_color.map(R::of),
+            FresnelTerm::Constant => map3(self.specular_color, R::of),
         }
     }
 
@@ -403,7 +403,7 @@ impl CookTorrance {
         }
         // D and F are finite, so where V = 0 the product is 0 as well.
         let dv = self.d.eval(dots.n_dot_h, dots.sin2_h, alpha) * v;
-        self.fresnel(dots.i_dot_h).map(|f| R::select(unlit, R::zero(), f * dv))
+        map3(self.fresnel(dots.i_dot_h), |f| R::select(unlit, R::zero(), f * dv))
     }
 }
 

@@ -12,13 +12,13 @@
 
 use glam::Vec3;
 
-use crate::shading::brdf::{F32x8, LocalDots, Mask, Real, LANES};
+use crate::shading::brdf::{map3, F32x8, LocalDots, Mask, Real, LANES};
 use crate::shading::convention::{assignment_dots, ShadingConvention};
 use crate::shading::light::Light;
 use crate::shading::material::{Material, Specular};
 use crate::shading::shadow::{Occluder, ShadowOffset, ShadowRay};
 use crate::shading::texture::TextureImage;
-use crate::surface::SurfacePoint;
+use crate::surface::{SurfaceLanes, SurfacePoint};
 
 /// Everything shading needs besides the point itself.
 pub struct Shader<'a, O: Occluder> {
@@ -132,47 +132,45 @@ impl<O: Occluder> Shader<'_, O> {
     }
 
     /// [`Shader::shade`] of [`LANES`] points at once: under the assignment convention, with one
-    /// material, the BRDF and the dot products run on [`F32x8`] lanes — the same functions, in
-    /// eight lanes, giving what the scalar path gives. Other points are shaded one by one.
+    /// material, through [`Shader::shade_assignment_lanes`]; other points one by one.
     #[inline]
     pub fn shade_lanes(&self, points: &[SurfacePoint; LANES], shadow_rays: &mut u64) -> [Vec3; LANES] {
-        let material = points[0].material;
-        if self.convention != ShadingConvention::Assignment || points.iter().any(|p| p.material != material) {
-            return points.map(|p| self.shade(&p, shadow_rays));
+        match SurfaceLanes::from_points(points) {
+            Some(lanes) if self.convention == ShadingConvention::Assignment => {
+                let radiance = self.shade_assignment_lanes(&lanes);
+                std::array::from_fn(|i| Vec3::new(radiance[0].0[i], radiance[1].0[i], radiance[2].0[i]))
+            }
+            _ => points.map(|p| self.shade(&p, shadow_rays)),
         }
-        let material = &self.materials[material as usize];
-        let n = to_lanes(|i| points[i].shading_normal);
-        let wo = to_lanes(|i| points[i].to_viewer);
-        let position = to_lanes(|i| points[i].position);
+    }
+
+    /// The assignment convention's L_o (see [`Shader::shade`]) of eight points, per channel: the
+    /// dot products, lights and BRDF run on [`F32x8`] lanes — the same functions, in eight lanes,
+    /// giving what the scalar path gives. Only for a shader whose convention is
+    /// [`ShadingConvention::Assignment`] (the caller's plan decides; the result ignores sides).
+    #[inline(always)]
+    pub fn shade_assignment_lanes(&self, points: &SurfaceLanes) -> [F32x8; 3] {
+        debug_assert_eq!(self.convention, ShadingConvention::Assignment);
+        let material = &self.materials[points.material as usize];
         let mut radiance = [F32x8::splat(0.0); 3];
         for light in self.lights {
             // Where the light sends nothing (a light at the point), its irradiance is 0 and its
             // direction the zero vector: the term is 0 and finite.
-            let ls = light.sample_points(position);
-            let term = assignment_term(material, n, ls.wi.map(|c| -c), wo, ls.irradiance);
+            let ls = light.sample_points(points.position);
+            let wi_from_light = map3(ls.wi, |c| -c);
+            let term = assignment_term(
+                material,
+                points.shading_normal,
+                wi_from_light,
+                points.to_viewer,
+                ls.irradiance,
+            );
             for c in 0..3 {
                 radiance[c] = radiance[c] + term[c];
             }
         }
-        let mut out = [Vec3::ZERO; LANES];
-        for (i, out) in out.iter_mut().enumerate() {
-            *out = Vec3::new(radiance[0].0[i], radiance[1].0[i], radiance[2].0[i]).min(Vec3::splat(f32::MAX));
-        }
-        out
+        map3(radiance, |c| c.min(F32x8::splat(f32::MAX)))
     }
-}
-
-/// The vectors `v(0)`, …, `v(7)` as three lanes of coordinates.
-#[inline(always)]
-fn to_lanes(v: impl Fn(usize) -> Vec3) -> [F32x8; 3] {
-    let mut lanes = [F32x8::splat(0.0); 3];
-    for i in 0..LANES {
-        let v = v(i);
-        for (c, lane) in lanes.iter_mut().enumerate() {
-            lane.0[i] = v[c];
-        }
-    }
-    lanes
 }
 
 /// One light's L_i · f(ω_i, ω_o) · (n·ω_i) under the assignment convention, per channel, in any
@@ -189,11 +187,11 @@ fn assignment_term<R: Real>(
     let diffuse = material.diffuse::<R>();
     let f = if a.half_vector.any() {
         let e = material.eval(&a.dots);
-        [0, 1, 2].map(|c| R::select(a.half_vector, e[c], diffuse[c]))
+        map3([0, 1, 2], |c| R::select(a.half_vector, e[c], diffuse[c]))
     } else {
         diffuse
     };
-    [0, 1, 2].map(|c| f[c] * irradiance[c] * a.dots.n_dot_i)
+    map3([0, 1, 2], |c| f[c] * irradiance[c] * a.dots.n_dot_i)
 }
 
 #[cfg(test)]

@@ -10,6 +10,8 @@ pub mod primary;
 
 use glam::{Vec2, Vec3};
 
+use crate::shading::brdf::{map3, F32x8, LANES};
+
 /// A point on a surface, seen from a direction, ready to be shaded.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfacePoint {
@@ -29,4 +31,37 @@ pub struct SurfacePoint {
     pub material: u32,
     /// Unit direction from the point towards the viewer (ω_o).
     pub to_viewer: Vec3,
+}
+
+/// [`LANES`] surface points of one material, each coordinate in [`F32x8`] lanes: what the
+/// shader's eight-lane path reads. Only the fields that path uses (the assignment convention has
+/// no sides, textures or shadow rays); the normal-map mode fills them straight from the image.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceLanes {
+    /// World-space positions.
+    pub position: [F32x8; 3],
+    /// Shading normals (see [`SurfacePoint::shading_normal`]).
+    pub shading_normal: [F32x8; 3],
+    /// Unit directions towards the viewer (ω_o), or zero.
+    pub to_viewer: [F32x8; 3],
+    /// Index into the scene's materials, the same for every lane.
+    pub material: u32,
+}
+
+impl SurfaceLanes {
+    /// `points` in lanes, or `None` when they do not all have the same material.
+    #[inline(always)]
+    pub fn from_points(points: &[SurfacePoint; LANES]) -> Option<SurfaceLanes> {
+        let material = points[0].material;
+        if points.iter().any(|p| p.material != material) {
+            return None;
+        }
+        let lanes = |v: fn(&SurfacePoint) -> Vec3| map3([0, 1, 2], |c| F32x8::from_fn(|i| v(&points[i])[c]));
+        Some(SurfaceLanes {
+            position: lanes(|p| p.position),
+            shading_normal: lanes(|p| p.shading_normal),
+            to_viewer: lanes(|p| p.to_viewer),
+            material,
+        })
+    }
 }

@@ -22,7 +22,8 @@ use rayon::prelude::*;
 
 use crate::error::{InputError, InputResult};
 use crate::film::MAX_PIXELS;
-use crate::surface::SurfacePoint;
+use crate::shading::brdf::{map3, normalize_or_zero, F32x8, Real, LANES};
+use crate::surface::{SurfaceLanes, SurfacePoint};
 
 /// The 8-bit signature every PNG file starts with.
 const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
@@ -67,6 +68,26 @@ pub trait Sample: Copy + Send + Sync + Ord {
     const TP_BACKGROUND_MAX: Self;
     /// The value in [0, 1]: v / (2^bits − 1), correctly rounded.
     fn unit(self) -> f32;
+
+    /// The colours of the pixels at `cols` of `samples`, each channel in [0, 1] as
+    /// [`Sample::unit`] gives it, one lane per pixel.
+    #[inline(always)]
+    fn unit_lanes(samples: &[[Self; 4]], cols: [u32; LANES]) -> [F32x8; 3] {
+        map3([0, 1, 2], |c| F32x8::from_fn(|i| samples[cols[i] as usize][c].unit()))
+    }
+
+    /// Whether RGBA sample `p` is foreground for the `tp` preset: max(r, g, b) above
+    /// [`Sample::TP_BACKGROUND_MAX`].
+    #[inline(always)]
+    fn tp_foreground(p: [Self; 4]) -> bool {
+        (p[0] > Self::TP_BACKGROUND_MAX) | (p[1] > Self::TP_BACKGROUND_MAX) | (p[2] > Self::TP_BACKGROUND_MAX)
+    }
+
+    /// Whether RGBA sample `p` is foreground for the `physical` preset: alpha ≠ 0 and RGB ≠ 0.
+    #[inline(always)]
+    fn signed_foreground(p: [Self; 4]) -> bool {
+        (p[3] != Self::ZERO) & ((p[0] != Self::ZERO) | (p[1] != Self::ZERO) | (p[2] != Self::ZERO))
+    }
 }
 
 /// v / 255 for every 8-bit value, computed once (at compile time) by exact division.
@@ -86,6 +107,35 @@ impl Sample for u8 {
     #[inline(always)]
     fn unit(self) -> f32 {
         UNIT8[self as usize]
+    }
+
+    /// Each pixel read as one word, its channels shifted out and divided by 255 in lanes: the
+    /// same correctly rounded v/255 as [`UNIT8`], without 24 table lookups.
+    #[inline(always)]
+    fn unit_lanes(samples: &[[u8; 4]], cols: [u32; LANES]) -> [F32x8; 3] {
+        let mut words = [0u32; LANES];
+        for (word, &col) in words.iter_mut().zip(&cols) {
+            *word = u32::from_le_bytes(samples[col as usize]);
+        }
+        map3([0, 8, 16], |shift| {
+            F32x8::from_fn(|i| ((words[i] >> shift) & 0xff) as i32 as f32) / F32x8::splat(255.0)
+        })
+    }
+
+    /// The pixel as one little-endian u32 (r in the low byte); a byte b is > 4 exactly when bit
+    /// 7 of ((b & 0x7f) + 0x7b) | b is set, and no byte carries into the next (0x7f + 0x7b <
+    /// 0x100). Word operations that the compiler vectorises across pixels, where the three
+    /// byte compares of the default are left one pixel at a time.
+    #[inline(always)]
+    fn tp_foreground(p: [u8; 4]) -> bool {
+        let rgb = u32::from_le_bytes(p) & 0x00ff_ffff;
+        (((rgb & 0x007f_7f7f) + 0x007b_7b7b) | rgb) & 0x0080_8080 != 0
+    }
+
+    #[inline(always)]
+    fn signed_foreground(p: [u8; 4]) -> bool {
+        let w = u32::from_le_bytes(p);
+        (w >> 24 != 0) & (w & 0x00ff_ffff != 0)
     }
 }
 
@@ -286,20 +336,22 @@ impl NormalDecoding {
     /// occur the pixel has no direction and is background too (never a NaN from 0/0).
     #[inline(always)]
     pub fn normal(self, rgb: [f32; 3], alpha: f32) -> Option<Vec3> {
+        let background = match self {
+            NormalDecoding::MinMax(_) => rgb[0].max(rgb[1]).max(rgb[2]) <= TP_BACKGROUND_LEVEL,
+            NormalDecoding::Signed => alpha == 0.0 || rgb == [0.0; 3],
+        };
+        let n = Vec3::from(self.decode(rgb));
+        (!background && n != Vec3::ZERO).then_some(n)
+    }
+
+    /// The normal stored in the foreground colour `rgb`, in any [`Real`] (one pixel in f32, eight
+    /// in [`F32x8`] lanes): (c − min)·1/(max − min), or normalise(2c − 1) (zero where 2c − 1 is).
+    /// A `MinMax` normal is zero only at c = min in every channel, which is background.
+    #[inline(always)]
+    pub fn decode<R: Real>(self, rgb: [R; 3]) -> [R; 3] {
         match self {
-            NormalDecoding::MinMax(s) => {
-                if rgb[0].max(rgb[1]).max(rgb[2]) <= TP_BACKGROUND_LEVEL {
-                    return None;
-                }
-                Some((Vec3::from(rgb) - Vec3::splat(s.min)) * s.inv_range)
-            }
-            NormalDecoding::Signed => {
-                if alpha == 0.0 || rgb == [0.0; 3] {
-                    return None;
-                }
-                let n = (Vec3::from(rgb) * 2.0 - Vec3::ONE).normalize_or_zero();
-                (n != Vec3::ZERO).then_some(n)
-            }
+            NormalDecoding::MinMax(s) => map3(rgb, |c| (c - R::of(s.min)) * R::of(s.inv_range)),
+            NormalDecoding::Signed => normalize_or_zero(map3(rgb, |c| c * R::lit(2.0) - R::one())),
         }
     }
 }
@@ -331,9 +383,18 @@ impl Viewer {
     /// ω_o at `x`.
     #[inline(always)]
     pub fn to_viewer(self, x: Vec3) -> Vec3 {
+        Vec3::from(self.to_viewer_from(x.to_array()))
+    }
+
+    /// ω_o at `x`, in any [`Real`].
+    #[inline(always)]
+    pub fn to_viewer_from<R: Real>(self, x: [R; 3]) -> [R; 3] {
         match self {
-            Viewer::Direction(d) => d,
-            Viewer::Position(c) => (c - x).normalize_or_zero(),
+            Viewer::Direction(d) => map3(d.to_array(), R::of),
+            Viewer::Position(c) => {
+                let c = map3(c.to_array(), R::of);
+                normalize_or_zero([c[0] - x[0], c[1] - x[1], c[2] - x[2]])
+            }
         }
     }
 }
@@ -359,15 +420,21 @@ impl ImageSurface {
     /// Position of pixel (`col`, `row`).
     #[inline(always)]
     pub fn position(&self, col: u32, row: u32) -> Vec3 {
+        Vec3::from(self.position_of(col as f32, row as f32))
+    }
+
+    /// Position of the pixels at columns `col` of rows `row` (whole numbers), in any [`Real`].
+    #[inline(always)]
+    pub fn position_of<R: Real>(&self, col: R, row: R) -> [R; 3] {
         match self.positions {
-            PixelPositions::RowColumn => Vec3::new(row as f32, col as f32, 0.0),
+            PixelPositions::RowColumn => [row, col, R::zero()],
             PixelPositions::ImagePlane => {
-                let size = 2.0 / self.height as f32;
-                Vec3::new(
-                    (col as f32 + 0.5 - 0.5 * self.width as f32) * size,
-                    (0.5 * self.height as f32 - row as f32 - 0.5) * size,
-                    0.0,
-                )
+                let size = R::of(2.0 / self.height as f32);
+                [
+                    (col + R::lit(0.5) - R::of(0.5 * self.width as f32)) * size,
+                    (R::of(0.5 * self.height as f32) - row - R::lit(0.5)) * size,
+                    R::zero(),
+                ]
             }
         }
     }
@@ -393,44 +460,103 @@ impl ImageSurface {
     /// Appends the surface points of row `row` of `image` to `out`, with their columns.
     #[inline]
     pub fn row_points(&self, image: &NormalImage, row: u32, out: &mut Vec<(u32, SurfacePoint)>) {
-        let range = row as usize * self.width as usize..(row as usize + 1) * self.width as usize;
+        fn push<S: Sample>(s: &ImageSurface, samples: &[[S; 4]], row: u32, out: &mut Vec<(u32, SurfacePoint)>) {
+            for (col, &p) in samples.iter().enumerate() {
+                if !s.is_foreground(p) {
+                    continue;
+                }
+                let (rgb, alpha) = unit_rgba(p);
+                if let Some(sp) = s.point(col as u32, row, rgb, alpha) {
+                    out.push((col as u32, sp));
+                }
+            }
+        }
         match &image.samples {
-            Samples::Eight(s) => self.push_points(&s[range], row, out),
-            Samples::Sixteen(s) => self.push_points(&s[range], row, out),
+            Samples::Eight(s) => push(self, &s[self.row_range(row)], row, out),
+            Samples::Sixteen(s) => push(self, &s[self.row_range(row)], row, out),
         }
     }
 
+    /// Appends the columns of row `row`'s foreground pixels (those [`ImageSurface::point`] makes
+    /// a surface point of, bar the one colour noted at [`ImageSurface::lanes`]) to `out`.
     #[inline(always)]
-    fn push_points<S: Sample>(&self, samples: &[[S; 4]], row: u32, out: &mut Vec<(u32, SurfacePoint)>) {
-        // The background rules of `NormalDecoding::normal`, tested on the integer samples first
-        // (the same decision for every value: see the tests), so that background pixels — most
-        // of a typical normal image — cost no conversion. `point` still applies the rule itself.
+    pub fn foreground_columns(&self, image: &NormalImage, row: u32, out: &mut Vec<u32>) {
+        #[inline(always)]
+        fn push<S: Sample>(samples: &[[S; 4]], out: &mut Vec<u32>, foreground: impl Fn([S; 4]) -> bool) {
+            // Blocks of 32 pixels: the flags are computed without branches (the compiler
+            // vectorises them), blocks all background or all foreground are decided at once,
+            // and the others compacted without a branch per pixel. A per-pixel `if` here
+            // mispredicts along every silhouette and cost more than the shading.
+            const BLOCK: usize = 32;
+            for (k, block) in samples.chunks(BLOCK).enumerate() {
+                let mut flags = [0u8; BLOCK];
+                for (flag, &p) in flags.iter_mut().zip(block) {
+                    *flag = foreground(p) as u8;
+                }
+                let count = flags.iter().map(|&f| f as usize).sum::<usize>();
+                let base = (k * BLOCK) as u32;
+                if count == block.len() {
+                    out.extend(base..base + count as u32);
+                } else if count > 0 {
+                    let (mut columns, mut n) = ([0u32; BLOCK], 0);
+                    for (i, &f) in flags.iter().enumerate() {
+                        columns[n] = base + i as u32;
+                        n += f as usize;
+                    }
+                    out.extend_from_slice(&columns[..n]);
+                }
+            }
+        }
+        #[inline(always)]
+        fn rows<S: Sample>(s: &ImageSurface, samples: &[[S; 4]], out: &mut Vec<u32>) {
+            match s.decoding {
+                NormalDecoding::MinMax(_) => push(samples, out, S::tp_foreground),
+                NormalDecoding::Signed => push(samples, out, S::signed_foreground),
+            }
+        }
+        match &image.samples {
+            Samples::Eight(s) => rows(self, &s[self.row_range(row)], out),
+            Samples::Sixteen(s) => rows(self, &s[self.row_range(row)], out),
+        }
+    }
+
+    /// The surface points of the pixels at columns `cols` of row `row`, in lanes: the decoding,
+    /// position and ω_o of [`ImageSurface::point`], computed by the same generic functions eight
+    /// pixels per operation. The columns must be foreground ([`ImageSurface::foreground_columns`]);
+    /// the one foreground colour `point` still rejects — a `physical` 2c − 1 = 0, which no 8- or
+    /// 16-bit value encodes — would give a zero normal here.
+    #[inline(always)]
+    pub fn lanes(&self, image: &NormalImage, row: u32, cols: [u32; LANES]) -> SurfaceLanes {
+        let rgb = match &image.samples {
+            Samples::Eight(s) => u8::unit_lanes(&s[self.row_range(row)], cols),
+            Samples::Sixteen(s) => u16::unit_lanes(&s[self.row_range(row)], cols),
+        };
+        // Columns are below 2^16 (images are at most 65536 wide): exact through i32, which
+        // converts in one instruction where u32 → f32 takes several.
+        let col = F32x8::from_fn(|i| cols[i] as i32 as f32);
+        let position = self.position_of(col, F32x8::splat(row as f32));
+        SurfaceLanes {
+            position,
+            shading_normal: self.decoding.decode(rgb),
+            to_viewer: self.viewer.to_viewer_from(position),
+            material: self.material,
+        }
+    }
+
+    /// The indices of row `row`'s samples.
+    #[inline(always)]
+    fn row_range(&self, row: u32) -> std::ops::Range<usize> {
+        row as usize * self.width as usize..(row as usize + 1) * self.width as usize
+    }
+
+    /// The background rules of [`NormalDecoding::normal`] tested on the integer samples (the same
+    /// decision for every value: see the tests), so that background pixels — most of a typical
+    /// normal image — cost no conversion.
+    #[inline(always)]
+    fn is_foreground<S: Sample>(&self, p: [S; 4]) -> bool {
         match self.decoding {
-            NormalDecoding::MinMax(_) => {
-                self.push_foreground(samples, row, out, |p| p[0].max(p[1]).max(p[2]) > S::TP_BACKGROUND_MAX)
-            }
-            NormalDecoding::Signed => self.push_foreground(samples, row, out, |p| {
-                p[3] != S::ZERO && (p[0] != S::ZERO || p[1] != S::ZERO || p[2] != S::ZERO)
-            }),
-        }
-    }
-
-    #[inline(always)]
-    fn push_foreground<S: Sample>(
-        &self,
-        samples: &[[S; 4]],
-        row: u32,
-        out: &mut Vec<(u32, SurfacePoint)>,
-        foreground: impl Fn([S; 4]) -> bool,
-    ) {
-        for (col, &p) in samples.iter().enumerate() {
-            if !foreground(p) {
-                continue;
-            }
-            let (rgb, alpha) = unit_rgba(p);
-            if let Some(sp) = self.point(col as u32, row, rgb, alpha) {
-                out.push((col as u32, sp));
-            }
+            NormalDecoding::MinMax(_) => S::tp_foreground(p),
+            NormalDecoding::Signed => S::signed_foreground(p),
         }
     }
 }
@@ -470,6 +596,35 @@ mod tests {
         }
         assert_eq!(4u8.unit(), TP_BACKGROUND_LEVEL);
         assert_eq!(1028u16.unit(), TP_BACKGROUND_LEVEL, "4/255 of full scale at 16 bits");
+    }
+
+    #[test]
+    fn eight_bit_lanes_convert_as_the_table() {
+        let samples: Vec<[u8; 4]> = (0..=255u8).map(|v| [v, v.wrapping_mul(7), 255 - v, v / 3]).collect();
+        for start in (0..256 - LANES as u32).step_by(5) {
+            let cols = std::array::from_fn(|i| start + (i as u32 * 3) % (256 - start));
+            let lanes = u8::unit_lanes(&samples, cols);
+            for (i, &col) in cols.iter().enumerate() {
+                for (c, lane) in lanes.iter().enumerate() {
+                    let v = samples[col as usize][c];
+                    assert_eq!(lane.0[i].to_bits(), v.unit().to_bits(), "value {v}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn eight_bit_word_tests_agree_with_the_channel_tests() {
+        // Every RGB triple, with alpha 0, a middle value and full: the word forms of the u8
+        // foreground tests against the per-channel defaults (run on u16, the same rules).
+        for rgb in 0..1u32 << 24 {
+            for alpha in [0u8, 77, 255] {
+                let p = (rgb | (alpha as u32) << 24).to_le_bytes();
+                let wide = p.map(|v| v as u16 * 257);
+                assert_eq!(u8::tp_foreground(p), u16::tp_foreground(wide), "{p:?}");
+                assert_eq!(u8::signed_foreground(p), u16::signed_foreground(wide), "{p:?}");
+            }
+        }
     }
 
     #[test]

@@ -11,6 +11,29 @@
 
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
+/// Which instructions the eight-lane code may be compiled for, best last. Lanes give the same
+/// bits with every choice (no fused multiply-add is enabled); wider registers only take fewer
+/// instructions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum LaneInstructions {
+    /// The target's baseline (SSE2 on x86-64): two 128-bit operations per [`F32x8`] operation.
+    Portable,
+    /// AVX2 (x86-64 only): one 256-bit operation per [`F32x8`] operation.
+    #[cfg(target_arch = "x86_64")]
+    Avx2,
+}
+
+impl LaneInstructions {
+    /// The best this CPU runs, detected at run time (so the binary stays portable).
+    pub fn detect() -> LaneInstructions {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            return LaneInstructions::Avx2;
+        }
+        LaneInstructions::Portable
+    }
+}
+
 /// A condition per lane: `bool` for scalars, [`Mask8`] for [`F32x8`].
 pub trait Mask:
     Copy + BitAnd<Output = Self> + BitOr<Output = Self> + Not<Output = Self> + PartialEq + std::fmt::Debug
@@ -36,6 +59,31 @@ impl Mask for bool {
     fn any(self) -> bool {
         self
     }
+}
+
+/// `[f(v[0]), f(v[1]), f(v[2])]`: `array::map` for the three channels or coordinates the shading
+/// path carries, written out so it is always inlined (`array::map` on [`F32x8`] elements was
+/// left as a call per element, which cost the lane shader most of its speed).
+#[inline(always)]
+pub fn map3<T: Copy, U>(v: [T; 3], f: impl Fn(T) -> U) -> [U; 3] {
+    [f(v[0]), f(v[1]), f(v[2])]
+}
+
+/// a·b of two 3-vectors, summed x, y, z in that order (as glam's `Vec3::dot`, so lanes and the
+/// f32 code agree to the bit).
+#[inline(always)]
+pub fn dot3<R: Real>(a: [R; 3], b: [R; 3]) -> R {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// v/‖v‖, or the zero vector where that is not finite (v = 0, or ‖v‖ overflowing): glam's
+/// `normalize_or_zero` (v · (1/√(v·v)), kept where the reciprocal is finite and > 0), in any
+/// [`Real`].
+#[inline(always)]
+pub fn normalize_or_zero<R: Real>(v: [R; 3]) -> [R; 3] {
+    let rcp = dot3(v, v).sqrt().recip();
+    let rcp = R::select(rcp.is_finite() & rcp.gt(R::zero()), rcp, R::zero());
+    map3(v, |c| c * rcp)
 }
 
 /// A floating-point type the BRDF terms can be evaluated in.
@@ -430,11 +478,16 @@ impl Real for F32x8 {
     }
     #[inline(always)]
     fn is_finite(self) -> Mask8 {
-        Mask8::from_fn(|i| self.0[i].is_finite())
+        // a·0 = 0 exactly when a is finite (∞·0 and NaN·0 are NaN): a vector multiply and
+        // compare. Written as a class test (`is_finite`, or |a| < ∞ next to a > 0), the
+        // compiler merges it into one floating-point class query that x86 evaluates lane by lane.
+        (self * Self::splat(0.0)).eq(Self::splat(0.0))
     }
     #[inline(always)]
     fn select(mask: Mask8, a: Self, b: Self) -> Self {
-        Self::from_fn(|i| f32::from_bits((a.0[i].to_bits() & mask.0[i]) | (b.0[i].to_bits() & !mask.0[i])))
+        // A lane of a mask is all ones or all zeros, so its sign bit decides: the form the
+        // compiler turns into one blend instruction (a bitwise and/andnot/or takes three).
+        Self::from_fn(|i| if (mask.0[i] as i32) < 0 { a.0[i] } else { b.0[i] })
     }
 }
 
