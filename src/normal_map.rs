@@ -102,13 +102,17 @@ pub fn shade_image_with(
             let t0 = Instant::now();
             let (count, t1) = match plan.convention {
                 ShadingConvention::Assignment => {
+                    let job = LaneRow {
+                        shader: &shader,
+                        surface,
+                        image,
+                        row,
+                    };
                     let t1 = match instructions {
-                        LaneInstructions::Portable => lanes_row(&shader, surface, image, row, buffers, pixels),
+                        LaneInstructions::Portable => job.run(buffers, pixels),
                         #[cfg(target_arch = "x86_64")]
                         // SAFETY: `instructions` is at most what `detect` found on this CPU.
-                        LaneInstructions::Avx2 => unsafe {
-                            lanes_row_avx2(&shader, surface, image, row, buffers, pixels)
-                        },
+                        LaneInstructions::Avx2 => unsafe { job.run_avx2(buffers, pixels) },
                     };
                     (buffers.columns.len(), t1)
                 }
@@ -149,37 +153,33 @@ struct RowBuffers {
     lanes: Vec<SurfaceLanes>,
 }
 
-/// The lane path of one row: its foreground pixels' [`SurfaceLanes`] into `buffers`, then
-/// shaded into `pixels`. Returns the time at which the surface stage ended.
-#[inline(always)]
-fn lanes_row(
-    shader: &Shader<NoOcclusion>,
-    surface: &ImageSurface,
-    image: &NormalImage,
+/// One row of the lane path: what it shades and with what.
+struct LaneRow<'a> {
+    shader: &'a Shader<'a, NoOcclusion>,
+    surface: &'a ImageSurface,
+    image: &'a NormalImage,
     row: u32,
-    buffers: &mut RowBuffers,
-    pixels: &mut [Vec3],
-) -> Instant {
-    buffers.surface_lanes(surface, image, row);
-    let t1 = Instant::now();
-    shade_lanes_row(shader, buffers, pixels);
-    t1
 }
 
-/// [`lanes_row`] compiled with AVX2 (256-bit registers: an [`F32x8`](crate::shading::brdf::F32x8)
-/// operation is one instruction instead of two). No FMA: fused products round differently, and
-/// every path must give the same bits.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn lanes_row_avx2(
-    shader: &Shader<NoOcclusion>,
-    surface: &ImageSurface,
-    image: &NormalImage,
-    row: u32,
-    buffers: &mut RowBuffers,
-    pixels: &mut [Vec3],
-) -> Instant {
-    lanes_row(shader, surface, image, row, buffers, pixels)
+impl LaneRow<'_> {
+    /// The row's foreground pixels' [`SurfaceLanes`] into `buffers`, then shaded into `pixels`.
+    /// Returns the time at which the surface stage ended.
+    #[inline(always)]
+    fn run(&self, buffers: &mut RowBuffers, pixels: &mut [Vec3]) -> Instant {
+        buffers.surface_lanes(self.surface, self.image, self.row);
+        let t1 = Instant::now();
+        shade_lanes_row(self.shader, buffers, pixels);
+        t1
+    }
+
+    /// [`LaneRow::run`] compiled with AVX2 (256-bit registers: an
+    /// [`F32x8`](crate::shading::brdf::F32x8) operation is one instruction instead of two). No
+    /// FMA: fused products round differently, and every path must give the same bits.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn run_avx2(&self, buffers: &mut RowBuffers, pixels: &mut [Vec3]) -> Instant {
+        self.run(buffers, pixels)
+    }
 }
 
 impl RowBuffers {
