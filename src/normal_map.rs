@@ -66,10 +66,10 @@ pub fn shader<'a>(scene: &'a NormalMapScene, convention: ShadingConvention) -> S
 
 /// Shades every pixel of `image` (linear L_o; background pixels 0) following `plan`.
 ///
-/// Under the assignment convention (the `tp` preset) a row's foreground pixels become
-/// [`SurfaceLanes`] eight at a time, straight from the image, and go through
-/// [`Shader::shade_assignment_lanes`]; otherwise each becomes a [`SurfacePoint`] for
-/// [`Shader::shade`]. Either way the same decoding and the same BRDF.
+/// A row's foreground pixels become [`SurfaceLanes`] eight at a time, straight from the image,
+/// and go through [`Shader::shade_surface_lanes`] (both presets: a normal-map shader has no
+/// shadow rays, textures or emission); a shader without lanes would get one [`SurfacePoint`] per
+/// pixel for [`Shader::shade`]. Either way the same decoding and the same BRDF.
 pub fn shade_image(
     scene: &NormalMapScene,
     plan: &RenderPlan,
@@ -100,8 +100,8 @@ pub fn shade_image_with(
         RowBuffers::default,
         |buffers, row, pixels| {
             let t0 = Instant::now();
-            let (count, t1) = match plan.convention {
-                ShadingConvention::Assignment => {
+            let (count, t1) = match shader.has_lanes() {
+                true => {
                     let job = LaneRow {
                         shader: &shader,
                         surface,
@@ -116,7 +116,7 @@ pub fn shade_image_with(
                     };
                     (buffers.columns.len(), t1)
                 }
-                ShadingConvention::Physical => {
+                false => {
                     buffers.points.clear();
                     surface.row_points(image, row, &mut buffers.points);
                     let t1 = Instant::now();
@@ -201,7 +201,7 @@ impl RowBuffers {
 #[inline(always)]
 fn shade_lanes_row(shader: &Shader<NoOcclusion>, buffers: &RowBuffers, pixels: &mut [Vec3]) {
     for (group, lanes) in buffers.columns.chunks(LANES).zip(&buffers.lanes) {
-        let radiance = shader.shade_assignment_lanes(lanes);
+        let radiance = shader.shade_surface_lanes(lanes);
         let pixel = |i: usize| Vec3::new(radiance[0].0[i], radiance[1].0[i], radiance[2].0[i]);
         let first = group[0] as usize;
         match pixels.get_mut(first..first + LANES) {

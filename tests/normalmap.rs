@@ -282,30 +282,41 @@ fn all_finite(v: Vec3) -> bool {
     v.is_finite() && v.min_element() >= 0.0
 }
 
-/// Shades `image` with the tp preset through `shade_image_with` for every lane instruction set
-/// and compares each pixel with `shade_tp_pixel` (one scalar point at a time): equal as numbers.
+/// Shades `image` through `shade_image_with` for every lane instruction set and compares each
+/// pixel with one point at a time: `shade_tp_pixel` for the tp preset, the scalar shader on
+/// `ImageSurface::point` for the physical one (one- and two-sided). Equal as numbers.
 fn assert_image_path_is_the_single_pixel_function(image: &pointshade::surface::normal_image::NormalImage) {
-    use pointshade::normal_map::{image_surface, shade_image_with};
+    use pointshade::normal_map::{image_surface, shade_image_with, shader};
     use pointshade::plan::RenderPlan;
     use pointshade::shading::brdf::LaneInstructions;
     let scaling = TpScaling::of(image).unwrap();
     let mut sets = vec![LaneInstructions::Portable, LaneInstructions::detect()];
     sets.dedup();
     for brdf in ModelName::ALL {
-        let scene = NormalMapScene::from_preset(&image.source, Preset::Tp, brdf);
-        let surface = image_surface(&scene, image).unwrap();
-        let plan = RenderPlan::for_normal_map(&scene, image, "test");
-        for &set in &sets {
-            let (shaded, _) = shade_image_with(&scene, &plan, image, &surface, set);
-            for row in 0..image.height {
-                for col in 0..image.width {
-                    let (rgb, _) = image.pixel((row * image.width + col) as usize);
-                    assert_eq!(
-                        shade_tp_pixel(&scene, scaling, rgb, row, col),
-                        shaded.get(col, row),
-                        "{} {brdf:?} {set:?} ({col}, {row})",
-                        image.source.display()
-                    );
+        for (preset, two_sided) in [(Preset::Tp, true), (Preset::Physical, false), (Preset::Physical, true)] {
+            let mut scene = NormalMapScene::from_preset(&image.source, preset, brdf);
+            scene.material.two_sided = two_sided;
+            let surface = image_surface(&scene, image).unwrap();
+            let plan = RenderPlan::for_normal_map(&scene, image, "test");
+            let one = shader(&scene, preset.convention());
+            for &set in &sets {
+                let (shaded, _) = shade_image_with(&scene, &plan, image, &surface, set);
+                for row in 0..image.height {
+                    for col in 0..image.width {
+                        let (rgb, alpha) = image.pixel((row * image.width + col) as usize);
+                        let expected = match preset {
+                            Preset::Tp => shade_tp_pixel(&scene, scaling, rgb, row, col),
+                            Preset::Physical => surface
+                                .point(col, row, rgb, alpha)
+                                .map_or(Vec3::ZERO, |sp| one.shade(&sp, &mut 0)),
+                        };
+                        assert_eq!(
+                            expected,
+                            shaded.get(col, row),
+                            "{} {brdf:?} {preset:?} two-sided {two_sided} {set:?} ({col}, {row})",
+                            image.source.display()
+                        );
+                    }
                 }
             }
         }

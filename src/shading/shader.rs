@@ -12,7 +12,7 @@
 
 use glam::Vec3;
 
-use crate::shading::brdf::{map3, F32x8, LocalDots, Mask, Real, LANES};
+use crate::shading::brdf::{dot3, map3, F32x8, LocalDots, Mask, Real, LANES};
 use crate::shading::convention::{assignment_dots, ShadingConvention};
 use crate::shading::light::Light;
 use crate::shading::material::{Material, Specular};
@@ -69,7 +69,8 @@ impl<O: Occluder> Shader<'_, O> {
             radiance = material.emission([sp.uv, sp.uv1], self.textures);
         }
         let cos_o = ns.dot(wo);
-        if cos_o <= 0.0 {
+        // NaN (a normal no loader produces) counts as facing away, as in the lanes.
+        if cos_o.is_nan() || cos_o <= 0.0 {
             return radiance;
         }
         // Textured glTF materials: their BRDF parameters at this point, looked up once for all
@@ -83,7 +84,7 @@ impl<O: Occluder> Shader<'_, O> {
         for light in self.lights {
             let Some(ls) = light.sample(sp.position) else { continue };
             let cos_i = ns.dot(ls.wi);
-            if cos_i <= 0.0 {
+            if cos_i.is_nan() || cos_i <= 0.0 {
                 continue;
             }
             let dots = if material.has_specular() {
@@ -131,17 +132,81 @@ impl<O: Occluder> Shader<'_, O> {
         radiance.min(Vec3::splat(f32::MAX))
     }
 
-    /// [`Shader::shade`] of [`LANES`] points at once: under the assignment convention, with one
-    /// material, through [`Shader::shade_assignment_lanes`]; other points one by one.
+    /// [`Shader::shade`] of [`LANES`] points at once: through [`Shader::shade_surface_lanes`]
+    /// when they share a material and the shader has lanes for them, otherwise one by one.
     #[inline]
     pub fn shade_lanes(&self, points: &[SurfacePoint; LANES], shadow_rays: &mut u64) -> [Vec3; LANES] {
         match SurfaceLanes::from_points(points) {
-            Some(lanes) if self.convention == ShadingConvention::Assignment => {
-                let radiance = self.shade_assignment_lanes(&lanes);
+            Some(lanes) if self.has_lanes() => {
+                let radiance = self.shade_surface_lanes(&lanes);
                 std::array::from_fn(|i| Vec3::new(radiance[0].0[i], radiance[1].0[i], radiance[2].0[i]))
             }
             _ => points.map(|p| self.shade(&p, shadow_rays)),
         }
+    }
+
+    /// Whether [`Shader::shade_surface_lanes`] serves this shader: always under the assignment
+    /// convention; under the physical one when there is nothing the lanes do not carry — no
+    /// shadow rays, no textures, no emission (the normal-map mode).
+    pub fn has_lanes(&self) -> bool {
+        match self.convention {
+            ShadingConvention::Assignment => true,
+            ShadingConvention::Physical => self.occluder.is_none() && self.textures.is_none() && !self.emission,
+        }
+    }
+
+    /// [`Shader::shade`] of eight points of one material, per channel, on [`F32x8`] lanes — the
+    /// same functions, in eight lanes, giving what the scalar path gives. Only for a shader that
+    /// [`Shader::has_lanes`].
+    #[inline(always)]
+    pub fn shade_surface_lanes(&self, points: &SurfaceLanes) -> [F32x8; 3] {
+        debug_assert!(self.has_lanes());
+        match self.convention {
+            ShadingConvention::Assignment => self.shade_assignment_lanes(points),
+            ShadingConvention::Physical => self.shade_physical_lanes(points),
+        }
+    }
+
+    /// The physical convention of [`Shader::shade`] without shadow rays, textures or emission,
+    /// on lanes: a two-sided material turns the normal towards the viewer, and a light adds
+    /// f·E·cos θ_i where n·ω_o > 0, n·ω_i > 0 and a shading frame exists (elsewhere the lane
+    /// adds 0, which the scalar path skips).
+    #[inline(always)]
+    fn shade_physical_lanes(&self, points: &SurfaceLanes) -> [F32x8; 3] {
+        let material = &self.materials[points.material as usize];
+        let wo = points.to_viewer;
+        let mut ns = points.shading_normal;
+        if material.two_sided {
+            let flip = dot3(ns, wo).lt(F32x8::splat(0.0));
+            ns = map3(ns, |c| F32x8::select(flip, -c, c));
+        }
+        let cos_o = dot3(ns, wo);
+        let visible = cos_o.gt(F32x8::splat(0.0));
+        let mut radiance = [F32x8::splat(0.0); 3];
+        if !visible.any() {
+            return radiance;
+        }
+        for light in self.lights {
+            let ls = light.sample_points(points.position);
+            let cos_i = dot3(ns, ls.wi);
+            let mut lit = visible & ls.lit & cos_i.gt(F32x8::splat(0.0));
+            let dots = if material.has_specular() {
+                let (dots, frame) = LocalDots::from_unit_vectors_masked(ns, ls.wi, wo);
+                lit = lit & frame;
+                dots
+            } else {
+                LocalDots::from_cosines(cos_i, cos_o, F32x8::splat(0.0), F32x8::splat(0.0))
+            };
+            if !lit.any() {
+                continue;
+            }
+            let f = material.eval(&dots);
+            for c in 0..3 {
+                let term = f[c] * ls.irradiance[c] * cos_i;
+                radiance[c] = radiance[c] + F32x8::select(lit, term, F32x8::splat(0.0));
+            }
+        }
+        map3(radiance, |c| c.min(F32x8::splat(f32::MAX)))
     }
 
     /// The assignment convention's L_o (see [`Shader::shade`]) of eight points, per channel: the
@@ -260,6 +325,14 @@ mod tests {
         v.push(point(Vec3::new(3.0, 1.0, 0.0), Vec3::new(0.9, 1.1, 0.8), Vec3::Z));
         v.push(point(light, Vec3::Z, Vec3::Z));
         v.push(point(Vec3::ZERO, Vec3::Z, Vec3::ZERO));
+        v.push(point(Vec3::new(2.0, 0.5, 0.0), Vec3::new(f32::NAN, 0.0, 1.0), Vec3::Z));
+        // Normals facing away from the viewer (a two-sided material turns them around).
+        v.push(point(Vec3::new(1.0, 3.0, 0.5), Vec3::new(0.1, -0.2, -0.9), Vec3::Z));
+        v.push(point(
+            Vec3::new(-1.0, 2.0, 0.0),
+            Vec3::new(0.0, 0.6, -0.8),
+            Vec3::new(0.0, 0.6, 0.8),
+        ));
         // ω_i (from the light towards the point) = −ω_o.
         let p = Vec3::new(0.0, 0.0, 0.0);
         v.push(point(p, Vec3::Y, (light - p).normalize()));
@@ -295,17 +368,24 @@ mod tests {
             },
         ];
         let points = points();
-        for material in materials() {
+        let conventions = [ShadingConvention::Assignment, ShadingConvention::Physical];
+        let sided = materials().into_iter().flat_map(|m| {
+            let mut other = m.clone();
+            other.two_sided = !m.two_sided;
+            [m, other]
+        });
+        for (material, convention) in sided.flat_map(|m| conventions.map(|c| (m.clone(), c))) {
             let shader = Shader::<NoOcclusion> {
                 materials: std::slice::from_ref(&material),
                 lights: &lights,
                 occluder: None,
                 scene_unit: 1.0,
-                convention: ShadingConvention::Assignment,
+                convention,
                 textures: None,
                 emission: false,
                 shadow_offset: Default::default(),
             };
+            assert!(shader.has_lanes());
             for start in 0..points.len() - LANES {
                 let group: [SurfacePoint; LANES] = std::array::from_fn(|i| points[start + i]);
                 let lanes = shader.shade_lanes(&group, &mut 0);
@@ -314,8 +394,9 @@ mod tests {
                     // Equal as numbers (the sign of a zero may differ) and never NaN.
                     assert!(
                         lane == one && lane.is_finite(),
-                        "{}: {lane} vs {one} at {p:?}",
-                        material.name
+                        "{} {convention:?} two-sided {}: {lane} vs {one} at {p:?}",
+                        material.name,
+                        material.two_sided
                     );
                 }
             }
