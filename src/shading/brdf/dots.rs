@@ -1,7 +1,7 @@
 //! The dot products every BRDF term is a function of.
 
 use super::microfacet::one_minus_squared;
-use super::{Real, Scalar};
+use super::{dot3 as dot, Real, Scalar};
 
 /// n·ω_i, n·ω_o, n·ω_h, sin²θ_h and ω_i·ω_h for one pair of directions at one surface point.
 ///
@@ -26,11 +26,6 @@ pub struct LocalDots<R> {
     pub sin2_h: R,
     /// Cosine between the direction to the light and the half vector (= ω_o·ω_h).
     pub i_dot_h: R,
-}
-
-#[inline(always)]
-fn dot<R: Real>(a: [R; 3], b: [R; 3]) -> R {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 #[inline(always)]
