@@ -17,7 +17,7 @@ use crate::shading::convention::ShadingConvention;
 use crate::shading::shader::Shader;
 use crate::shading::shadow::NoOcclusion;
 use crate::surface::normal_image::{ImageSurface, NormalDecoding, NormalImage, PixelPositions, TpScaling};
-use crate::surface::{SurfaceLanes, SurfacePoint};
+use crate::surface::SurfaceLanes;
 
 /// Counters and per-stage times of one normal-map shading.
 #[derive(Clone, Debug, Default)]
@@ -67,9 +67,9 @@ pub fn shader<'a>(scene: &'a NormalMapScene, convention: ShadingConvention) -> S
 /// Shades every pixel of `image` (linear L_o; background pixels 0) following `plan`.
 ///
 /// A row's foreground pixels become [`SurfaceLanes`] eight at a time, straight from the image,
-/// and go through [`Shader::shade_surface_lanes`] (both presets: a normal-map shader has no
-/// shadow rays, textures or emission); a shader without lanes would get one [`SurfacePoint`] per
-/// pixel for [`Shader::shade`]. Either way the same decoding and the same BRDF.
+/// and go through [`Shader::shade_surface_lanes`], for both presets (a normal-map shader has no
+/// shadow rays, textures or emission, so it always has lanes). The decoding and the BRDF are the
+/// same functions [`ImageSurface::point`] and [`Shader::shade`] run for one pixel.
 pub fn shade_image(
     scene: &NormalMapScene,
     plan: &RenderPlan,
@@ -93,6 +93,7 @@ pub fn shade_image_with(
     let instructions = instructions.min(LaneInstructions::detect());
     let start = Instant::now();
     let shader = shader(scene, plan.convention);
+    debug_assert!(shader.has_lanes());
     let (surface_ns, shading_ns, points) = (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
     let out = Image::par_from_rows(
         image.width,
@@ -100,36 +101,22 @@ pub fn shade_image_with(
         RowBuffers::default,
         |buffers, row, pixels| {
             let t0 = Instant::now();
-            let (count, t1) = match shader.has_lanes() {
-                true => {
-                    let job = LaneRow {
-                        shader: &shader,
-                        surface,
-                        image,
-                        row,
-                    };
-                    let t1 = match instructions {
-                        LaneInstructions::Portable => job.run(buffers, pixels),
-                        #[cfg(target_arch = "x86_64")]
-                        // SAFETY: `instructions` is at most what `detect` found on this CPU.
-                        LaneInstructions::Avx2 => unsafe { job.run_avx2(buffers, pixels) },
-                    };
-                    (buffers.columns.len(), t1)
-                }
-                false => {
-                    buffers.points.clear();
-                    surface.row_points(image, row, &mut buffers.points);
-                    let t1 = Instant::now();
-                    for (col, sp) in &buffers.points {
-                        pixels[*col as usize] = shader.shade(sp, &mut 0);
-                    }
-                    (buffers.points.len(), t1)
-                }
+            let job = LaneRow {
+                shader: &shader,
+                surface,
+                image,
+                row,
+            };
+            let t1 = match instructions {
+                LaneInstructions::Portable => job.run(buffers, pixels),
+                #[cfg(target_arch = "x86_64")]
+                // SAFETY: `instructions` is at most what `detect` found on this CPU.
+                LaneInstructions::Avx2 => unsafe { job.run_avx2(buffers, pixels) },
             };
             let t2 = Instant::now();
             surface_ns.fetch_add((t1 - t0).as_nanos() as u64, Ordering::Relaxed);
             shading_ns.fetch_add((t2 - t1).as_nanos() as u64, Ordering::Relaxed);
-            points.fetch_add(count as u64, Ordering::Relaxed);
+            points.fetch_add(buffers.columns.len() as u64, Ordering::Relaxed);
         },
     );
     let stats = NormalMapStats {
@@ -144,9 +131,7 @@ pub fn shade_image_with(
 /// One thread's surface points of the row it is shading, reused from row to row.
 #[derive(Default)]
 struct RowBuffers {
-    /// Scalar path: the points and their columns.
-    points: Vec<(u32, SurfacePoint)>,
-    /// Lane path: the columns of the foreground pixels…
+    /// The columns of the foreground pixels…
     columns: Vec<u32>,
     /// …and their surface points, eight per entry; the last entry is padded with copies of the
     /// row's last foreground pixel.
