@@ -130,14 +130,20 @@ fn run_numpy(npy: &Path, out: &Path, repeats: usize, ours: &Image) -> Option<Num
     })
 }
 
-/// The surface points of every foreground pixel, as the shading makes them.
+/// The surface points of every foreground pixel, one `ImageSurface::point` each.
 fn surface_points(scene: &NormalMapScene, image: &NormalImage) -> Vec<SurfacePoint> {
     let surface = image_surface(scene, image).expect("normal.png has a range");
     let mut points = Vec::new();
+    let mut columns = Vec::new();
     for row in 0..image.height {
-        surface.row_points(image, row, &mut points);
+        columns.clear();
+        surface.foreground_columns(image, row, &mut columns);
+        points.extend(columns.iter().filter_map(|&col| {
+            let (rgb, alpha) = image.pixel((row * image.width + col) as usize);
+            surface.point(col, row, rgb, alpha)
+        }));
     }
-    points.into_iter().map(|(_, p)| p).collect()
+    points
 }
 
 /// The BRDF's share of the shading: `Material::eval` alone on the LocalDots of every shaded

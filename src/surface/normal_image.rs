@@ -1,8 +1,10 @@
-//! Normal images: each pixel of a PNG that stores a normal becomes a [`SurfacePoint`].
+//! Normal images: each pixel of a PNG that stores a normal becomes a surface point — one
+//! [`SurfacePoint`] ([`ImageSurface::point`]), or eight at a time as [`SurfaceLanes`]
+//! ([`ImageSurface::lanes`], what `pointshade normalmap` shades), by the same generic functions.
 //!
 //! This is the normal-map mode's counterpart of [`super::primary`]: where a mesh render finds a
 //! surface point with a camera ray and a BVH, here the point is read off a pixel — no geometry,
-//! no rays. What the shader receives is the same [`SurfacePoint`] either way. How a colour
+//! no rays. How a colour
 //! becomes a normal, where the pixel sits in space and where the viewer is depend on the preset:
 //!
 //! | | `tp` (the NPM3D TP4 report) | `physical` |
@@ -457,28 +459,10 @@ impl ImageSurface {
         })
     }
 
-    /// Appends the surface points of row `row` of `image` to `out`, with their columns.
-    #[inline]
-    pub fn row_points(&self, image: &NormalImage, row: u32, out: &mut Vec<(u32, SurfacePoint)>) {
-        fn push<S: Sample>(s: &ImageSurface, samples: &[[S; 4]], row: u32, out: &mut Vec<(u32, SurfacePoint)>) {
-            for (col, &p) in samples.iter().enumerate() {
-                if !s.is_foreground(p) {
-                    continue;
-                }
-                let (rgb, alpha) = unit_rgba(p);
-                if let Some(sp) = s.point(col as u32, row, rgb, alpha) {
-                    out.push((col as u32, sp));
-                }
-            }
-        }
-        match &image.samples {
-            Samples::Eight(s) => push(self, &s[self.row_range(row)], row, out),
-            Samples::Sixteen(s) => push(self, &s[self.row_range(row)], row, out),
-        }
-    }
-
     /// Appends the columns of row `row`'s foreground pixels (those [`ImageSurface::point`] makes
-    /// a surface point of, bar the one colour noted at [`ImageSurface::lanes`]) to `out`.
+    /// a surface point of, bar the one colour noted at [`ImageSurface::lanes`]) to `out`. The
+    /// background rules of [`NormalDecoding::normal`] are tested on the integer samples (the same
+    /// decision for every value: see the tests), so background pixels cost no conversion.
     #[inline(always)]
     pub fn foreground_columns(&self, image: &NormalImage, row: u32, out: &mut Vec<u32>) {
         #[inline(always)]
@@ -547,17 +531,6 @@ impl ImageSurface {
     #[inline(always)]
     fn row_range(&self, row: u32) -> std::ops::Range<usize> {
         row as usize * self.width as usize..(row as usize + 1) * self.width as usize
-    }
-
-    /// The background rules of [`NormalDecoding::normal`] tested on the integer samples (the same
-    /// decision for every value: see the tests), so that background pixels — most of a typical
-    /// normal image — cost no conversion.
-    #[inline(always)]
-    fn is_foreground<S: Sample>(&self, p: [S; 4]) -> bool {
-        match self.decoding {
-            NormalDecoding::MinMax(_) => S::tp_foreground(p),
-            NormalDecoding::Signed => S::signed_foreground(p),
-        }
     }
 }
 
