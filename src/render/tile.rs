@@ -49,6 +49,16 @@ impl PixelSums {
             surface: vec![0; pixels],
         }
     }
+
+    /// Zeroes the sums and resizes them to `pixels` slots, keeping their allocations.
+    pub fn reset(&mut self, pixels: usize) {
+        for buffer in std::iter::once(&mut self.radiance).chain(&mut self.aovs) {
+            buffer.clear();
+            buffer.resize(pixels, Vec3::ZERO);
+        }
+        self.surface.clear();
+        self.surface.resize(pixels, 0);
+    }
 }
 
 /// Counters shared by every batch of a render.
