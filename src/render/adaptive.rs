@@ -4,8 +4,9 @@
 //! 1. **Centre pass.** Every pixel of the region, and a two-pixel apron around it, takes one
 //!    sample at its centre (the midpoint rule: exact for linear shading across the pixel).
 //! 2. **Activation.** The centre values *bend* at a pixel if, for a line through it (horizontal,
-//!    vertical, either diagonal), |2c − a − b|/2 > t·level, with `level` the largest channel in
-//!    its 3×3 neighbourhood and t the film's `adaptive_threshold`. Linear gradients do not bend,
+//!    vertical, either diagonal), |2c − a − b|/2 > t·max(level, 1), with `level` the largest
+//!    channel in its 3×3 neighbourhood, 1 display white (see the scale in step 3) and t the
+//!    film's `adaptive_threshold`. Linear gradients do not bend,
 //!    so smooth shading stays at one sample; edges and peaks do. The values also bend where the
 //!    centre sample of a neighbour hit another material, or nothing (a silhouette between two
 //!    black areas shows no contrast). A pixel refines if the values bend at it or at a
@@ -168,7 +169,8 @@ struct Neighbourhood {
 }
 
 /// Whether the centre values bend at (x, y) by more than `threshold` of the neighbourhood's
-/// level, or a neighbour's centre hit another surface; and the neighbourhood's range.
+/// level (or of display white, if that is brighter), or a neighbour's centre hit another surface;
+/// and the neighbourhood's range.
 fn neighbourhood(
     centre: &impl Fn(u32, u32) -> (Vec3, u32),
     width: u32,
@@ -200,7 +202,7 @@ fn neighbourhood(
         }
     }
     Neighbourhood {
-        bends: other_surface || (level > 0.0 && bend > threshold * level),
+        bends: other_surface || bend > threshold * level.max(WHITE),
         level,
         low,
     }
