@@ -10,11 +10,20 @@ use pointshade::scene;
 use pointshade::validation::compare::compare;
 
 fn render(sampler: SamplerKind, spp: u32) -> Rendered {
+    render_lit(sampler, spp, 1.0, 0.0)
+}
+
+/// The test scene with its lights' power times `dim`, at `exposure` stops.
+fn render_lit(sampler: SamplerKind, spp: u32, dim: f32, exposure: f32) -> Rendered {
     let mut s = scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/lambert.toml")).unwrap();
     s.film.width = 128;
     s.film.height = 96;
     s.film.sampler = sampler;
     s.film.spp = spp;
+    s.film.exposure = exposure;
+    for light in &mut s.lights {
+        light.power *= dim;
+    }
     let plan = RenderPlan::new(&s, &[]);
     render_scene(&s, &plan, &|_| {}).unwrap()
 }
@@ -93,4 +102,22 @@ fn adaptive_image_does_not_depend_on_the_thread_count() {
         .install(|| render(SamplerKind::Adaptive, 16));
     assert_eq!(one.image, three.image);
     assert_eq!(one.sample_counts, three.sample_counts);
+}
+
+#[test]
+fn a_dim_scene_exposed_up_is_sampled_like_the_bright_one() {
+    // Tolerances are absolute below display white (2^-exposure): a scene 16× dimmer, shown 4
+    // stops brighter, must refine exactly the same pixels as the original — and without the
+    // exposure it would refine fewer (its contrasts fall below the absolute tolerance).
+    let bright = render_lit(SamplerKind::Adaptive, 64, 1.0, 0.0);
+    let dim_exposed = render_lit(SamplerKind::Adaptive, 64, 1.0 / 16.0, 4.0);
+    let dim = render_lit(SamplerKind::Adaptive, 64, 1.0 / 16.0, 0.0);
+    let total = |r: &Rendered| r.sample_counts.as_ref().unwrap().iter().map(|&c| c as u64).sum::<u64>();
+    assert_eq!(bright.sample_counts, dim_exposed.sample_counts);
+    assert!(
+        total(&dim) < total(&bright) * 3 / 4,
+        "dim at exposure 0: {} samples, bright: {}",
+        total(&dim),
+        total(&bright)
+    );
 }

@@ -29,10 +29,12 @@ pub struct FilmSettings {
     pub sampler: SamplerKind,
     /// Seed of the scrambled/random samplers.
     pub seed: u64,
-    /// Exposure in stops applied to 8-bit output (EXR stays linear and unscaled).
+    /// Exposure in stops applied to 8-bit output (EXR stays linear and unscaled). The adaptive
+    /// sampler's tolerances are absolute below the radiance it shows as white (2^−exposure).
     pub exposure: f32,
     /// Adaptive sampler: the relative change of a pixel's estimate below which it stops taking
-    /// samples, and the relative contrast in its neighbourhood above which it starts.
+    /// samples, and the relative contrast in its neighbourhood above which it starts (relative
+    /// to the pixel's value or display white, whichever is larger).
     pub adaptive_threshold: f32,
     /// The part of the film to render (`--crop`); `None` = all of it.
     pub crop: Option<PixelRect>,

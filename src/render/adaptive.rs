@@ -4,9 +4,9 @@
 //! 1. **Centre pass.** Every pixel of the region, and a two-pixel apron around it, takes one
 //!    sample at its centre (the midpoint rule: exact for linear shading across the pixel).
 //! 2. **Activation.** The centre values *bend* at a pixel if, for a line through it (horizontal,
-//!    vertical, either diagonal), |2c − a − b|/2 > t·max(level, 1), with `level` the largest
-//!    channel in its 3×3 neighbourhood, 1 display white (see the scale in step 3) and t the
-//!    film's `adaptive_threshold`. Linear gradients do not bend,
+//!    vertical, either diagonal), |2c − a − b|/2 > t·max(level, w), with `level` the largest
+//!    channel in its 3×3 neighbourhood, w display white (2^−exposure, see the scale in step 3)
+//!    and t the film's `adaptive_threshold`. Linear gradients do not bend,
 //!    so smooth shading stays at one sample; edges and peaks do. The values also bend where the
 //!    centre sample of a neighbour hit another material, or nothing (a silhouette between two
 //!    black areas shows no contrast). A pixel refines if the values bend at it or at a
@@ -15,8 +15,9 @@
 //!    film's spp at most). It stops once two error estimates are within t times its scale: how
 //!    far its mean moved in the round, and how far the means of the first and the second half of
 //!    its samples lie apart (each half is a stratified net of its own). The scale is the largest
-//!    of its value, a twentieth of its neighbourhood's level and display white (1): below white
-//!    the tolerance is absolute, as the error a viewer and RMSE see is. Its value is the mean of those samples (the centre sample is not
+//!    of its value, a twentieth of its neighbourhood's level and display white (the radiance
+//!    8-bit output shows as white, 2^−exposure): below white the tolerance is absolute, as the
+//!    error a viewer and RMSE see is. Its value is the mean of those samples (the centre sample is not
 //!    mixed in). The first round is 16 samples, and is not trusted alone where
 //!    - its samples all repeat the centre value while a neighbour is brighter by more than the
 //!      tolerance (sixteen samples in shadow can miss a lit sliver the neighbours show), or
@@ -36,16 +37,13 @@ use rayon::prelude::*;
 
 use super::tile::{Context, PixelSums, SampleJob};
 use super::{assemble, tiles};
-use crate::film::{sampler::pixel_offsets, PixelRect, SamplerKind};
+use crate::film::{sampler::pixel_offsets, FilmSettings, PixelRect, SamplerKind};
 
 /// Samples of an active pixel's first refinement round (a 4×4-stratified Sobol net); each later
 /// round takes 4× as many.
 const FIRST_ROUND: u32 = 16;
 /// Floor of a pixel's scale in the convergence test, as a share of its neighbourhood's level.
 const DARK_FLOOR: f32 = 0.05;
-/// Floor of a pixel's scale in absolute radiance: below display white (1 at exposure 0) the
-/// tolerance is absolute, as the error a viewer (and RMSE) sees is.
-const WHITE: f32 = 1.0;
 /// Neighbourhood contrast, in tolerances, above which a first round alone never converges.
 const HIGH_CONTRAST: f32 = 30.0;
 
@@ -73,7 +71,7 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
                 bent_area.x0 + i % bent_area.width(),
                 bent_area.y0 + i / bent_area.width(),
             );
-            neighbourhood(&centre_at, film.width, film.height, x, y, film.adaptive_threshold)
+            neighbourhood(&centre_at, film, x, y)
         })
         .collect();
     let bent_at = |x: u32, y: u32| bent[((y - bent_area.y0) * bent_area.width() + (x - bent_area.x0)) as usize];
@@ -83,7 +81,6 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
         (y0..y1).any(|ny| (x0..x1).any(|nx| bent_at(nx, ny).bends))
     };
     let naovs = ctx.plan.aovs.len();
-    let threshold = film.adaptive_threshold;
     let done = AtomicU64::new(0);
     let region_tiles = tiles(region);
     let parts: Vec<(PixelSums, Vec<u32>)> = region_tiles
@@ -118,7 +115,7 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
                     }
                 }
             }
-            refine(ctx, &mut active, &mut sums, &mut counts, threshold);
+            refine(ctx, &mut active, &mut sums, &mut counts);
             on_tile(done.fetch_add(1, Ordering::Relaxed) + 1);
             (sums, counts)
         })
@@ -171,14 +168,8 @@ struct Neighbourhood {
 /// Whether the centre values bend at (x, y) by more than `threshold` of the neighbourhood's
 /// level (or of display white, if that is brighter), or a neighbour's centre hit another surface;
 /// and the neighbourhood's range.
-fn neighbourhood(
-    centre: &impl Fn(u32, u32) -> (Vec3, u32),
-    width: u32,
-    height: u32,
-    x: u32,
-    y: u32,
-    threshold: f32,
-) -> Neighbourhood {
+fn neighbourhood(centre: &impl Fn(u32, u32) -> (Vec3, u32), film: &FilmSettings, x: u32, y: u32) -> Neighbourhood {
+    let (width, height) = (film.width, film.height);
     let (c, surface) = centre(x, y);
     let at = |dx: i32, dy: i32| -> Option<(Vec3, u32)> {
         let (nx, ny) = (x as i64 + dx as i64, y as i64 + dy as i64);
@@ -202,7 +193,7 @@ fn neighbourhood(
         }
     }
     Neighbourhood {
-        bends: other_surface || bend > threshold * level.max(WHITE),
+        bends: other_surface || bend > film.adaptive_threshold * level.max(display_white(film)),
         level,
         low,
     }
@@ -227,8 +218,9 @@ struct Refining {
 
 /// Rounds of 16, 64, 256, … samples for the `active` pixels of a tile until each converges or
 /// reaches the film's spp; their sums replace the centre sample.
-fn refine(ctx: &Context, active: &mut Vec<Refining>, sums: &mut PixelSums, counts: &mut [u32], threshold: f32) {
+fn refine(ctx: &Context, active: &mut Vec<Refining>, sums: &mut PixelSums, counts: &mut [u32]) {
     let film = &ctx.scene.film;
+    let (threshold, white) = (film.adaptive_threshold, display_white(film));
     let naovs = ctx.plan.aovs.len();
     for p in active.iter() {
         sums.radiance[p.slot as usize] = Vec3::ZERO;
@@ -277,7 +269,7 @@ fn refine(ctx: &Context, active: &mut Vec<Refining>, sums: &mut PixelSums, count
                 halves_differ: ((first_half - second) / half as f32).abs().max_element(),
                 mean: mean.max_element(),
             };
-            let scale = verdict.mean.max(p.previous_max).max(DARK_FLOOR * p.level).max(WHITE);
+            let scale = verdict.mean.max(p.previous_max).max(DARK_FLOOR * p.level).max(white);
             p.previous = mean;
             p.previous_max = verdict.mean;
             let converged = verdict.converged(threshold * scale)
@@ -286,6 +278,13 @@ fn refine(ctx: &Context, active: &mut Vec<Refining>, sums: &mut PixelSums, count
         });
         target = (target * 4).min(film.spp);
     }
+}
+
+/// The radiance shown as white on 8-bit output (2^−exposure): below it the adaptive tolerances are
+/// absolute, as the error a viewer (and RMSE) sees is. A dim scene exposed up for viewing gets
+/// proportionally tighter tolerances.
+fn display_white(film: &FilmSettings) -> f32 {
+    (-film.exposure).exp2()
 }
 
 /// What a round of samples says about a pixel's estimate.
