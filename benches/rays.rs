@@ -1,20 +1,23 @@
 //! BVH build time and primary/shadow ray throughput on the Stanford dragon, per obvhs preset.
 //!
-//! `cargo bench --bench rays` prints a table (medians of 9 runs after one warm-up run; `--quick`:
-//! 1 run, two presets).
+//! `cargo bench --bench rays` prints a table (medians of 9 runs of 4 passes each, after one warm-up
+//! pass; `--quick`: 1 run, two presets).
 //! Rays are traced through the real pipeline pieces: the automatic camera, `Bvh::intersect`
-//! for primary rays, and the shader's shadow-ray construction + `Bvh::any_hit`.
+//! for primary rays, and the shader's shadow-ray construction + `Bvh::any_hit`, in the order the
+//! renderer traces them (16×16 tiles row by row, pixels row by row within a tile).
 
 mod common;
 
 use common::median;
 use std::path::Path;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use glam::Vec3;
 use rayon::prelude::*;
 
 use pointshade::accel::{Bvh, BvhPreset};
+use pointshade::film::PixelRect;
+use pointshade::render::tiles;
 use pointshade::scene::framing::{default_lights, frame_bounds};
 use pointshade::scene::mesh::TriangleMesh;
 use pointshade::scene::obj::load_obj;
@@ -23,6 +26,8 @@ use pointshade::shading::shadow::ShadowRay;
 use pointshade::surface::camera::Camera;
 
 const SIZE: u32 = 512;
+/// Passes over the ray set per timed run.
+const PASSES: u32 = 4;
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
@@ -51,7 +56,7 @@ fn main() {
     };
     let threads = rayon::current_num_threads();
     println!(
-        "{what}: {} triangles, {SIZE}x{SIZE} primary rays (1 spp), one point light; medians of {runs} run(s)",
+        "{what}: {} triangles, {SIZE}x{SIZE} primary rays (1 spp), one point light, tile order; medians of {runs} run(s) of {PASSES} passes",
         mesh.triangle_count()
     );
     println!(
@@ -64,88 +69,112 @@ fn main() {
         "shadow Mray/s 1t",
         format!("shadow Mray/s {threads}t")
     );
-    for &preset in presets {
-        let mut build = Vec::new();
-        let mut bvh = None;
-        for _ in 0..runs {
-            let b = Bvh::build(&mesh, preset);
-            build.push(b.build_time.as_secs_f64() * 1e3);
-            bvh = Some(b);
+    // Build every preset's tree and ray sets first, then time them round-robin: a slow spell of
+    // the (shared) machine then slows every preset alike instead of one preset's whole row.
+    let cases: Vec<Case> = presets
+        .iter()
+        .map(|&preset| Case::new(&mesh, &camera, light, preset, runs))
+        .collect();
+    for case in &cases {
+        std::hint::black_box(case.primary(false) + case.shadow(false)); // warm-up
+    }
+    let mut seconds = vec![[(); 4].map(|_| Vec::new()); cases.len()];
+    for _ in 0..runs {
+        for (case, s) in cases.iter().zip(&mut seconds) {
+            for (k, parallel) in [false, true].into_iter().enumerate() {
+                s[k].push(time_passes(|| case.primary(parallel)));
+                s[2 + k].push(time_passes(|| case.shadow(parallel)));
+            }
         }
-        let bvh = bvh.unwrap();
-        let rays: Vec<(Vec3, Vec3, f32)> = (0..SIZE * SIZE)
-            .map(|i| {
-                let r = camera.ray(
-                    ((i % SIZE) as f32 + 0.5) / SIZE as f32,
-                    ((i / SIZE) as f32 + 0.5) / SIZE as f32,
-                );
+    }
+    for (case, s) in cases.iter().zip(seconds) {
+        let [p1, pn, s1, sn] = s.map(median);
+        let rate = |n: usize, seconds: f64| n as f64 / seconds / 1e6;
+        println!(
+            "{:<8} {:>10.1} {:>8} {:>16.2} {:>16.2} {:>16.2} {:>16.2}",
+            case.preset.name(),
+            case.build_ms,
+            case.bvh.node_count(),
+            rate(case.rays.len(), p1),
+            rate(case.rays.len(), pn),
+            rate(case.shadow_rays.len(), s1),
+            rate(case.shadow_rays.len(), sn),
+        );
+    }
+}
+
+/// Seconds per pass of `f`, timed over [`PASSES`] passes (one pass on two threads is ~15 ms,
+/// short enough for one scheduler hiccup to move a median).
+fn time_passes(f: impl Fn() -> usize) -> f64 {
+    let t = Instant::now();
+    for _ in 0..PASSES {
+        std::hint::black_box(f());
+    }
+    t.elapsed().as_secs_f64() / PASSES as f64
+}
+
+/// One preset's tree with the primary rays (the renderer's order) and the shadow rays of their hits.
+struct Case {
+    preset: BvhPreset,
+    bvh: Bvh,
+    build_ms: f64,
+    rays: Vec<(Vec3, Vec3, f32)>,
+    shadow_rays: Vec<ShadowRay>,
+}
+
+impl Case {
+    fn new(mesh: &TriangleMesh, camera: &Camera, light: Vec3, preset: BvhPreset, runs: usize) -> Self {
+        let builds: Vec<Bvh> = (0..runs).map(|_| Bvh::build(mesh, preset)).collect();
+        let build_ms = median(builds.iter().map(|b| b.build_time.as_secs_f64() * 1e3).collect());
+        let bvh = builds.into_iter().next_back().unwrap();
+        // The renderer's order: tiles row by row, each tile's pixels row by row.
+        let rays: Vec<(Vec3, Vec3, f32)> = tiles(PixelRect::full(SIZE, SIZE))
+            .iter()
+            .flat_map(|t| (t.y0..t.y1).flat_map(move |y| (t.x0..t.x1).map(move |x| (x, y))))
+            .map(|(x, y)| {
+                let r = camera.ray((x as f32 + 0.5) / SIZE as f32, (y as f32 + 0.5) / SIZE as f32);
                 (r.origin, r.direction, r.t_max)
             })
             .collect();
-        let hits: Vec<(Vec3, Vec3)> = rays
+        let shadow_rays = rays
             .iter()
             .filter_map(|&(o, d, t)| {
                 bvh.intersect(o, d, t).map(|h| {
                     let [p0, p1, p2] = mesh.triangle_positions(h.triangle as usize);
                     let p = (1.0 - h.b1 - h.b2) * p0 + h.b1 * p1 + h.b2 * p2;
-                    (p, (p1 - p0).cross(p2 - p0).normalize_or_zero())
+                    let n = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+                    let to = light - p;
+                    ShadowRay::towards_light(p, n, to.normalize(), to.length(), bvh.scene_unit())
                 })
             })
             .collect();
-        let shadow: Vec<ShadowRay> = hits
-            .iter()
-            .map(|&(p, n)| {
-                let to = light - p;
-                ShadowRay::towards_light(p, n, to.normalize(), to.length(), bvh.scene_unit())
-            })
-            .collect();
-        let rate = |n: usize, d: Duration| n as f64 / d.as_secs_f64() / 1e6;
-        let time = |f: &dyn Fn() -> usize| {
-            // One untimed run first: the clock ramps up and caches fill.
-            std::hint::black_box(f());
-            median(
-                (0..runs)
-                    .map(|_| {
-                        let t = Instant::now();
-                        std::hint::black_box(f());
-                        t.elapsed().as_secs_f64()
-                    })
-                    .collect(),
-            )
-        };
-        let primary_1t = time(&|| {
-            rays.iter()
-                .filter(|&&(o, d, t)| bvh.intersect(o, d, t).is_some())
-                .count()
-        });
-        let primary_nt = time(&|| {
-            rays.par_iter()
-                .filter(|&&(o, d, t)| bvh.intersect(o, d, t).is_some())
-                .count()
-        });
-        let shadow_1t = time(&|| {
-            shadow
-                .iter()
-                .filter(|r| bvh.any_hit(r.origin, r.direction, r.t_max))
-                .count()
-        });
-        let shadow_nt = time(&|| {
-            shadow
-                .par_iter()
-                .filter(|r| bvh.any_hit(r.origin, r.direction, r.t_max))
-                .count()
-        });
-        let d = Duration::from_secs_f64;
-        println!(
-            "{:<8} {:>10.1} {:>8} {:>16.2} {:>16.2} {:>16.2} {:>16.2}",
-            preset.name(),
-            median(build),
-            bvh.node_count(),
-            rate(rays.len(), d(primary_1t)),
-            rate(rays.len(), d(primary_nt)),
-            rate(shadow.len(), d(shadow_1t)),
-            rate(shadow.len(), d(shadow_nt)),
-        );
+        Self {
+            preset,
+            bvh,
+            build_ms,
+            rays,
+            shadow_rays,
+        }
+    }
+
+    /// Primary rays that hit something.
+    fn primary(&self, parallel: bool) -> usize {
+        let hits = |&(o, d, t): &(Vec3, Vec3, f32)| self.bvh.intersect(o, d, t).is_some();
+        if parallel {
+            self.rays.par_iter().filter(|r| hits(r)).count()
+        } else {
+            self.rays.iter().filter(|r| hits(r)).count()
+        }
+    }
+
+    /// Shadow rays that are blocked.
+    fn shadow(&self, parallel: bool) -> usize {
+        let blocked = |r: &ShadowRay| self.bvh.any_hit(r.origin, r.direction, r.t_max);
+        if parallel {
+            self.shadow_rays.par_iter().filter(|r| blocked(r)).count()
+        } else {
+            self.shadow_rays.iter().filter(|r| blocked(r)).count()
+        }
     }
 }
 
