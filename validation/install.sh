@@ -7,6 +7,7 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 venv="$here/.venv"
 start=$(date +%s)
+. "$here/apt.sh"
 
 if "$venv/bin/python" -c 'import mitsuba, sys; sys.exit(mitsuba.__version__ != "3.9.1")' 2>/dev/null; then
   echo "mitsuba 3.9.1 already installed in $venv"
@@ -19,11 +20,7 @@ fi
 
 if ldconfig -p 2>/dev/null | grep -q 'libLLVM.so.19\|libLLVM-19'; then
   echo "libLLVM 19 present"
-elif command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
-  echo "installing libllvm19 with apt"
-  apt-get update -qq >/dev/null
-  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libllvm19 >/dev/null
-else
+elif ! apt_install libllvm19; then
   echo "WARNING: libLLVM 19 is missing and cannot be installed here: references will use scalar_rgb (slower)" >&2
 fi
 echo "validation environment ready in $(( $(date +%s) - start )) s"

@@ -5,12 +5,9 @@
 set -euo pipefail
 page=$(realpath "$1")
 out=$(realpath -m "$2")
+. "$(dirname "$0")/apt.sh"
 if ! command -v chromium >/dev/null 2>&1; then
-  if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
-    echo "installing chromium with apt"
-    apt-get update -qq >/dev/null
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null
-  else
+  if ! apt_install chromium; then
     echo "SKIPPED: chromium is missing and cannot be installed here; the report was not screenshot" >&2
     exit 0
   fi
