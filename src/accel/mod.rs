@@ -92,39 +92,33 @@ impl Bvh {
     pub fn build(mesh: &TriangleMesh, preset: BvhPreset) -> Bvh {
         let start = Instant::now();
         let scale = world_to_bvh_scale(mesh);
-        // Triangles without area (exactly zero cross product: repeated or collinear vertices) have
-        // no normal and nothing to show; rounding in the sheared ray space could still report
-        // hits on them, so they are left out of the BVH (unless nothing else is left).
-        let mut kept: Vec<u32> = (0..mesh.triangle_count() as u32)
-            .filter(|&t| {
+        // One pass: each kept triangle's vertices in BVH space and its padded box. Triangles
+        // without area (exactly zero cross product: repeated or collinear vertices) have no normal
+        // and nothing to show; rounding in the sheared ray space could still report hits on them,
+        // so they are left out of the BVH (unless nothing else is left).
+        let n = mesh.triangle_count();
+        let mut kept = Vec::with_capacity(n);
+        let mut triangles: Vec<[Vec3A; 3]> = Vec::with_capacity(n);
+        let mut boxes = Vec::with_capacity(n);
+        for keep_degenerate in [false, true] {
+            for t in 0..n as u32 {
                 let [a, b, c] = mesh.triangle_positions(t as usize);
-                (b - a).cross(c - a) != Vec3::ZERO
-            })
-            .collect();
-        if kept.is_empty() {
-            kept = (0..mesh.triangle_count() as u32).collect();
+                if keep_degenerate || (b - a).cross(c - a) != Vec3::ZERO {
+                    let tri = [a, b, c].map(|p| Vec3A::from(p * scale));
+                    kept.push(t);
+                    boxes.push(padded_box(&tri));
+                    triangles.push(tri);
+                }
+            }
+            if !kept.is_empty() {
+                break;
+            }
         }
-        let triangles: Vec<[Vec3A; 3]> = kept
-            .iter()
-            .map(|&t| mesh.triangle_positions(t as usize).map(|p| Vec3A::from(p * scale)))
-            .collect();
-        // Leaf boxes padded by LEAF_PADDING: see `PaddedTriangle`. Leaves hold up to four
-        // triangles: one SIMD quad each.
-        let padded: Vec<PaddedTriangle> = triangles
-            .iter()
-            .map(|t| {
-                PaddedTriangle(obvhs::triangle::Triangle {
-                    v0: t[0],
-                    v1: t[1],
-                    v2: t[2],
-                })
-            })
-            .collect();
         let params = BvhBuildParams {
             max_prims_per_leaf: 4,
             ..preset.params()
         };
-        let bvh2 = obvhs::bvh2::builder::build_bvh2(&padded, params, &mut Duration::default());
+        let bvh2 = obvhs::bvh2::builder::build_bvh2(&boxes, params, &mut Duration::default());
         let mut wide = WideBvh::from_bvh2(&bvh2, &triangles);
         wide.map_primitives(|p| kept[p as usize]);
         Bvh {
@@ -217,16 +211,13 @@ fn without_negative_zeros(direction: Vec3) -> Vec3A {
 /// nothing measurable (boxes grow by 1e-6 of the scene).
 const LEAF_PADDING: f32 = 1.0 / 4096.0;
 
-/// A triangle whose bounding box is padded by [`LEAF_PADDING`] for the BVH build. (obvhs's
+/// The triangle's bounding box padded by [`LEAF_PADDING`], as the BVH build sees it. (obvhs's
 /// triangle-specific builder, which would pre-split large triangles for the `slow` preset, cannot
-/// take padded boxes; the generic builder ignores `pre_split`.)
-struct PaddedTriangle(obvhs::triangle::Triangle);
-
-impl obvhs::Boundable for PaddedTriangle {
-    fn aabb(&self) -> obvhs::aabb::Aabb {
-        let b = self.0.aabb();
-        obvhs::aabb::Aabb::new(b.min - Vec3A::splat(LEAF_PADDING), b.max + Vec3A::splat(LEAF_PADDING))
-    }
+/// take padded boxes; the generic builder, given boxes, ignores `pre_split`.)
+fn padded_box(triangle: &[Vec3A; 3]) -> obvhs::aabb::Aabb {
+    let [a, b, c] = *triangle;
+    let pad = Vec3A::splat(LEAF_PADDING);
+    obvhs::aabb::Aabb::new(a.min(b).min(c) - pad, a.max(b).max(c) + pad)
 }
 
 /// 2^e such that the scene's bounding-box diagonal times it is in [128, 256), limited so that no

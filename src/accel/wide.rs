@@ -112,17 +112,17 @@ impl WideRay {
 }
 
 impl TriangleQuad {
-    /// The quad of up to four triangles (given as vertex triples).
-    fn new(triangles: &[[Vec3A; 3]]) -> Self {
-        debug_assert!((1..=4).contains(&triangles.len()));
-        let lane = |k: usize| triangles[k.min(triangles.len() - 1)];
+    /// The quad of triangles `triangle(0)`, …, `triangle(n − 1)` (1 ≤ n ≤ 4).
+    #[inline]
+    fn from_fn(n: usize, triangle: impl Fn(usize) -> [Vec3A; 3]) -> Self {
+        debug_assert!((1..=4).contains(&n));
+        let lanes = [0, 1, 2, 3].map(|k| triangle(k.min(n - 1)));
         let mut v = [[Vec4::ZERO; 3]; 3];
         for (vertex, row) in v.iter_mut().enumerate() {
             for (axis, value) in row.iter_mut().enumerate() {
-                *value = Vec4::from_array([0, 1, 2, 3].map(|k| lane(k)[vertex][axis]));
+                *value = Vec4::from_array(lanes.map(|t| t[vertex][axis]));
             }
         }
-        let n = triangles.len();
         Self {
             v,
             lanes: BVec4A::new(n > 0, n > 1, n > 2, n > 3),
@@ -248,10 +248,12 @@ impl WideBvh {
     /// Collapses `bvh2` (leaves of at most four primitives; `triangles[i]` are the vertices of
     /// its primitive i) into a 4-wide tree.
     pub fn from_bvh2(bvh2: &Bvh2, triangles: &[[Vec3A; 3]]) -> Self {
+        // A binary tree of L leaves has L − 1 inner nodes; a 4-wide one has at least (L − 1)/3.
+        let leaves = bvh2.nodes.len().div_ceil(2);
         let mut out = WideBvh {
-            nodes: Vec::new(),
-            quads: Vec::new(),
-            quad_triangles: Vec::new(),
+            nodes: Vec::with_capacity(leaves / 3 + 1),
+            quads: Vec::with_capacity(leaves),
+            quad_triangles: Vec::with_capacity(leaves),
             depth: 0,
         };
         if bvh2.nodes.is_empty() {
@@ -275,30 +277,27 @@ impl WideBvh {
         self.depth = self.depth.max(depth);
         // Open the largest inner child until there are four children or only leaves are left.
         let first = bvh2.nodes[node2].first_index as usize;
-        let mut slots = vec![first, first + 1];
-        while slots.len() < 4 {
-            let widest = slots
-                .iter()
-                .enumerate()
-                .filter(|(_, &n)| !bvh2.nodes[n].is_leaf())
-                .max_by(|(_, &a), (_, &b)| {
-                    bvh2.nodes[a]
-                        .aabb()
-                        .half_area()
-                        .total_cmp(&bvh2.nodes[b].aabb().half_area())
-                })
-                .map(|(i, _)| i);
+        let mut slots = [first, first + 1, 0, 0];
+        let mut count = 2;
+        while count < 4 {
+            let widest = (0..count)
+                .filter(|&i| !bvh2.nodes[slots[i]].is_leaf())
+                .max_by(|&a, &b| {
+                    let area = |i: usize| bvh2.nodes[slots[i]].aabb().half_area();
+                    area(a).total_cmp(&area(b))
+                });
             let Some(i) = widest else { break };
             let opened = bvh2.nodes[slots[i]].first_index as usize;
             slots[i] = opened;
-            slots.push(opened + 1);
+            slots[count] = opened + 1;
+            count += 1;
         }
         let index = self.nodes.len();
         self.nodes.push(Node4 {
             bounds: empty_bounds(),
             child: [EMPTY; 4],
         });
-        for (k, &slot) in slots.iter().enumerate() {
+        for (k, &slot) in slots[..count].iter().enumerate() {
             self.set_child(index, k, bvh2, slot, triangles, depth);
         }
         index as u32
@@ -308,9 +307,9 @@ impl WideBvh {
         let node2 = &bvh2.nodes[slot];
         let child = if node2.is_leaf() {
             let range = node2.first_index as usize..(node2.first_index + node2.prim_count) as usize;
-            let prims: Vec<u32> = bvh2.primitive_indices[range].to_vec();
-            let tris: Vec<[Vec3A; 3]> = prims.iter().map(|&p| triangles[p as usize]).collect();
-            self.quads.push(TriangleQuad::new(&tris));
+            let prims = &bvh2.primitive_indices[range];
+            self.quads
+                .push(TriangleQuad::from_fn(prims.len(), |l| triangles[prims[l] as usize]));
             self.quad_triangles
                 .push([0, 1, 2, 3].map(|l| prims.get(l).copied().unwrap_or(EMPTY)));
             LEAF | (self.quads.len() as u32 - 1)
