@@ -11,6 +11,7 @@
 //! - **No lost subtrees.** Deep trees (which PLOC builds for geometric chains) are traversed with
 //!   a growable stack ([`TraversalStack`]); padded leaf boxes keep rays through shared vertices.
 
+pub mod packet;
 pub mod triangle;
 pub mod wide;
 
@@ -21,9 +22,10 @@ use obvhs::BvhBuildParams;
 
 use crate::scene::mesh::TriangleMesh;
 use crate::shading::shadow::{Occluder, ShadowRay};
+use packet::{RayPacket, PACKET};
 use triangle::WatertightRay;
 pub use wide::TraversalStack;
-use wide::{WideBvh, WideRay};
+use wide::{QuadHit, WideBvh, WideRay};
 
 /// The obvhs build presets, from fastest build to best traversal.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -147,6 +149,48 @@ impl Bvh {
         let shear = WatertightRay::new(origin, direction);
         let ray = WideRay::new(origin, direction, &shear);
         let (quad, hit) = self.wide.closest_hit(&ray, t_max * self.scale)?;
+        self.hit(&shear, quad, hit)
+    }
+
+    /// The closest hits of up to [`PACKET`] rays `(origin, direction, t_max)` at once, into
+    /// `hits` (one per ray): one walk of the tree for the packet ([`packet`]). Each ray's hit has
+    /// the distance [`Self::intersect`] finds; only at exactly equal distances (a ray through a
+    /// shared edge) may the other triangle win. Rays that cannot share a walk (fewer than four,
+    /// directions of different signs, a zero direction component, a tree too deep for the fixed
+    /// stack) are traced one by one.
+    pub fn intersect_packet(&self, rays: &[(Vec3, Vec3, f32)], hits: &mut [Option<Hit>]) {
+        let n = rays.len();
+        assert!(n <= PACKET && hits.len() == n, "a packet holds at most {PACKET} rays");
+        let single = |hits: &mut [Option<Hit>]| {
+            for (&(o, d, t), hit) in rays.iter().zip(hits) {
+                *hit = self.intersect(o, d, t);
+            }
+        };
+        if n < 4 || self.wide.stack() != TraversalStack::Fixed {
+            return single(hits);
+        }
+        let prepared: [(WatertightRay, WideRay); PACKET] = std::array::from_fn(|k| {
+            let (o, d, _) = rays[k.min(n - 1)];
+            let origin = Vec3A::from(o * self.scale);
+            let direction = without_negative_zeros(d);
+            let shear = WatertightRay::new(origin, direction);
+            (shear, WideRay::new(origin, direction, &shear))
+        });
+        let wide: [WideRay; PACKET] = prepared.map(|(_, w)| w);
+        let Some(packet) = RayPacket::new(&wide[..n]) else {
+            return single(hits);
+        };
+        let mut t_max: [f32; PACKET] = std::array::from_fn(|k| rays[k.min(n - 1)].2 * self.scale);
+        let mut best = [None; PACKET];
+        packet.closest_hits(&self.wide, &mut t_max[..n], &mut best[..n]);
+        for (k, hit) in hits.iter_mut().enumerate() {
+            *hit = best[k].and_then(|(quad, h)| self.hit(&prepared[k].0, quad, h));
+        }
+    }
+
+    /// The [`Hit`] of lane `hit.lane` of quad `quad`, found by the ray `shear` was prepared for.
+    #[inline]
+    fn hit(&self, shear: &WatertightRay, quad: u32, hit: QuadHit) -> Option<Hit> {
         let triangle = self.wide.primitive(quad, hit.lane);
         // Barycentrics of the winning triangle only (the same arithmetic as its lane).
         let h = shear.intersect(&self.wide.vertices(quad, hit.lane), f32::INFINITY)?;

@@ -9,6 +9,7 @@ use std::time::Instant;
 
 use glam::{Vec2, Vec3};
 
+use crate::accel::packet::PACKET;
 use crate::accel::Bvh;
 use crate::film::SamplerKind;
 use crate::plan::{Aov, RenderPlan};
@@ -133,25 +134,37 @@ impl<'a> Context<'a> {
         scratch.clear();
         let t0 = Instant::now();
         if let (true, Some(bvh)) = (plan.trace_rays, self.bvh) {
-            for job in jobs {
-                let uv = job.film / self.size;
-                let ray = self.camera.ray(uv.x, uv.y);
-                if let Some(hit) = bvh.intersect(ray.origin, ray.direction, ray.t_max) {
-                    let mut point = surface_point(&scene.mesh, &hit, ray.direction, plan.uvs);
-                    if plan.normal_textures {
-                        apply_normal_texture(&mut point, &scene.mesh, &hit, &scene.materials, &scene.textures);
+            // Consecutive samples of one pixel (the jobs list them pixel by pixel) go through the
+            // tree as one packet: one walk for up to PACKET nearly parallel rays.
+            let mut rays = [(Vec3::ZERO, Vec3::ZERO, 0.0); PACKET];
+            let mut hits = [None; PACKET];
+            for group in jobs.chunk_by(|a, b| a.film.floor() == b.film.floor()) {
+                for group in group.chunks(PACKET) {
+                    let n = group.len();
+                    for (ray, job) in rays.iter_mut().zip(group) {
+                        let uv = job.film / self.size;
+                        let r = self.camera.ray(uv.x, uv.y);
+                        *ray = (r.origin, r.direction, r.t_max);
                     }
-                    // Decided once per render: no square root per hit unless the AOV is written.
-                    let depth = if self.depth_aov {
-                        hit.t + (ray.origin - scene.camera.position).length()
-                    } else {
-                        0.0
-                    };
-                    scratch.push(SurfaceSample(Sample {
-                        slot: job.slot,
-                        point,
-                        depth,
-                    }));
+                    bvh.intersect_packet(&rays[..n], &mut hits[..n]);
+                    for ((job, &(origin, direction, _)), hit) in group.iter().zip(&rays).zip(&hits) {
+                        let Some(hit) = hit else { continue };
+                        let mut point = surface_point(&scene.mesh, hit, direction, plan.uvs);
+                        if plan.normal_textures {
+                            apply_normal_texture(&mut point, &scene.mesh, hit, &scene.materials, &scene.textures);
+                        }
+                        // Decided once per render: no square root per hit unless the AOV is written.
+                        let depth = if self.depth_aov {
+                            hit.t + (origin - scene.camera.position).length()
+                        } else {
+                            0.0
+                        };
+                        scratch.push(SurfaceSample(Sample {
+                            slot: job.slot,
+                            point,
+                            depth,
+                        }));
+                    }
                 }
             }
             self.counters
