@@ -5,6 +5,8 @@
 //! Rays are traced through the real pipeline pieces: the automatic camera, `Bvh::intersect`
 //! for primary rays, and the shader's shadow-ray construction + `Bvh::any_hit`, in the order the
 //! renderer traces them (16×16 tiles row by row, pixels row by row within a tile).
+//! A second table compares, for the `fast` tree, the primary rays of 16-sample pixels traced one
+//! by one and as one packet per pixel (`Bvh::intersect_packet`, what multi-sample renders do).
 
 mod common;
 
@@ -15,6 +17,7 @@ use std::time::Instant;
 use glam::Vec3;
 use rayon::prelude::*;
 
+use pointshade::accel::packet::PACKET;
 use pointshade::accel::{Bvh, BvhPreset};
 use pointshade::film::PixelRect;
 use pointshade::render::tiles;
@@ -87,6 +90,7 @@ fn main() {
             }
         }
     }
+    let packets = PixelPackets::new(&mesh, &cases, runs);
     for (case, s) in cases.iter().zip(seconds) {
         let [p1, pn, s1, sn] = s.map(median);
         let rate = |n: usize, seconds: f64| n as f64 / seconds / 1e6;
@@ -100,6 +104,100 @@ fn main() {
             rate(case.shadow_rays.len(), s1),
             rate(case.shadow_rays.len(), sn),
         );
+    }
+    if let Some(packets) = packets {
+        packets.print(threads);
+    }
+}
+
+/// Primary rays of multi-sample pixels: the same rays traced one by one and as one packet per
+/// pixel (`Bvh::intersect_packet`, as the renderer does), timed alternately in one process.
+struct PixelPackets<'a> {
+    case: &'a Case,
+    /// `PACKET` rays per pixel (a 4×4 grid in the pixel), pixels in the renderer's order.
+    rays: Vec<(Vec3, Vec3, f32)>,
+    /// Seconds per pass: [single 1t, packets 1t, single all threads, packets all threads].
+    seconds: [f64; 4],
+    runs: usize,
+}
+
+/// Pixels per side of the packet bench's image (16 samples each: ~1M rays).
+const PACKET_SIZE: u32 = 256;
+
+impl<'a> PixelPackets<'a> {
+    fn new(mesh: &TriangleMesh, cases: &'a [Case], runs: usize) -> Option<Self> {
+        let case = cases.iter().find(|c| c.preset == BvhPreset::Fast)?;
+        let (lo, hi) = mesh.bounds()?;
+        let camera = Camera::new(frame_bounds(lo, hi), PACKET_SIZE, PACKET_SIZE).ok()?;
+        let size = PACKET_SIZE as f32;
+        let rays: Vec<(Vec3, Vec3, f32)> = tiles(PixelRect::full(PACKET_SIZE, PACKET_SIZE))
+            .iter()
+            .flat_map(|t| (t.y0..t.y1).flat_map(move |y| (t.x0..t.x1).map(move |x| (x, y))))
+            .flat_map(|(x, y)| (0..PACKET).map(move |k| (x, y, k)))
+            .map(|(x, y, k)| {
+                let (jx, jy) = ((k % 4) as f32 * 0.25 + 0.125, (k / 4) as f32 * 0.25 + 0.125);
+                let r = camera.ray((x as f32 + jx) / size, (y as f32 + jy) / size);
+                (r.origin, r.direction, r.t_max)
+            })
+            .collect();
+        let mut this = Self {
+            case,
+            rays,
+            seconds: [0.0; 4],
+            runs,
+        };
+        let mut all = [(); 4].map(|_| Vec::new());
+        std::hint::black_box(this.trace(true, false)); // warm-up
+        for _ in 0..runs {
+            for (k, (packets, parallel)) in [(false, false), (true, false), (false, true), (true, true)]
+                .into_iter()
+                .enumerate()
+            {
+                let t = Instant::now();
+                std::hint::black_box(this.trace(packets, parallel));
+                all[k].push(t.elapsed().as_secs_f64());
+            }
+        }
+        this.seconds = all.map(median);
+        Some(this)
+    }
+
+    /// Hits among the rays, traced pixel by pixel.
+    fn trace(&self, packets: bool, parallel: bool) -> usize {
+        let bvh = &self.case.bvh;
+        let pixel = |rays: &[(Vec3, Vec3, f32)]| -> usize {
+            let mut hits = [None; PACKET];
+            if packets {
+                bvh.intersect_packet(rays, &mut hits);
+            } else {
+                for (&(o, d, t), hit) in rays.iter().zip(&mut hits) {
+                    *hit = bvh.intersect(o, d, t);
+                }
+            }
+            hits.iter().filter(|h| h.is_some()).count()
+        };
+        if parallel {
+            self.rays.par_chunks(PACKET).map(pixel).sum()
+        } else {
+            self.rays.chunks(PACKET).map(pixel).sum()
+        }
+    }
+
+    fn print(&self, threads: usize) {
+        let rate = |seconds: f64| self.rays.len() as f64 / seconds / 1e6;
+        let [s1, p1, sn, pn] = self.seconds;
+        println!(
+            "\n{PACKET_SIZE}x{PACKET_SIZE} pixels x {PACKET} samples (4x4 grid), preset fast; medians of {} run(s)",
+            self.runs
+        );
+        println!(
+            "{:<24} {:>16} {:>16}",
+            "primary rays",
+            "Mray/s 1t",
+            format!("Mray/s {threads}t")
+        );
+        println!("{:<24} {:>16.2} {:>16.2}", "one by one", rate(s1), rate(sn));
+        println!("{:<24} {:>16.2} {:>16.2}", "a packet per pixel", rate(p1), rate(pn));
     }
 }
 
