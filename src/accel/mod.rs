@@ -169,14 +169,10 @@ impl Bvh {
         if n < 4 || self.wide.stack() != TraversalStack::Fixed {
             return single(hits);
         }
-        let prepared: [(WatertightRay, WideRay); PACKET] = std::array::from_fn(|k| {
-            let (o, d, _) = rays[k.min(n - 1)];
-            let origin = Vec3A::from(o * self.scale);
-            let direction = without_negative_zeros(d);
-            let shear = WatertightRay::new(origin, direction);
-            (shear, WideRay::new(origin, direction, &shear))
-        });
-        let wide: [WideRay; PACKET] = prepared.map(|(_, w)| w);
+        let origin = |k: usize| Vec3A::from(rays[k.min(n - 1)].0 * self.scale);
+        let direction = |k: usize| without_negative_zeros(rays[k.min(n - 1)].1);
+        let shears: [WatertightRay; PACKET] = std::array::from_fn(|k| WatertightRay::new(origin(k), direction(k)));
+        let wide: [WideRay; PACKET] = std::array::from_fn(|k| WideRay::new(origin(k), direction(k), &shears[k]));
         let Some(packet) = RayPacket::new(&wide[..n]) else {
             return single(hits);
         };
@@ -184,7 +180,7 @@ impl Bvh {
         let mut best = [None; PACKET];
         packet.closest_hits(&self.wide, &mut t_max[..n], &mut best[..n]);
         for (k, hit) in hits.iter_mut().enumerate() {
-            *hit = best[k].and_then(|(quad, h)| self.hit(&prepared[k].0, quad, h));
+            *hit = best[k].and_then(|(quad, h)| self.hit(&shears[k], quad, h));
         }
     }
 
