@@ -5,8 +5,9 @@
 //! Rays are traced through the real pipeline pieces: the automatic camera, `Bvh::intersect`
 //! for primary rays, and the shader's shadow-ray construction + `Bvh::any_hit`, in the order the
 //! renderer traces them (16×16 tiles row by row, pixels row by row within a tile).
-//! A second table compares, for the `fast` tree, the primary rays of 16-sample pixels traced one
-//! by one and as one packet per pixel (`Bvh::intersect_packet`, what multi-sample renders do).
+//! A second table compares, for the `fast` tree, the primary rays of 4-, 9- and 16-sample pixels
+//! traced one by one and through `Bvh::intersect_packet` (what multi-sample renders do; it walks
+//! the tree as one packet from 12 rays on).
 
 mod common;
 
@@ -110,94 +111,106 @@ fn main() {
     }
 }
 
-/// Primary rays of multi-sample pixels: the same rays traced one by one and as one packet per
-/// pixel (`Bvh::intersect_packet`, as the renderer does), timed alternately in one process.
-struct PixelPackets<'a> {
-    case: &'a Case,
-    /// `PACKET` rays per pixel (a 4×4 grid in the pixel), pixels in the renderer's order.
-    rays: Vec<(Vec3, Vec3, f32)>,
-    /// Seconds per pass: [single 1t, packets 1t, single all threads, packets all threads].
-    seconds: [f64; 4],
+/// Primary rays of multi-sample pixels: the same rays traced one by one and through
+/// `Bvh::intersect_packet` (one call per pixel, as the renderer does), timed alternately in one
+/// process, for 4, 9 and 16 samples per pixel (n×n grids).
+struct PixelPackets {
+    /// Per grid size n: the rays (n² per pixel, pixels in the renderer's order) and the seconds
+    /// per pass [one by one 1t, packets 1t, one by one all threads, packets all threads].
+    rows: Vec<(u32, usize, [f64; 4])>,
     runs: usize,
 }
 
 /// Pixels per side of the packet bench's image (16 samples each: ~1M rays).
 const PACKET_SIZE: u32 = 256;
 
-impl<'a> PixelPackets<'a> {
-    fn new(mesh: &TriangleMesh, cases: &'a [Case], runs: usize) -> Option<Self> {
+impl PixelPackets {
+    fn new(mesh: &TriangleMesh, cases: &[Case], runs: usize) -> Option<Self> {
         let case = cases.iter().find(|c| c.preset == BvhPreset::Fast)?;
         let (lo, hi) = mesh.bounds()?;
         let camera = Camera::new(frame_bounds(lo, hi), PACKET_SIZE, PACKET_SIZE).ok()?;
-        let size = PACKET_SIZE as f32;
-        let rays: Vec<(Vec3, Vec3, f32)> = tiles(PixelRect::full(PACKET_SIZE, PACKET_SIZE))
-            .iter()
-            .flat_map(|t| (t.y0..t.y1).flat_map(move |y| (t.x0..t.x1).map(move |x| (x, y))))
-            .flat_map(|(x, y)| (0..PACKET).map(move |k| (x, y, k)))
-            .map(|(x, y, k)| {
-                let (jx, jy) = ((k % 4) as f32 * 0.25 + 0.125, (k / 4) as f32 * 0.25 + 0.125);
-                let r = camera.ray((x as f32 + jx) / size, (y as f32 + jy) / size);
-                (r.origin, r.direction, r.t_max)
-            })
-            .collect();
-        let mut this = Self {
-            case,
-            rays,
-            seconds: [0.0; 4],
-            runs,
-        };
-        let mut all = [(); 4].map(|_| Vec::new());
-        std::hint::black_box(this.trace(true, false)); // warm-up
-        for _ in 0..runs {
-            for (k, (packets, parallel)) in [(false, false), (true, false), (false, true), (true, true)]
-                .into_iter()
-                .enumerate()
-            {
-                let t = Instant::now();
-                std::hint::black_box(this.trace(packets, parallel));
-                all[k].push(t.elapsed().as_secs_f64());
-            }
-        }
-        this.seconds = all.map(median);
-        Some(this)
-    }
-
-    /// Hits among the rays, traced pixel by pixel.
-    fn trace(&self, packets: bool, parallel: bool) -> usize {
-        let bvh = &self.case.bvh;
-        let pixel = |rays: &[(Vec3, Vec3, f32)]| -> usize {
-            let mut hits = [None; PACKET];
-            if packets {
-                bvh.intersect_packet(rays, &mut hits);
-            } else {
-                for (&(o, d, t), hit) in rays.iter().zip(&mut hits) {
-                    *hit = bvh.intersect(o, d, t);
+        let mut rows = Vec::new();
+        for grid in [2u32, 3, 4] {
+            let rays = grid_rays(&camera, grid);
+            let per_pixel = (grid * grid) as usize;
+            let mut all = [(); 4].map(|_| Vec::new());
+            std::hint::black_box(trace(&case.bvh, &rays, per_pixel, true, false)); // warm-up
+            for _ in 0..runs {
+                for parallel in [false, true] {
+                    // A B B A: whichever runs first after the other thread count is slower (by
+                    // ~15% here, even for identical code), so each gets one early and one late
+                    // slot and the run's value is their mean.
+                    let mut seconds = [0.0; 2];
+                    for packets in [false, true, true, false] {
+                        let t = Instant::now();
+                        std::hint::black_box(trace(&case.bvh, &rays, per_pixel, packets, parallel));
+                        seconds[packets as usize] += t.elapsed().as_secs_f64() / 2.0;
+                    }
+                    for (packets, s) in seconds.into_iter().enumerate() {
+                        all[2 * parallel as usize + packets].push(s);
+                    }
                 }
             }
-            hits.iter().filter(|h| h.is_some()).count()
-        };
-        if parallel {
-            self.rays.par_chunks(PACKET).map(pixel).sum()
-        } else {
-            self.rays.chunks(PACKET).map(pixel).sum()
+            rows.push((grid, rays.len(), all.map(median)));
         }
+        Some(Self { rows, runs })
     }
 
     fn print(&self, threads: usize) {
-        let rate = |seconds: f64| self.rays.len() as f64 / seconds / 1e6;
-        let [s1, p1, sn, pn] = self.seconds;
         println!(
-            "\n{PACKET_SIZE}x{PACKET_SIZE} pixels x {PACKET} samples (4x4 grid), preset fast; medians of {} run(s)",
+            "\n{PACKET_SIZE}x{PACKET_SIZE} pixels, n x n samples each, preset fast; medians of {} run(s)",
             self.runs
         );
         println!(
-            "{:<24} {:>16} {:>16}",
-            "primary rays",
-            "Mray/s 1t",
-            format!("Mray/s {threads}t")
+            "{:<22} {:>14} {:>14} {:>14} {:>14}",
+            "samples per pixel",
+            "single 1t",
+            "packet 1t",
+            format!("single {threads}t"),
+            format!("packet {threads}t")
         );
-        println!("{:<24} {:>16.2} {:>16.2}", "one by one", rate(s1), rate(sn));
-        println!("{:<24} {:>16.2} {:>16.2}", "a packet per pixel", rate(p1), rate(pn));
+        for &(grid, rays, seconds) in &self.rows {
+            let [s1, p1, sn, pn] = seconds.map(|s| rays as f64 / s / 1e6);
+            println!("{:<22} {s1:>14.2} {p1:>14.2} {sn:>14.2} {pn:>14.2}", grid * grid);
+        }
+    }
+}
+
+/// `grid`² rays per pixel on a grid inside it, pixels in the renderer's order.
+fn grid_rays(camera: &Camera, grid: u32) -> Vec<(Vec3, Vec3, f32)> {
+    let (size, g) = (PACKET_SIZE as f32, grid as f32);
+    tiles(PixelRect::full(PACKET_SIZE, PACKET_SIZE))
+        .iter()
+        .flat_map(|t| (t.y0..t.y1).flat_map(move |y| (t.x0..t.x1).map(move |x| (x, y))))
+        .flat_map(|(x, y)| (0..grid * grid).map(move |k| (x, y, k)))
+        .map(|(x, y, k)| {
+            let (jx, jy) = (((k % grid) as f32 + 0.5) / g, ((k / grid) as f32 + 0.5) / g);
+            let r = camera.ray((x as f32 + jx) / size, (y as f32 + jy) / size);
+            (r.origin, r.direction, r.t_max)
+        })
+        .collect()
+}
+
+/// Hits among `rays`, traced pixel by pixel (`per_pixel` rays each).
+fn trace(bvh: &Bvh, rays: &[(Vec3, Vec3, f32)], per_pixel: usize, packets: bool, parallel: bool) -> usize {
+    let pixel = |rays: &[(Vec3, Vec3, f32)]| -> usize {
+        let mut hits = [None; PACKET];
+        if packets {
+            bvh.intersect_packet(rays, &mut hits[..rays.len()]);
+        } else {
+            // One ray per call: the very code `intersect_packet` falls back to below MIN_PACKET
+            // rays (calling `intersect` from here instead ran ~15% slower or faster depending
+            // on where the compiler put it, for identical work).
+            for (ray, hit) in rays.chunks(1).zip(hits.chunks_mut(1)) {
+                bvh.intersect_packet(ray, hit);
+            }
+        }
+        hits.iter().filter(|h| h.is_some()).count()
+    };
+    if parallel {
+        rays.par_chunks(per_pixel).map(pixel).sum()
+    } else {
+        rays.chunks(per_pixel).map(pixel).sum()
     }
 }
 
