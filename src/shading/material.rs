@@ -9,8 +9,8 @@
 use glam::{Vec2, Vec3};
 
 use crate::shading::brdf::{
-    blinn_phong, fresnel_conductor, fresnel_schlick, fresnel_schlick_sg, ggx_d, lambert, map3, schlick_f0_dielectric,
-    FresnelTerm, LocalDots, Mask, MaskingShadowing, MicrofacetDistribution, Real,
+    blinn_phong, fresnel_schlick, fresnel_schlick_sg, ggx_d, lambert, map3, schlick_f0_dielectric, FresnelTerm,
+    LocalDots, Mask, MaskingShadowing, MicrofacetDistribution, Real,
 };
 use crate::shading::texture::{ColorSpace, TextureImage, TextureRef};
 
@@ -384,9 +384,10 @@ impl CookTorrance {
         match self.f {
             FresnelTerm::Schlick => map3(self.f0::<R>(), |f0| fresnel_schlick(f0, i_dot_h)),
             FresnelTerm::SchlickSg => map3(self.f0::<R>(), |f0| fresnel_schlick_sg(f0, i_dot_h)),
-            FresnelTerm::Conductor => map3([0, 1, 2], |c| {
-                fresnel_conductor(i_dot_h, R::of(self.eta[c]), R::of(self.k[c])) * R::of(self.specular_color[c])
-            }),
+            FresnelTerm::Conductor => {
+                let f = R::fresnel_conductor_rgb(i_dot_h, self.eta, self.k);
+                map3([0, 1, 2], |c| f[c] * R::of(self.specular_color[c]))
+            }
             FresnelTerm::Constant => map3(self.specular_color, R::of),
         }
     }

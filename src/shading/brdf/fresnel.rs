@@ -133,6 +133,35 @@ mod tests {
     }
 
     #[test]
+    fn three_channels_in_lanes_give_each_channels_f32_bits() {
+        use super::super::real::Real;
+        // Copper, a dielectric seen from the denser side (κ = 0, η < 1), a perfect index match,
+        // clamped extremes and NaN parameters, at angles from grazing to normal and beyond.
+        let media: [([f32; 3], [f32; 3]); 4] = [
+            ([0.200, 0.924, 1.102], [3.912, 2.452, 2.142]),
+            ([0.667, 1.0, 0.0], [0.0, 0.0, 0.0]),
+            ([1e9, f32::NAN, 1.0], [f32::NAN, 1e-30, 1e9]),
+            ([f32::INFINITY, 0.5, 2.0], [1.0, f32::INFINITY, -1.0]),
+        ];
+        for (eta, k) in media {
+            for step in -2..=42 {
+                let c = step as f32 / 40.0;
+                for i_dot_h in [c, f32::NAN, 1e-30] {
+                    let lanes = f32::fresnel_conductor_rgb(i_dot_h, eta, k);
+                    for ch in 0..3 {
+                        let one = fresnel_conductor(i_dot_h, eta[ch], k[ch]);
+                        assert_eq!(
+                            lanes[ch].to_bits(),
+                            one.to_bits(),
+                            "channel {ch}, η {eta:?}, κ {k:?}, cos {i_dot_h}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
     fn schlick_sg_is_close_to_schlick() {
         for k in 0..=20 {
             let c = k as f64 / 20.0;

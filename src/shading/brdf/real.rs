@@ -1,8 +1,9 @@
 //! The number types BRDF terms are generic over: f32 (rendering), f64 (reference) and
-//! [`F32x8`] (eight f32 lanes, for shading eight points per instruction).
+//! [`Lanes`] of f32: [`F32x8`] shades eight points per instruction, [`F32x4`] the three colour
+//! channels of one point (the conductor Fresnel term).
 //!
 //! The terms are written once, without data-dependent `if`: a condition is a [`Real::Mask`]
-//! (a `bool` for scalars, one flag per lane for [`F32x8`]) and picks values with
+//! (a `bool` for scalars, one flag per lane for [`Lanes`]) and picks values with
 //! [`Real::select`] or [`Real::choose`]. For scalars that is exactly the branchy code it
 //! replaces; for lanes every lane follows its own side. Every lane operation is the f32
 //! operation of that lane (IEEE-exact division and square root, the same `max`/`min` NaN rules,
@@ -10,6 +11,8 @@
 //! for the sign of a zero (`max(-0.0, 0.0)` may be either).
 
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
+
+use super::fresnel::fresnel_conductor;
 
 /// Which instructions the eight-lane code may be compiled for, best last. Lanes give the same
 /// bits with every choice (no fused multiply-add is enabled); wider registers only take fewer
@@ -165,6 +168,17 @@ pub trait Real:
 
     /// `a` where `mask`, else `b`.
     fn select(mask: Self::Mask, a: Self, b: Self) -> Self;
+    /// The exact conductor Fresnel term ([`fresnel_conductor`]) of the three colour channels.
+    /// One channel after another by default; f32 runs them as three lanes of one [`F32x4`]
+    /// (each lane the f32 bits of its channel, in a third of the instructions: the term takes
+    /// two square roots and three divisions, and showed as 6% of a copper render's profile).
+    #[inline(always)]
+    fn fresnel_conductor_rgb(i_dot_h: Self, eta: [f32; 3], k: [f32; 3]) -> [Self; 3] {
+        map3([0, 1, 2], |c| {
+            fresnel_conductor(i_dot_h, Self::of(eta[c]), Self::of(k[c]))
+        })
+    }
+
     /// `a()` where `mask`, else `b()`: like [`Real::select`], but a side no lane takes is not
     /// evaluated (scalars run one side, as an `if` does).
     #[inline(always)]
@@ -187,9 +201,10 @@ pub trait Scalar: Real<Mask = bool> + PartialOrd + std::fmt::Display {
 }
 
 macro_rules! scalar_real {
-    ($t:ty) => {
+    ($t:ty $(, $extra:item)*) => {
         impl Real for $t {
             type Mask = bool;
+            $($extra)*
             #[inline(always)]
             fn lit(v: f64) -> Self {
                 v as $t
@@ -277,30 +292,47 @@ macro_rules! scalar_real {
     };
 }
 
-scalar_real!(f32);
+scalar_real!(
+    f32,
+    #[inline(always)]
+    fn fresnel_conductor_rgb(i_dot_h: f32, eta: [f32; 3], k: [f32; 3]) -> [f32; 3] {
+        let lanes = |v: [f32; 3]| Lanes([v[0], v[1], v[2], v[2]]);
+        let f = fresnel_conductor(F32x4::splat(i_dot_h), lanes(eta), lanes(k));
+        [f.0[0], f.0[1], f.0[2]]
+    }
+);
 scalar_real!(f64);
 
 /// Lanes of [`F32x8`].
 pub const LANES: usize = 8;
 
-/// Eight f32 values operated on together. Plain arrays with per-lane loops: the compiler turns
-/// them into SIMD instructions (two SSE or one AVX register) on any target, with no `unsafe`.
+/// N f32 values operated on together. Plain arrays with per-lane loops: the compiler turns
+/// them into SIMD instructions on any target, with no `unsafe`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct F32x8(pub [f32; LANES]);
+pub struct Lanes<const N: usize>(pub [f32; N]);
 
-/// A per-lane condition of [`F32x8`]: all bits set for true, clear for false (the layout SIMD
+/// Eight lanes (two SSE or one AVX register): the lane shader's points.
+pub type F32x8 = Lanes<LANES>;
+
+/// Four lanes (one SSE register): the three colour channels of one point, and a spare.
+pub type F32x4 = Lanes<4>;
+
+/// A per-lane condition of [`Lanes`]: all bits set for true, clear for false (the layout SIMD
 /// comparisons produce).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Mask8(pub [u32; LANES]);
+pub struct LaneMask<const N: usize>(pub [u32; N]);
 
-impl Mask8 {
+/// The mask of [`F32x8`].
+pub type Mask8 = LaneMask<LANES>;
+
+impl<const N: usize> LaneMask<N> {
     #[inline(always)]
     fn from_fn(f: impl Fn(usize) -> bool) -> Self {
-        let mut m = [0; LANES];
+        let mut m = [0; N];
         for (i, m) in m.iter_mut().enumerate() {
             *m = if f(i) { u32::MAX } else { 0 };
         }
-        Mask8(m)
+        LaneMask(m)
     }
 
     /// Lane `i`.
@@ -310,21 +342,21 @@ impl Mask8 {
     }
 }
 
-impl F32x8 {
+impl<const N: usize> Lanes<N> {
     /// Every lane `v`.
     #[inline(always)]
     pub fn splat(v: f32) -> Self {
-        F32x8([v; LANES])
+        Lanes([v; N])
     }
 
     /// Lane `i` is `f(i)`. (Plain loops: `array::map` and `from_fn` are not always inlined.)
     #[inline(always)]
     pub fn from_fn(f: impl Fn(usize) -> f32) -> Self {
-        let mut v = [0.0; LANES];
+        let mut v = [0.0; N];
         for (i, v) in v.iter_mut().enumerate() {
             *v = f(i);
         }
-        F32x8(v)
+        Lanes(v)
     }
 
     #[inline(always)]
@@ -338,14 +370,14 @@ impl F32x8 {
     }
 
     #[inline(always)]
-    fn compare(self, other: Self, f: impl Fn(f32, f32) -> bool) -> Mask8 {
-        Mask8::from_fn(|i| f(self.0[i], other.0[i]))
+    fn compare(self, other: Self, f: impl Fn(f32, f32) -> bool) -> LaneMask<N> {
+        LaneMask::from_fn(|i| f(self.0[i], other.0[i]))
     }
 }
 
 macro_rules! lane_ops {
     ($($op:ident $method:ident $sym:tt),+) => {$(
-        impl $op for F32x8 {
+        impl<const N: usize> $op for Lanes<N> {
             type Output = Self;
             #[inline(always)]
             fn $method(self, other: Self) -> Self {
@@ -356,7 +388,7 @@ macro_rules! lane_ops {
 }
 lane_ops!(Add add +, Sub sub -, Mul mul *, Div div /);
 
-impl Neg for F32x8 {
+impl<const N: usize> Neg for Lanes<N> {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
@@ -366,7 +398,7 @@ impl Neg for F32x8 {
 
 macro_rules! mask_ops {
     ($($op:ident $method:ident $sym:tt),+) => {$(
-        impl $op for Mask8 {
+        impl<const N: usize> $op for LaneMask<N> {
             type Output = Self;
             #[inline(always)]
             fn $method(self, other: Self) -> Self {
@@ -374,14 +406,14 @@ macro_rules! mask_ops {
                 for (m, o) in m.iter_mut().zip(other.0) {
                     *m $sym o;
                 }
-                Mask8(m)
+                LaneMask(m)
             }
         }
     )+};
 }
 mask_ops!(BitAnd bitand &=, BitOr bitor |=);
 
-impl Not for Mask8 {
+impl<const N: usize> Not for LaneMask<N> {
     type Output = Self;
     #[inline(always)]
     fn not(self) -> Self {
@@ -389,14 +421,14 @@ impl Not for Mask8 {
         for m in m.iter_mut() {
             *m = !*m;
         }
-        Mask8(m)
+        LaneMask(m)
     }
 }
 
-impl Mask for Mask8 {
+impl<const N: usize> Mask for LaneMask<N> {
     #[inline(always)]
     fn splat(v: bool) -> Self {
-        Mask8::from_fn(|_| v)
+        LaneMask::from_fn(|_| v)
     }
     #[inline(always)]
     fn all(self) -> bool {
@@ -408,8 +440,8 @@ impl Mask for Mask8 {
     }
 }
 
-impl Real for F32x8 {
-    type Mask = Mask8;
+impl<const N: usize> Real for Lanes<N> {
+    type Mask = LaneMask<N>;
     #[inline(always)]
     fn lit(v: f64) -> Self {
         Self::splat(v as f32)
@@ -461,30 +493,30 @@ impl Real for F32x8 {
         self.zip(e, f32::powf)
     }
     #[inline(always)]
-    fn gt(self, other: Self) -> Mask8 {
+    fn gt(self, other: Self) -> LaneMask<N> {
         self.compare(other, |a, b| a > b)
     }
     #[inline(always)]
-    fn ge(self, other: Self) -> Mask8 {
+    fn ge(self, other: Self) -> LaneMask<N> {
         self.compare(other, |a, b| a >= b)
     }
     #[inline(always)]
-    fn lt(self, other: Self) -> Mask8 {
+    fn lt(self, other: Self) -> LaneMask<N> {
         self.compare(other, |a, b| a < b)
     }
     #[inline(always)]
-    fn eq(self, other: Self) -> Mask8 {
+    fn eq(self, other: Self) -> LaneMask<N> {
         self.compare(other, |a, b| a == b)
     }
     #[inline(always)]
-    fn is_finite(self) -> Mask8 {
+    fn is_finite(self) -> LaneMask<N> {
         // a·0 = 0 exactly when a is finite (∞·0 and NaN·0 are NaN): a vector multiply and
         // compare. Written as a class test (`is_finite`, or |a| < ∞ next to a > 0), the
         // compiler merges it into one floating-point class query that x86 evaluates lane by lane.
         (self * Self::splat(0.0)).eq(Self::splat(0.0))
     }
     #[inline(always)]
-    fn select(mask: Mask8, a: Self, b: Self) -> Self {
+    fn select(mask: LaneMask<N>, a: Self, b: Self) -> Self {
         // A lane of a mask is all ones or all zeros, so its sign bit decides: the form the
         // compiler turns into one blend instruction (a bitwise and/andnot/or takes three).
         Self::from_fn(|i| if (mask.0[i] as i32) < 0 { a.0[i] } else { b.0[i] })
@@ -497,8 +529,8 @@ mod tests {
 
     #[test]
     fn lanes_follow_the_f32_rules_for_nan() {
-        let a = F32x8([f32::NAN, 1.0, -0.0, 0.0, f32::INFINITY, -1.0, 2.0, f32::NAN]);
-        let b = F32x8([1.0, f32::NAN, 0.0, -0.0, 1.0, -2.0, 2.0, f32::NAN]);
+        let a = Lanes([f32::NAN, 1.0, -0.0, 0.0, f32::INFINITY, -1.0, 2.0, f32::NAN]);
+        let b = Lanes([1.0, f32::NAN, 0.0, -0.0, 1.0, -2.0, 2.0, f32::NAN]);
         for i in 0..LANES {
             let (x, y) = (a.0[i], b.0[i]);
             // Equal as numbers: `f32::max(-0.0, 0.0)` may return either zero, and does differ
