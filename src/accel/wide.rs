@@ -15,6 +15,7 @@
 use std::mem::MaybeUninit;
 
 use glam::{BVec4A, Vec3A, Vec4};
+use rayon::prelude::*;
 
 use super::triangle::WatertightRay;
 use obvhs::bvh2::Bvh2;
@@ -36,6 +37,10 @@ pub enum TraversalStack {
     Growable,
 }
 pub(super) const FIXED_STACK: usize = 64;
+
+/// Levels of 4-wide nodes whose subtrees are collapsed in parallel (up to 4² = 16 tasks: work for
+/// a few cores without splitting small trees into many tiny tasks).
+const PARALLEL_LEVELS: u32 = 2;
 
 /// Four child boxes, lane k = child k; `bounds[axis][0]` = minima, `[1]` = maxima.
 #[derive(Clone, Copy, Debug)]
@@ -248,14 +253,13 @@ impl WideBvh {
     /// Collapses `bvh2` (leaves of at most four primitives; `triangles[i]` are the vertices of
     /// its primitive i) into a 4-wide tree.
     pub fn from_bvh2(bvh2: &Bvh2, triangles: &[[Vec3A; 3]]) -> Self {
+        Self::collapse(bvh2, triangles, PARALLEL_LEVELS)
+    }
+
+    /// [`WideBvh::from_bvh2`] with the top `parallel` levels' subtrees written in parallel.
+    fn collapse(bvh2: &Bvh2, triangles: &[[Vec3A; 3]], parallel: u32) -> Self {
         // A binary tree of L leaves has L − 1 inner nodes; a 4-wide one has at least (L − 1)/3.
-        let leaves = bvh2.nodes.len().div_ceil(2);
-        let mut out = WideBvh {
-            nodes: Vec::with_capacity(leaves / 3 + 1),
-            quads: Vec::with_capacity(leaves),
-            quad_triangles: Vec::with_capacity(leaves),
-            depth: 0,
-        };
+        let mut out = WideBvh::with_capacity(bvh2.nodes.len().div_ceil(2));
         if bvh2.nodes.is_empty() {
             return out;
         }
@@ -265,15 +269,18 @@ impl WideBvh {
                 bounds: empty_bounds(),
                 child: [EMPTY; 4],
             });
-            out.set_child(0, 0, bvh2, 0, triangles, 1);
+            out.set_child(0, 0, bvh2, 0, triangles, 1, 0);
         } else {
-            out.emit(bvh2, 0, triangles, 1);
+            out.emit(bvh2, 0, triangles, 1, parallel);
         }
         out
     }
 
     /// Writes node `node2` (inner) of `bvh2` and, recursively, its subtree; returns its index.
-    fn emit(&mut self, bvh2: &Bvh2, node2: usize, triangles: &[[Vec3A; 3]], depth: u32) -> u32 {
+    /// Nodes and quads come out in depth-first order, children in slot order. The subtrees of
+    /// the top `parallel` levels are written in parallel into trees of their own and appended in
+    /// that same order, so the result does not depend on it.
+    fn emit(&mut self, bvh2: &Bvh2, node2: usize, triangles: &[[Vec3A; 3]], depth: u32, parallel: u32) -> u32 {
         self.depth = self.depth.max(depth);
         // Open the largest inner child until there are four children or only leaves are left.
         let first = bvh2.nodes[node2].first_index as usize;
@@ -297,13 +304,65 @@ impl WideBvh {
             bounds: empty_bounds(),
             child: [EMPTY; 4],
         });
-        for (k, &slot) in slots[..count].iter().enumerate() {
-            self.set_child(index, k, bvh2, slot, triangles, depth);
+        if parallel == 0 {
+            for (k, &slot) in slots[..count].iter().enumerate() {
+                self.set_child(index, k, bvh2, slot, triangles, depth, 0);
+            }
+        } else {
+            let subtrees: Vec<Option<WideBvh>> = slots[..count]
+                .par_iter()
+                .map(|&slot| {
+                    (!bvh2.nodes[slot].is_leaf()).then(|| {
+                        let mut subtree = WideBvh::with_capacity(0);
+                        subtree.emit(bvh2, slot, triangles, depth + 1, parallel - 1);
+                        subtree
+                    })
+                })
+                .collect();
+            for (k, (&slot, subtree)) in slots[..count].iter().zip(subtrees).enumerate() {
+                match subtree {
+                    Some(subtree) => {
+                        let child = self.append(subtree);
+                        self.set_bounds(index, k, bvh2, slot, child);
+                    }
+                    None => self.set_child(index, k, bvh2, slot, triangles, depth, 0),
+                }
+            }
         }
         index as u32
     }
 
-    fn set_child(&mut self, index: usize, k: usize, bvh2: &Bvh2, slot: usize, triangles: &[[Vec3A; 3]], depth: u32) {
+    /// Appends `subtree` (its root first), renumbering its node and quad references; returns
+    /// the index of its root.
+    fn append(&mut self, subtree: WideBvh) -> u32 {
+        let (node_base, quad_base) = (self.nodes.len() as u32, self.quads.len() as u32);
+        self.nodes.extend(subtree.nodes.into_iter().map(|mut node| {
+            for c in node.child.iter_mut().filter(|c| **c != EMPTY) {
+                *c = if *c & LEAF != 0 {
+                    LEAF | ((*c & !LEAF) + quad_base)
+                } else {
+                    *c + node_base
+                };
+            }
+            node
+        }));
+        self.quads.extend(subtree.quads);
+        self.quad_triangles.extend(subtree.quad_triangles);
+        self.depth = self.depth.max(subtree.depth);
+        node_base
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn set_child(
+        &mut self,
+        index: usize,
+        k: usize,
+        bvh2: &Bvh2,
+        slot: usize,
+        triangles: &[[Vec3A; 3]],
+        depth: u32,
+        parallel: u32,
+    ) {
         let node2 = &bvh2.nodes[slot];
         let child = if node2.is_leaf() {
             let range = node2.first_index as usize..(node2.first_index + node2.prim_count) as usize;
@@ -314,15 +373,30 @@ impl WideBvh {
                 .push([0, 1, 2, 3].map(|l| prims.get(l).copied().unwrap_or(EMPTY)));
             LEAF | (self.quads.len() as u32 - 1)
         } else {
-            self.emit(bvh2, slot, triangles, depth + 1)
+            self.emit(bvh2, slot, triangles, depth + 1, parallel)
         };
-        let b = node2.aabb();
+        self.set_bounds(index, k, bvh2, slot, child);
+    }
+
+    /// Child slot `k` of node `index` becomes `child`, with the box of `bvh2` node `slot`.
+    fn set_bounds(&mut self, index: usize, k: usize, bvh2: &Bvh2, slot: usize, child: u32) {
+        let b = bvh2.nodes[slot].aabb();
         let node = &mut self.nodes[index];
         for axis in 0..3 {
             node.bounds[axis][0][k] = b.min[axis];
             node.bounds[axis][1][k] = b.max[axis];
         }
         node.child[k] = child;
+    }
+
+    /// An empty tree with room for `leaves` leaves.
+    fn with_capacity(leaves: usize) -> Self {
+        WideBvh {
+            nodes: Vec::with_capacity(leaves / 3 + 1),
+            quads: Vec::with_capacity(leaves),
+            quad_triangles: Vec::with_capacity(leaves),
+            depth: 0,
+        }
     }
 
     /// Depth of the deepest inner node (root = 1).
@@ -470,4 +544,52 @@ pub(super) fn descend_nearest(node: &Node4, mask: u32, t_near: Vec4, stack: &mut
 /// Boxes that no ray enters (min = +∞, max = −∞ on every axis).
 fn empty_bounds() -> [[Vec4; 2]; 3] {
     [[Vec4::splat(f32::INFINITY), Vec4::splat(f32::NEG_INFINITY)]; 3]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use obvhs::bvh2::builder::build_bvh2;
+    use obvhs::BvhBuildParams;
+
+    #[test]
+    fn collapsing_subtrees_in_parallel_gives_the_sequential_tree() {
+        let mesh = crate::scene::procedural::torus(2.0, 0.5, 96, 48);
+        let triangles: Vec<[Vec3A; 3]> = mesh
+            .triangles
+            .iter()
+            .map(|t| t.map(|i| Vec3A::from(mesh.positions[i as usize])))
+            .collect();
+        let boxes: Vec<obvhs::aabb::Aabb> = triangles
+            .iter()
+            .map(|[a, b, c]| obvhs::aabb::Aabb::new(a.min(*b).min(*c), a.max(*b).max(*c)))
+            .collect();
+        let params = BvhBuildParams {
+            max_prims_per_leaf: 4,
+            ..BvhBuildParams::fast_build()
+        };
+        let bvh2 = build_bvh2(&boxes, params, &mut std::time::Duration::default());
+        let sequential = WideBvh::collapse(&bvh2, &triangles, 0);
+        assert!(
+            sequential.depth > 3,
+            "a tree deep enough to split: depth {}",
+            sequential.depth
+        );
+        for parallel in [1, 2, 3] {
+            let tree = WideBvh::collapse(&bvh2, &triangles, parallel);
+            assert_eq!(tree.depth, sequential.depth);
+            assert_eq!(
+                tree.quad_triangles, sequential.quad_triangles,
+                "{parallel} parallel levels"
+            );
+            assert_eq!(tree.nodes.len(), sequential.nodes.len());
+            for (a, b) in tree.nodes.iter().zip(&sequential.nodes) {
+                assert_eq!(a.child, b.child, "{parallel} parallel levels");
+                assert_eq!(format!("{:?}", a.bounds), format!("{:?}", b.bounds));
+            }
+            for (a, b) in tree.quads.iter().zip(&sequential.quads) {
+                assert_eq!(format!("{a:?}"), format!("{b:?}"));
+            }
+        }
+    }
 }
