@@ -141,6 +141,27 @@ impl TriangleQuad {
     /// distance test — bit-identical results.
     #[inline(always)]
     pub fn intersect(&self, ray: &WideRay, t_max: f32) -> Option<QuadHit> {
+        let (hit, t_scaled, det_abs) = self.hits(ray, t_max)?;
+        let t = (t_scaled / det_abs).to_array();
+        let mut best: Option<QuadHit> = None;
+        for (lane, &t) in t.iter().enumerate() {
+            if hit.test(lane) && best.is_none_or(|b| t < b.t) {
+                best = Some(QuadHit { lane, t });
+            }
+        }
+        best
+    }
+
+    /// Whether the ray hits any of the four triangles with 0 < t < `t_max` (the lanes
+    /// [`TriangleQuad::intersect`] would choose from, without dividing out their distances).
+    #[inline(always)]
+    pub fn hits_any(&self, ray: &WideRay, t_max: f32) -> bool {
+        self.hits(ray, t_max).is_some()
+    }
+
+    /// The lanes hit with 0 < t < `t_max` (none: `None`), and their t·|det| and |det|.
+    #[inline(always)]
+    fn hits(&self, ray: &WideRay, t_max: f32) -> Option<(BVec4A, Vec4, Vec4)> {
         let [kx, ky, kz] = ray.axes;
         let [sx, sy, sz] = ray.shear;
         let sheared = |vertex: usize| -> [Vec4; 3] {
@@ -178,17 +199,7 @@ impl TriangleQuad {
         let t_scaled = Vec4::select(flip, -t_scaled, t_scaled);
         let det_abs = Vec4::select(flip, -det, det);
         hit &= t_scaled.cmpgt(zero) & t_scaled.cmplt(det_abs * t_max);
-        if !hit.any() {
-            return None;
-        }
-        let t = (t_scaled / det_abs).to_array();
-        let mut best: Option<QuadHit> = None;
-        for (lane, &t) in t.iter().enumerate() {
-            if hit.test(lane) && best.is_none_or(|b| t < b.t) {
-                best = Some(QuadHit { lane, t });
-            }
-        }
-        best
+        hit.any().then_some((hit, t_scaled, det_abs))
     }
 }
 
@@ -500,7 +511,7 @@ impl WideBvh {
         let mut current = 0u32;
         loop {
             if current & LEAF != 0 {
-                if self.quads[(current & !LEAF) as usize].intersect(ray, t_max).is_some() {
+                if self.quads[(current & !LEAF) as usize].hits_any(ray, t_max) {
                     return true;
                 }
             } else {
