@@ -280,7 +280,7 @@ impl WideBvh {
                 bounds: empty_bounds(),
                 child: [EMPTY; 4],
             });
-            out.set_child(0, 0, bvh2, 0, triangles, 1, 0);
+            out.set_child(0, 0, bvh2, 0, triangles, 1);
         } else {
             out.emit(bvh2, 0, triangles, 1, parallel);
         }
@@ -317,7 +317,7 @@ impl WideBvh {
         });
         if parallel == 0 {
             for (k, &slot) in slots[..count].iter().enumerate() {
-                self.set_child(index, k, bvh2, slot, triangles, depth, 0);
+                self.set_child(index, k, bvh2, slot, triangles, depth);
             }
         } else {
             let subtrees: Vec<Option<WideBvh>> = slots[..count]
@@ -336,7 +336,7 @@ impl WideBvh {
                         let child = self.append(subtree);
                         self.set_bounds(index, k, bvh2, slot, child);
                     }
-                    None => self.set_child(index, k, bvh2, slot, triangles, depth, 0),
+                    None => self.set_child(index, k, bvh2, slot, triangles, depth),
                 }
             }
         }
@@ -363,17 +363,9 @@ impl WideBvh {
         node_base
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn set_child(
-        &mut self,
-        index: usize,
-        k: usize,
-        bvh2: &Bvh2,
-        slot: usize,
-        triangles: &[[Vec3A; 3]],
-        depth: u32,
-        parallel: u32,
-    ) {
+    /// Child slot `k` of node `index` becomes `bvh2` node `slot`: a leaf quad, or its subtree
+    /// written sequentially.
+    fn set_child(&mut self, index: usize, k: usize, bvh2: &Bvh2, slot: usize, triangles: &[[Vec3A; 3]], depth: u32) {
         let node2 = &bvh2.nodes[slot];
         let child = if node2.is_leaf() {
             let range = node2.first_index as usize..(node2.first_index + node2.prim_count) as usize;
@@ -384,7 +376,7 @@ impl WideBvh {
                 .push([0, 1, 2, 3].map(|l| prims.get(l).copied().unwrap_or(EMPTY)));
             LEAF | (self.quads.len() as u32 - 1)
         } else {
-            self.emit(bvh2, slot, triangles, depth + 1, parallel)
+            self.emit(bvh2, slot, triangles, depth + 1, 0)
         };
         self.set_bounds(index, k, bvh2, slot, child);
     }
