@@ -19,7 +19,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use pointshade::accel::packet::PACKET;
-use pointshade::accel::{Bvh, BvhPreset};
+use pointshade::accel::{Bvh, BvhPreset, Hit};
 use pointshade::film::PixelRect;
 use pointshade::render::tiles;
 use pointshade::scene::framing::{default_lights, frame_bounds};
@@ -91,7 +91,7 @@ fn main() {
             }
         }
     }
-    let packets = PixelPackets::new(&mesh, &cases, runs);
+    let packets = PixelPackets::new(&mesh, &cases, light, runs);
     for (case, s) in cases.iter().zip(seconds) {
         let [p1, pn, s1, sn] = s.map(median);
         let rate = |n: usize, seconds: f64| n as f64 / seconds / 1e6;
@@ -111,13 +111,13 @@ fn main() {
     }
 }
 
-/// Primary rays of multi-sample pixels: the same rays traced one by one and through
-/// `Bvh::intersect_packet` (one call per pixel, as the renderer does), timed alternately in one
-/// process, for 4, 9 and 16 samples per pixel (n×n grids).
+/// Primary rays of multi-sample pixels, and the shadow rays of their hits: the same rays traced
+/// one by one and as packets (`Bvh::intersect_packet`, `Bvh::any_hit_packet`: one call per
+/// pixel, as the renderer does), timed alternately in one process, for 4, 9 and 16 samples per
+/// pixel (n×n grids).
 struct PixelPackets {
-    /// Per grid size n: the rays (n² per pixel, pixels in the renderer's order) and the seconds
-    /// per pass [one by one 1t, packets 1t, one by one all threads, packets all threads].
-    rows: Vec<(u32, usize, [f64; 4])>,
+    /// Per grid size n: the primary and the shadow rays' timings.
+    rows: Vec<(u32, [Timed; 2])>,
     runs: usize,
 }
 
@@ -125,59 +125,95 @@ struct PixelPackets {
 const PACKET_SIZE: u32 = 256;
 
 impl PixelPackets {
-    fn new(mesh: &TriangleMesh, cases: &[Case], runs: usize) -> Option<Self> {
+    fn new(mesh: &TriangleMesh, cases: &[Case], light: Vec3, runs: usize) -> Option<Self> {
         let case = cases.iter().find(|c| c.preset == BvhPreset::Fast)?;
+        let bvh = &case.bvh;
         let (lo, hi) = mesh.bounds()?;
         let camera = Camera::new(frame_bounds(lo, hi), PACKET_SIZE, PACKET_SIZE).ok()?;
         let mut rows = Vec::new();
         for grid in [2u32, 3, 4] {
-            let rays = grid_rays(&camera, grid);
             let per_pixel = (grid * grid) as usize;
-            let mut all = [(); 4].map(|_| Vec::new());
-            std::hint::black_box(trace(&case.bvh, &rays, per_pixel, true, false)); // warm-up
-            for _ in 0..runs {
-                for parallel in [false, true] {
-                    // A B B A: whichever runs first after the other thread count is slower (by
-                    // ~15% here, even for identical code), so each gets one early and one late
-                    // slot and the run's value is their mean.
-                    let mut seconds = [0.0; 2];
-                    for packets in [false, true, true, false] {
-                        let t = Instant::now();
-                        std::hint::black_box(trace(&case.bvh, &rays, per_pixel, packets, parallel));
-                        seconds[packets as usize] += t.elapsed().as_secs_f64() / 2.0;
-                    }
-                    for (packets, s) in seconds.into_iter().enumerate() {
-                        all[2 * parallel as usize + packets].push(s);
-                    }
-                }
-            }
-            rows.push((grid, rays.len(), all.map(median)));
+            let rays: Vec<Segment> = grid_rays(&camera, grid);
+            let pixels: Vec<&[Segment]> = rays.chunks(per_pixel).collect();
+            let shadow: Vec<Vec<Segment>> = pixels
+                .iter()
+                .map(|pixel| {
+                    let hits = pixel.iter().filter_map(|&(o, d, t)| bvh.intersect(o, d, t));
+                    hits.map(|h| {
+                        let r = shadow_ray(mesh, bvh, &h, light);
+                        (r.origin, r.direction, r.t_max)
+                    })
+                    .collect()
+                })
+                .collect();
+            let shadow: Vec<&[Segment]> = shadow.iter().map(Vec::as_slice).collect();
+            let primary_seconds = alternate(runs, |packets, parallel| {
+                per_group(&pixels, parallel, |rays| count_hits(bvh, rays, packets))
+            });
+            let shadow_seconds = alternate(runs, |packets, parallel| {
+                per_group(&shadow, parallel, |rays| count_blocked(bvh, rays, packets))
+            });
+            let shadow_count = shadow.iter().map(|s| s.len()).sum();
+            rows.push((grid, [(rays.len(), primary_seconds), (shadow_count, shadow_seconds)]));
         }
         Some(Self { rows, runs })
     }
 
     fn print(&self, threads: usize) {
-        println!(
-            "\n{PACKET_SIZE}x{PACKET_SIZE} pixels, n x n samples each, preset fast; medians of {} run(s)",
-            self.runs
-        );
-        println!(
-            "{:<22} {:>14} {:>14} {:>14} {:>14}",
-            "samples per pixel",
-            "single 1t",
-            "packet 1t",
-            format!("single {threads}t"),
-            format!("packet {threads}t")
-        );
-        for &(grid, rays, seconds) in &self.rows {
-            let [s1, p1, sn, pn] = seconds.map(|s| rays as f64 / s / 1e6);
-            println!("{:<22} {s1:>14.2} {p1:>14.2} {sn:>14.2} {pn:>14.2}", grid * grid);
+        for (k, what) in ["primary rays", "shadow rays of their hits"].into_iter().enumerate() {
+            println!(
+                "\n{PACKET_SIZE}x{PACKET_SIZE} pixels, n x n samples each, preset fast, {what} (M/s); medians of {} run(s)",
+                self.runs
+            );
+            println!(
+                "{:<22} {:>14} {:>14} {:>14} {:>14}",
+                "samples per pixel",
+                "single 1t",
+                "packet 1t",
+                format!("single {threads}t"),
+                format!("packet {threads}t")
+            );
+            for &(grid, kinds) in &self.rows {
+                let (rays, seconds) = kinds[k];
+                let [s1, p1, sn, pn] = seconds.map(|s| rays as f64 / s / 1e6);
+                println!("{:<22} {s1:>14.2} {p1:>14.2} {sn:>14.2} {pn:>14.2}", grid * grid);
+            }
         }
     }
 }
 
+/// A ray count and its seconds per pass [one by one 1t, packets 1t, one by one all threads,
+/// packets all threads].
+type Timed = (usize, [f64; 4]);
+
+/// A ray as the packet calls take it: origin, unit direction, t_max.
+type Segment = (Vec3, Vec3, f32);
+
+/// Median seconds of `work(packets, parallel)` over `runs` runs, as [one by one 1t, packets 1t,
+/// one by one all threads, packets all threads]. Each run times A B B A: whichever runs first
+/// after the other thread count is slower (by ~15% here, even for identical code), so each gets
+/// one early and one late slot and the run's value is their mean.
+fn alternate(runs: usize, work: impl Fn(bool, bool) -> usize) -> [f64; 4] {
+    std::hint::black_box(work(true, false)); // warm-up
+    let mut all = [(); 4].map(|_| Vec::new());
+    for _ in 0..runs {
+        for parallel in [false, true] {
+            let mut seconds = [0.0; 2];
+            for packets in [false, true, true, false] {
+                let t = Instant::now();
+                std::hint::black_box(work(packets, parallel));
+                seconds[packets as usize] += t.elapsed().as_secs_f64() / 2.0;
+            }
+            for (packets, s) in seconds.into_iter().enumerate() {
+                all[2 * parallel as usize + packets].push(s);
+            }
+        }
+    }
+    all.map(median)
+}
+
 /// `grid`² rays per pixel on a grid inside it, pixels in the renderer's order.
-fn grid_rays(camera: &Camera, grid: u32) -> Vec<(Vec3, Vec3, f32)> {
+fn grid_rays(camera: &Camera, grid: u32) -> Vec<Segment> {
     let (size, g) = (PACKET_SIZE as f32, grid as f32);
     tiles(PixelRect::full(PACKET_SIZE, PACKET_SIZE))
         .iter()
@@ -191,27 +227,52 @@ fn grid_rays(camera: &Camera, grid: u32) -> Vec<(Vec3, Vec3, f32)> {
         .collect()
 }
 
-/// Hits among `rays`, traced pixel by pixel (`per_pixel` rays each).
-fn trace(bvh: &Bvh, rays: &[(Vec3, Vec3, f32)], per_pixel: usize, packets: bool, parallel: bool) -> usize {
-    let pixel = |rays: &[(Vec3, Vec3, f32)]| -> usize {
-        let mut hits = [None; PACKET];
-        if packets {
-            bvh.intersect_packet(rays, &mut hits[..rays.len()]);
-        } else {
-            // One ray per call: the very code `intersect_packet` falls back to below MIN_PACKET
-            // rays (calling `intersect` from here instead ran ~15% slower or faster depending
-            // on where the compiler put it, for identical work).
-            for (ray, hit) in rays.chunks(1).zip(hits.chunks_mut(1)) {
-                bvh.intersect_packet(ray, hit);
-            }
-        }
-        hits.iter().filter(|h| h.is_some()).count()
-    };
+/// The sum of `f` over `groups` (one group per pixel), on one thread or all.
+fn per_group(groups: &[&[Segment]], parallel: bool, f: impl Fn(&[Segment]) -> usize + Sync) -> usize {
     if parallel {
-        rays.par_chunks(per_pixel).map(pixel).sum()
+        groups.par_iter().map(|g| f(g)).sum()
     } else {
-        rays.chunks(per_pixel).map(pixel).sum()
+        groups.iter().map(|g| f(g)).sum()
     }
+}
+
+/// Hits among one pixel's `rays`: one packet call, or one call per ray — the very code
+/// `intersect_packet` falls back to below MIN_PACKET rays (calling `intersect` from here
+/// instead ran ~15% slower or faster depending on where the compiler put it, for identical
+/// work).
+fn count_hits(bvh: &Bvh, rays: &[Segment], packets: bool) -> usize {
+    let mut hits = [None; PACKET];
+    if packets {
+        bvh.intersect_packet(rays, &mut hits[..rays.len()]);
+    } else {
+        for (ray, hit) in rays.chunks(1).zip(hits.chunks_mut(1)) {
+            bvh.intersect_packet(ray, hit);
+        }
+    }
+    hits.iter().filter(|h| h.is_some()).count()
+}
+
+/// Blocked segments among one pixel's shadow rays, as [`count_hits`] does for hits.
+fn count_blocked(bvh: &Bvh, rays: &[Segment], packets: bool) -> usize {
+    let mut blocked = [false; PACKET];
+    if packets {
+        bvh.any_hit_packet(rays, &mut blocked[..rays.len()]);
+    } else {
+        for (ray, b) in rays.chunks(1).zip(blocked.chunks_mut(1)) {
+            bvh.any_hit_packet(ray, b);
+        }
+    }
+    blocked.iter().filter(|&&b| b).count()
+}
+
+/// The shadow ray from the point `hit` found towards a point light at `light`, offset as the
+/// renderer offsets it.
+fn shadow_ray(mesh: &TriangleMesh, bvh: &Bvh, hit: &Hit, light: Vec3) -> ShadowRay {
+    let [p0, p1, p2] = mesh.triangle_positions(hit.triangle as usize);
+    let p = (1.0 - hit.b1 - hit.b2) * p0 + hit.b1 * p1 + hit.b2 * p2;
+    let n = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+    let to = light - p;
+    ShadowRay::towards_light(p, n, to.normalize(), to.length(), bvh.scene_unit())
 }
 
 /// Seconds per pass of `f`, timed over [`PASSES`] passes (one pass on two threads is ~15 ms,
@@ -249,15 +310,7 @@ impl Case {
             .collect();
         let shadow_rays = rays
             .iter()
-            .filter_map(|&(o, d, t)| {
-                bvh.intersect(o, d, t).map(|h| {
-                    let [p0, p1, p2] = mesh.triangle_positions(h.triangle as usize);
-                    let p = (1.0 - h.b1 - h.b2) * p0 + h.b1 * p1 + h.b2 * p2;
-                    let n = (p1 - p0).cross(p2 - p0).normalize_or_zero();
-                    let to = light - p;
-                    ShadowRay::towards_light(p, n, to.normalize(), to.length(), bvh.scene_unit())
-                })
-            })
+            .filter_map(|&(o, d, t)| bvh.intersect(o, d, t).map(|h| shadow_ray(mesh, &bvh, &h, light)))
             .collect();
         Self {
             preset,

@@ -13,6 +13,7 @@
 
 pub mod packet;
 pub mod triangle;
+mod walk;
 pub mod wide;
 
 use std::time::{Duration, Instant};
@@ -159,29 +160,56 @@ impl Bvh {
     /// [`MIN_PACKET`], directions of different signs, a zero direction component, a tree too deep
     /// for the fixed stack) are traced one by one.
     pub fn intersect_packet(&self, rays: &[(Vec3, Vec3, f32)], hits: &mut [Option<Hit>]) {
-        let n = rays.len();
-        assert!(n <= PACKET && hits.len() == n, "a packet holds at most {PACKET} rays");
-        let single = |hits: &mut [Option<Hit>]| {
+        assert!(hits.len() == rays.len(), "one hit per ray");
+        let traced = self.with_packet(rays, |packet, shears, t_max| {
+            let mut best = [None; PACKET];
+            packet.closest_hits(&self.wide, t_max, &mut best[..rays.len()]);
+            for (k, hit) in hits.iter_mut().enumerate() {
+                *hit = best[k].and_then(|(quad, h)| self.hit(&shears[k], quad, h));
+            }
+        });
+        if traced.is_none() {
             for (&(o, d, t), hit) in rays.iter().zip(hits) {
                 *hit = self.intersect(o, d, t);
             }
-        };
+        }
+    }
+
+    /// [`Self::any_hit`] of up to [`PACKET`] segments `(origin, direction, t_max)` at once, into
+    /// `occluded` (one per ray): one walk for the packet, which ends when every segment is
+    /// blocked. The answers are exactly [`Self::any_hit`]'s (occlusion does not depend on the
+    /// order leaves are visited in). Rays that cannot share a walk are traced one by one, as for
+    /// [`Self::intersect_packet`].
+    pub fn any_hit_packet(&self, rays: &[(Vec3, Vec3, f32)], occluded: &mut [bool]) {
+        assert!(occluded.len() == rays.len(), "one answer per ray");
+        let traced = self.with_packet(rays, |packet, _, t_max| packet.any_hits(&self.wide, t_max, occluded));
+        if traced.is_none() {
+            for (&(o, d, t), blocked) in rays.iter().zip(occluded) {
+                *blocked = self.any_hit(o, d, t);
+            }
+        }
+    }
+
+    /// Runs `trace(packet, shears, t_max)` on `rays` prepared as one packet in BVH space (t_max
+    /// has one entry per ray), or returns `None` when they cannot share a walk.
+    #[inline]
+    fn with_packet<R>(
+        &self,
+        rays: &[(Vec3, Vec3, f32)],
+        trace: impl FnOnce(&RayPacket, &[WatertightRay; PACKET], &mut [f32]) -> R,
+    ) -> Option<R> {
+        let n = rays.len();
+        assert!(n <= PACKET, "a packet holds at most {PACKET} rays");
         if n < MIN_PACKET || self.wide.stack() != TraversalStack::Fixed {
-            return single(hits);
+            return None;
         }
         let origin = |k: usize| Vec3A::from(rays[k.min(n - 1)].0 * self.scale);
         let direction = |k: usize| without_negative_zeros(rays[k.min(n - 1)].1);
         let shears: [WatertightRay; PACKET] = std::array::from_fn(|k| WatertightRay::new(origin(k), direction(k)));
         let wide: [WideRay; PACKET] = std::array::from_fn(|k| WideRay::new(origin(k), direction(k), &shears[k]));
-        let Some(packet) = RayPacket::new(&wide[..n]) else {
-            return single(hits);
-        };
+        let packet = RayPacket::new(&wide[..n])?;
         let mut t_max: [f32; PACKET] = std::array::from_fn(|k| rays[k.min(n - 1)].2 * self.scale);
-        let mut best = [None; PACKET];
-        packet.closest_hits(&self.wide, &mut t_max[..n], &mut best[..n]);
-        for (k, hit) in hits.iter_mut().enumerate() {
-            *hit = best[k].and_then(|(quad, h)| self.hit(&shears[k], quad, h));
-        }
+        Some(trace(&packet, &shears, &mut t_max[..n]))
     }
 
     /// The [`Hit`] of lane `hit.lane` of quad `quad`, found by the ray `shear` was prepared for.
@@ -224,6 +252,16 @@ impl Occluder for Bvh {
     #[inline]
     fn occluded(&self, ray: &ShadowRay) -> bool {
         self.any_hit(ray.origin, ray.direction, ray.t_max)
+    }
+
+    fn occluded_batch(&self, rays: &[ShadowRay], occluded: &mut [bool]) {
+        for (rays, occluded) in rays.chunks(PACKET).zip(occluded.chunks_mut(PACKET)) {
+            let segments: [(Vec3, Vec3, f32); PACKET] = std::array::from_fn(|k| {
+                let r = rays[k.min(rays.len() - 1)];
+                (r.origin, r.direction, r.t_max)
+            });
+            self.any_hit_packet(&segments[..rays.len()], occluded);
+        }
     }
 }
 

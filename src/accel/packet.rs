@@ -16,10 +16,18 @@
 
 use glam::Vec4;
 
-use super::wide::{descend_nearest, FixedStack, Node4, QuadHit, Stack, WideBvh, WideRay, LEAF};
+use super::walk::{FixedStack, NodeTest};
+use super::wide::{Node4, QuadHit, WideBvh, WideRay};
 
 /// Most rays in one packet.
 pub const PACKET: usize = 16;
+
+/// Widest spread of a packet's origins on any axis, in BVH units (the scene is ~256 across).
+/// The samples of a pixel that land on one surface start within a pixel's footprint (well under
+/// one unit at ordinary resolutions) and share most of their walk; samples split across a
+/// silhouette start metres apart, and the packet's bounds then enclose everything between
+/// them: the adaptive sampler's edge pixels shaded at half speed with such packets.
+const MAX_ORIGIN_SPREAD: f32 = 1.0;
 
 /// The rays of a packet and the bounds of their origins and inverse directions, per axis.
 pub struct RayPacket<'a> {
@@ -31,6 +39,10 @@ pub struct RayPacket<'a> {
     inv_lo: [Vec4; 3],
     inv_hi: [Vec4; 3],
     near: [usize; 3],
+    /// The rays four to a group, one per lane (unused lanes repeat the last ray): origins and
+    /// inverse directions per axis, for testing a leaf's box against each ray.
+    lane_origin: [[Vec4; 3]; PACKET / 4],
+    lane_inv_dir: [[Vec4; 3]; PACKET / 4],
 }
 
 impl<'a> RayPacket<'a> {
@@ -46,7 +58,20 @@ impl<'a> RayPacket<'a> {
             inv_lo: [Vec4::ZERO; 3],
             inv_hi: [Vec4::ZERO; 3],
             near: first.near,
+            lane_origin: [[Vec4::ZERO; 3]; PACKET / 4],
+            lane_inv_dir: [[Vec4::ZERO; 3]; PACKET / 4],
         };
+        if rays.len() > PACKET {
+            return None;
+        }
+        let lane = |group: usize, k: usize| &rays[(4 * group + k).min(rays.len() - 1)];
+        for group in 0..PACKET / 4 {
+            for axis in 0..3 {
+                packet.lane_origin[group][axis] = Vec4::from_array([0, 1, 2, 3].map(|k| lane(group, k).origin[axis].x));
+                packet.lane_inv_dir[group][axis] =
+                    Vec4::from_array([0, 1, 2, 3].map(|k| lane(group, k).inv_dir[axis].x));
+            }
+        }
         for axis in 0..3 {
             let (mut o_lo, mut o_hi) = (f32::INFINITY, f32::NEG_INFINITY);
             let (mut i_lo, mut i_hi) = (f32::INFINITY, f32::NEG_INFINITY);
@@ -57,6 +82,9 @@ impl<'a> RayPacket<'a> {
                 }
                 (o_lo, o_hi) = (o_lo.min(o), o_hi.max(o));
                 (i_lo, i_hi) = (i_lo.min(inv), i_hi.max(inv));
+            }
+            if o_hi - o_lo > MAX_ORIGIN_SPREAD {
+                return None;
             }
             // Positive direction: the near plane is the minimum and the earliest entry comes
             // from the largest origin; negative: the other way round.
@@ -70,6 +98,91 @@ impl<'a> RayPacket<'a> {
         Some(packet)
     }
 
+    /// Each ray's closest hit with 0 < t < `t_max[k]`, written to `best[k]` (the slices have one
+    /// entry per ray). The tree must be traversable with the fixed stack
+    /// ([`WideBvh::stack`]).
+    pub fn closest_hits(&self, bvh: &WideBvh, t_max: &mut [f32], best: &mut [Option<(u32, QuadHit)>]) {
+        debug_assert!(t_max.len() == self.rays.len() && best.len() == self.rays.len());
+        let packet_t_max = t_max.iter().copied().fold(0.0, f32::max);
+        bvh.walk_nearest_first(self, packet_t_max, &mut FixedStack::new(), |quad, packet_t_max| {
+            let triangles = &bvh.quads[quad as usize];
+            let mut found = false;
+            for k in self.rays_entering(&bvh.quad_bounds[quad as usize], t_max) {
+                if let Some(h) = triangles.intersect(&self.rays[k], t_max[k]) {
+                    t_max[k] = h.t;
+                    best[k] = Some((quad, h));
+                    found = true;
+                }
+            }
+            if found {
+                t_max.iter().copied().fold(0.0, f32::max)
+            } else {
+                packet_t_max
+            }
+        });
+    }
+
+    /// Whether each ray hits anything with 0 < t < `t_max[k]`, written to `occluded[k]` (the
+    /// slices have one entry per ray): exactly the answer of the ray's own any-hit walk, since
+    /// the packet reaches every leaf the ray's walk reaches. The walk ends when every ray is
+    /// occluded. The tree must be traversable with the fixed stack ([`WideBvh::stack`]).
+    pub fn any_hits(&self, bvh: &WideBvh, t_max: &[f32], occluded: &mut [bool]) {
+        debug_assert!(t_max.len() == self.rays.len() && occluded.len() == self.rays.len());
+        occluded.fill(false);
+        let packet_t_max = t_max.iter().copied().fold(0.0, f32::max);
+        bvh.walk_until(self, packet_t_max, &mut FixedStack::new(), |quad, packet_t_max| {
+            let triangles = &bvh.quads[quad as usize];
+            let mut found = false;
+            for k in self.rays_entering(&bvh.quad_bounds[quad as usize], t_max) {
+                if !occluded[k] && triangles.hits_any(&self.rays[k], t_max[k]) {
+                    occluded[k] = true;
+                    found = true;
+                }
+            }
+            if !found {
+                return Some(packet_t_max);
+            }
+            // The farthest segment still open bounds the rest of the walk; none left: done.
+            let open = t_max.iter().zip(&*occluded).filter(|(_, &o)| !o).map(|(&t, _)| t);
+            open.reduce(f32::max)
+        });
+    }
+}
+
+impl RayPacket<'_> {
+    /// The rays (indices into the packet) whose own box test enters the leaf box `bounds`
+    /// within (0, `t_max[k]`]: the very arithmetic of [`WideRay`]'s node test, lane for lane,
+    /// so a ray skipped here is one its own walk would not have tested this leaf with. (The
+    /// packet reaches every leaf some ray may enter; most rays of a packet enter few of them.)
+    #[inline(always)]
+    fn rays_entering(&self, bounds: &[[f32; 3]; 2], t_max: &[f32]) -> impl Iterator<Item = usize> {
+        let n = self.rays.len();
+        let mut mask = 0u32;
+        for group in 0..n.div_ceil(4) {
+            let t_max = Vec4::from_array([0, 1, 2, 3].map(|k| t_max[(4 * group + k).min(n - 1)]));
+            let (origin, inv_dir) = (&self.lane_origin[group], &self.lane_inv_dir[group]);
+            let mut t_near = Vec4::ZERO;
+            let mut t_far = t_max;
+            for axis in 0..3 {
+                let near = (Vec4::splat(bounds[self.near[axis]][axis]) - origin[axis]) * inv_dir[axis];
+                let far = (Vec4::splat(bounds[1 - self.near[axis]][axis]) - origin[axis]) * inv_dir[axis];
+                t_near = near.max(t_near);
+                t_far = far.min(t_far);
+            }
+            mask |= t_near.cmple(t_far).bitmask() << (4 * group);
+        }
+        mask &= (1u32 << n) - 1;
+        std::iter::from_fn(move || {
+            (mask != 0).then(|| {
+                let k = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                k
+            })
+        })
+    }
+}
+
+impl NodeTest for RayPacket<'_> {
     /// Which of the node's four boxes some ray of the packet may enter within [0, t_max], and a
     /// lower bound of where (never NaN: every bound is finite, see [`Self::new`]).
     #[inline(always)]
@@ -84,51 +197,6 @@ impl<'a> RayPacket<'a> {
             t_far = (y * lo).max(y * hi).min(t_far);
         }
         (t_near.cmple(t_far).bitmask(), t_near)
-    }
-
-    /// Each ray's closest hit with 0 < t < `t_max[k]`, written to `best[k]` (the slices have one
-    /// entry per ray). The tree must be traversable with the fixed stack
-    /// ([`WideBvh::stack`]).
-    pub fn closest_hits(&self, bvh: &WideBvh, t_max: &mut [f32], best: &mut [Option<(u32, QuadHit)>]) {
-        let n = self.rays.len();
-        debug_assert!(t_max.len() == n && best.len() == n);
-        if bvh.nodes.is_empty() {
-            return;
-        }
-        let mut stack = FixedStack::new();
-        let mut packet_t_max = t_max.iter().copied().fold(0.0, f32::max);
-        let mut current = (0u32, 0.0f32);
-        loop {
-            let (child, t_enter) = current;
-            if t_enter < packet_t_max {
-                if child & LEAF != 0 {
-                    let quad = child & !LEAF;
-                    let triangles = &bvh.quads[quad as usize];
-                    let mut found = false;
-                    for k in 0..n {
-                        if let Some(h) = triangles.intersect(&self.rays[k], t_max[k]) {
-                            t_max[k] = h.t;
-                            best[k] = Some((quad, h));
-                            found = true;
-                        }
-                    }
-                    if found {
-                        packet_t_max = t_max.iter().copied().fold(0.0, f32::max);
-                    }
-                } else {
-                    let node = &bvh.nodes[child as usize];
-                    let (mask, t_near) = self.boxes(node, packet_t_max);
-                    if mask != 0 {
-                        current = descend_nearest(node, mask, t_near, &mut stack);
-                        continue;
-                    }
-                }
-            }
-            match stack.pop() {
-                Some(next) => current = next,
-                None => return,
-            }
-        }
     }
 }
 
@@ -223,19 +291,70 @@ mod tests {
         assert!(ties * 1000 < hits, "{ties} ties in {hits} hits");
     }
 
+    /// Compares every segment's packet answer with its single-ray answer; returns (blocked, open).
+    fn compare_occlusion(bvh: &Bvh, segments: &[(Vec3, Vec3, f32)], what: &str) -> (usize, usize) {
+        let mut got = [false; PACKET];
+        bvh.any_hit_packet(segments, &mut got);
+        for (&(o, d, t), &got) in segments.iter().zip(&got) {
+            assert_eq!(bvh.any_hit(o, d, t), got, "{what}: segment from {o} along {d} to {t}");
+        }
+        let blocked = got.iter().filter(|&&b| b).count();
+        (blocked, segments.len() - blocked)
+    }
+
+    #[test]
+    fn a_packet_answers_each_segments_own_occlusion() {
+        let mesh = torus_mesh();
+        let bvh = Bvh::build(&mesh, BvhPreset::Fast);
+        let (lo, hi) = mesh.bounds().unwrap();
+        let camera = Camera::new(frame_bounds(lo, hi), SIZE, SIZE).unwrap();
+        let light = Vec3::new(0.4, 2.5, 0.9);
+        let (mut blocked, mut open, mut packets) = (0, 0, 0);
+        for py in (0..SIZE).step_by(2) {
+            for px in (0..SIZE).step_by(2) {
+                let rays = pixel_rays(&camera, px, py);
+                let hit_t: Vec<Option<f32>> = rays.iter().map(|&(o, d, t)| Some(bvh.intersect(o, d, t)?.t)).collect();
+                // Camera segments cut from 8% short of their hit to 7% beyond it.
+                let cut: Vec<_> = (rays.iter().zip(&hit_t).enumerate())
+                    .map(|(k, (&(o, d, t), hit))| (o, d, hit.map_or(t, |h| h * (0.92 + 0.01 * k as f32))))
+                    .collect();
+                // Shadow segments towards a point light from just before each ray's hit.
+                let shadow: Vec<_> = (rays.iter().zip(&hit_t))
+                    .map(|(&(o, d, _), hit)| {
+                        let p = o + d * hit.map_or(3.0, |h| h * 0.999);
+                        (p, (light - p).normalize(), (light - p).length())
+                    })
+                    .collect();
+                for (segments, what) in [(&cut, "camera"), (&shadow, "shadow")] {
+                    let (b, o) = compare_occlusion(&bvh, segments, &format!("{what} segments of ({px}, {py})"));
+                    (blocked, open) = (blocked + b, open + o);
+                    packets += RayPacket::new(&wide(segments)).is_some() as usize;
+                }
+            }
+        }
+        let groups = 2 * (SIZE as usize / 2).pow(2);
+        assert!(
+            packets * 10 > groups * 9,
+            "{packets} of {groups} groups went as packets"
+        );
+        assert!(blocked > 10_000 && open > 10_000, "{blocked} blocked, {open} open");
+    }
+
+    /// The rays prepared for the wide traversal, as [`Bvh::intersect_packet`] does (unit scale).
+    fn wide(rays: &[(Vec3, Vec3, f32)]) -> Vec<WideRay> {
+        rays.iter()
+            .map(|&(o, d, _)| {
+                let (o, d) = (Vec3A::from(o), Vec3A::from(d));
+                WideRay::new(o, d, &WatertightRay::new(o, d))
+            })
+            .collect()
+    }
+
     #[test]
     fn the_rays_of_a_pixel_share_a_walk_and_mixed_signs_do_not() {
         let mesh = torus_mesh();
         let (lo, hi) = mesh.bounds().unwrap();
         let camera = Camera::new(frame_bounds(lo, hi), SIZE, SIZE).unwrap();
-        let wide = |rays: &[(Vec3, Vec3, f32)]| -> Vec<WideRay> {
-            rays.iter()
-                .map(|&(o, d, _)| {
-                    let (o, d) = (Vec3A::from(o), Vec3A::from(d));
-                    WideRay::new(o, d, &WatertightRay::new(o, d))
-                })
-                .collect()
-        };
         let pixel = wide(&pixel_rays(&camera, 40, 50));
         assert!(RayPacket::new(&pixel).is_some());
         let mixed = wide(&[(Vec3::ZERO, Vec3::X, 1.0), (Vec3::ZERO, -Vec3::X, 1.0)]);

@@ -7,23 +7,19 @@
 //! ray/triangle test (Woop et al.) on four triangles at once ([`TriangleQuad::intersect`]),
 //! bit-identical per lane to the scalar test in [`super::triangle`].
 //!
-//! Traversal keeps a stack of (node, entry distance) pairs. A node pushes at most three
-//! children besides the one it descends into, so a tree of depth D needs at most 3·D + 1
-//! entries: a fixed array serves every tree up to [`FIXED_STACK_DEPTH`] levels, a growable one
-//! the (rare, pathological) deeper trees — nothing is ever dropped.
-
-use std::mem::MaybeUninit;
+//! Traversal (the loops, the stack) is in [`super::walk`].
 
 use glam::{BVec4A, Vec3A, Vec4};
 use rayon::prelude::*;
 
 use super::triangle::WatertightRay;
+use super::walk::{FixedStack, NodeTest, Stack};
 use obvhs::bvh2::Bvh2;
 
 /// Marks a child slot that holds a leaf (the rest of the value is the quad index).
 pub(super) const LEAF: u32 = 1 << 31;
 /// Marks an unused child slot.
-const EMPTY: u32 = u32::MAX;
+pub(super) const EMPTY: u32 = u32::MAX;
 
 /// Deepest tree the fixed-size traversal stack serves (3·21 + 1 = 64 entries).
 pub const FIXED_STACK_DEPTH: u32 = 21;
@@ -36,7 +32,6 @@ pub enum TraversalStack {
     /// A growable vector: deeper trees.
     Growable,
 }
-pub(super) const FIXED_STACK: usize = 64;
 
 /// Levels of 4-wide nodes whose subtrees are collapsed in parallel (up to 4² = 16 tasks: work for
 /// a few cores without splitting small trees into many tiny tasks).
@@ -94,7 +89,9 @@ impl WideRay {
             shear: watertight.shear_constants().map(Vec4::splat),
         }
     }
+}
 
+impl NodeTest for WideRay {
     /// Which of the node's four boxes the segment [0, t_max] enters, and where.
     ///
     /// NaN-safe: a zero direction component gives ±∞ in `inv_dir`, and an origin exactly on that
@@ -208,56 +205,10 @@ pub struct WideBvh {
     pub(super) nodes: Vec<Node4>,
     pub(super) quads: Vec<TriangleQuad>,
     quad_triangles: Vec<[u32; 4]>,
+    /// Each quad's box (the one its parent holds): [minimum, maximum], each [x, y, z]. Packets
+    /// test it per ray before the triangles ([`super::packet`]).
+    pub(super) quad_bounds: Vec<[[f32; 3]; 2]>,
     depth: u32,
-}
-
-/// A traversal stack of (child value, entry distance) pairs.
-pub(super) trait Stack {
-    fn push(&mut self, entry: (u32, f32));
-    fn pop(&mut self) -> Option<(u32, f32)>;
-}
-
-/// A 64-entry stack that is not zeroed per ray (512 bytes of memset showed in profiles).
-pub(super) struct FixedStack {
-    entries: [MaybeUninit<(u32, f32)>; FIXED_STACK],
-    len: usize,
-}
-
-impl FixedStack {
-    #[inline(always)]
-    pub(super) fn new() -> Self {
-        Self {
-            entries: [const { MaybeUninit::uninit() }; FIXED_STACK],
-            len: 0,
-        }
-    }
-}
-
-impl Stack for FixedStack {
-    #[inline(always)]
-    fn push(&mut self, entry: (u32, f32)) {
-        // Capacity 64 ≥ 3·depth + 1 for every tree this stack is used with ([`WideBvh::stack`]);
-        // indexing is still bounds-checked, so a wrong bound panics instead of corrupting.
-        self.entries[self.len].write(entry);
-        self.len += 1;
-    }
-    #[inline(always)]
-    fn pop(&mut self) -> Option<(u32, f32)> {
-        self.len = self.len.checked_sub(1)?;
-        // SAFETY: every index below `len` was written by `push` before `len` passed it.
-        Some(unsafe { self.entries[self.len].assume_init() })
-    }
-}
-
-impl Stack for Vec<(u32, f32)> {
-    #[inline(always)]
-    fn push(&mut self, entry: (u32, f32)) {
-        Vec::push(self, entry);
-    }
-    #[inline(always)]
-    fn pop(&mut self) -> Option<(u32, f32)> {
-        Vec::pop(self)
-    }
 }
 
 impl WideBvh {
@@ -359,6 +310,7 @@ impl WideBvh {
         }));
         self.quads.extend(subtree.quads);
         self.quad_triangles.extend(subtree.quad_triangles);
+        self.quad_bounds.extend(subtree.quad_bounds);
         self.depth = self.depth.max(subtree.depth);
         node_base
     }
@@ -374,6 +326,8 @@ impl WideBvh {
                 .push(TriangleQuad::from_fn(prims.len(), |l| triangles[prims[l] as usize]));
             self.quad_triangles
                 .push([0, 1, 2, 3].map(|l| prims.get(l).copied().unwrap_or(EMPTY)));
+            let b = node2.aabb();
+            self.quad_bounds.push([b.min.to_array(), b.max.to_array()]);
             LEAF | (self.quads.len() as u32 - 1)
         } else {
             self.emit(bvh2, slot, triangles, depth + 1, 0)
@@ -398,6 +352,7 @@ impl WideBvh {
             nodes: Vec::with_capacity(leaves / 3 + 1),
             quads: Vec::with_capacity(leaves),
             quad_triangles: Vec::with_capacity(leaves),
+            quad_bounds: Vec::with_capacity(leaves),
             depth: 0,
         }
     }
@@ -464,84 +419,25 @@ impl WideBvh {
 
     #[inline(always)]
     fn closest_hit_with(&self, ray: &WideRay, t_max: f32, stack: &mut impl Stack) -> Option<(u32, QuadHit)> {
-        if self.nodes.is_empty() {
-            return None;
-        }
-        let mut best: Option<(u32, QuadHit)> = None;
-        let mut t_max = t_max;
-        let mut current = (0u32, 0.0f32);
-        loop {
-            let (child, t_enter) = current;
-            if t_enter < t_max {
-                if child & LEAF != 0 {
-                    let quad = child & !LEAF;
-                    if let Some(h) = self.quads[quad as usize].intersect(ray, t_max) {
-                        t_max = h.t;
-                        best = Some((quad, h));
-                    }
-                } else {
-                    let node = &self.nodes[child as usize];
-                    let (mask, t_near) = ray.boxes(node, t_max);
-                    if mask != 0 {
-                        current = descend_nearest(node, mask, t_near, stack);
-                        continue;
-                    }
+        let mut best = None;
+        self.walk_nearest_first(ray, t_max, stack, |quad, t_max| {
+            match self.quads[quad as usize].intersect(ray, t_max) {
+                Some(hit) => {
+                    best = Some((quad, hit));
+                    hit.t
                 }
+                None => t_max,
             }
-            match stack.pop() {
-                Some(next) => current = next,
-                None => return best,
-            }
-        }
+        });
+        best
     }
 
     #[inline(always)]
     fn any_hit_with(&self, ray: &WideRay, t_max: f32, stack: &mut impl Stack) -> bool {
-        if self.nodes.is_empty() {
-            return false;
-        }
-        let mut current = 0u32;
-        loop {
-            if current & LEAF != 0 {
-                if self.quads[(current & !LEAF) as usize].hits_any(ray, t_max) {
-                    return true;
-                }
-            } else {
-                let node = &self.nodes[current as usize];
-                let (mask, _) = ray.boxes(node, t_max);
-                for k in (0..4).filter(|&k| mask & (1 << k) != 0) {
-                    stack.push((node.child[k], 0.0));
-                }
-            }
-            match stack.pop() {
-                Some((next, _)) => current = next,
-                None => return false,
-            }
-        }
+        self.walk_until(ray, t_max, stack, |quad, t_max| {
+            (!self.quads[quad as usize].hits_any(ray, t_max)).then_some(t_max)
+        })
     }
-}
-
-/// The child of `node` (among those in `mask`, entered at `t_near`) to visit next — the nearest —
-/// after pushing the others onto `stack`, farthest first. (An insertion sort: on coherent rays
-/// its branches predict well, and two branch-free orderings measured slower, see the README.)
-#[inline(always)]
-pub(super) fn descend_nearest(node: &Node4, mask: u32, t_near: Vec4, stack: &mut impl Stack) -> (u32, f32) {
-    let t = t_near.to_array();
-    let mut order = [(f32::INFINITY, EMPTY); 4];
-    let mut n = 0;
-    for k in (0..4).filter(|&k| mask & (1 << k) != 0) {
-        let mut i = n;
-        while i > 0 && order[i - 1].0 < t[k] {
-            order[i] = order[i - 1];
-            i -= 1;
-        }
-        order[i] = (t[k], node.child[k]);
-        n += 1;
-    }
-    for &(t, c) in &order[..n - 1] {
-        stack.push((c, t));
-    }
-    (order[n - 1].1, order[n - 1].0)
 }
 
 /// Boxes that no ray enters (min = +∞, max = −∞ on every axis).
@@ -585,6 +481,7 @@ mod tests {
                 tree.quad_triangles, sequential.quad_triangles,
                 "{parallel} parallel levels"
             );
+            assert_eq!(tree.quad_bounds, sequential.quad_bounds);
             assert_eq!(tree.nodes.len(), sequential.nodes.len());
             for (a, b) in tree.nodes.iter().zip(&sequential.nodes) {
                 assert_eq!(a.child, b.child, "{parallel} parallel levels");

@@ -25,6 +25,15 @@ pub struct ShadowRay {
 pub trait Occluder: Sync {
     /// True if the segment is blocked.
     fn occluded(&self, ray: &ShadowRay) -> bool;
+
+    /// `occluded[k] = self.occluded(&rays[k])` for every k, for a batch of segments that may
+    /// share work (the BVH traces nearly parallel ones as packets). The answers must be exactly
+    /// the per-ray ones. `occluded` has one entry per ray.
+    fn occluded_batch(&self, rays: &[ShadowRay], occluded: &mut [bool]) {
+        for (ray, blocked) in rays.iter().zip(occluded) {
+            *blocked = self.occluded(ray);
+        }
+    }
 }
 
 /// Nothing ever occludes: used when shadows are off or there is no geometry.
