@@ -4,6 +4,7 @@
 //! Batches are small (a tile's pixels, or the pixels of a tile still taking samples), so the
 //! surface points of a batch stay in cache between the two stages.
 
+use std::borrow::Borrow;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
@@ -173,8 +174,17 @@ impl<'a> Context<'a> {
         }
         let t1 = Instant::now();
         let mut rays = 0u64;
-        for SurfaceSample(s) in scratch.iter() {
-            sums.radiance[s.slot as usize] += self.shader.shade(&s.point, &mut rays);
+        // A pixel's samples are shaded together: their shadow rays towards each light are
+        // nearly parallel and go through the tree as one packet (the sums are the same, bit for
+        // bit, and added in the same order).
+        let mut radiance = [Vec3::ZERO; PACKET];
+        for pixel in scratch.chunk_by(|SurfaceSample(a), SurfaceSample(b)| a.slot == b.slot) {
+            for group in pixel.chunks(PACKET) {
+                self.shader.shade_batch(group, &mut radiance[..group.len()], &mut rays);
+                for (SurfaceSample(s), radiance) in group.iter().zip(&radiance) {
+                    sums.radiance[s.slot as usize] += *radiance;
+                }
+            }
         }
         if self.record_surface {
             for SurfaceSample(s) in scratch.iter() {
@@ -196,6 +206,12 @@ impl<'a> Context<'a> {
 
 /// A traced sample waiting for shading (opaque: only [`Context::trace`] reads it).
 pub struct SurfaceSample(Sample);
+
+impl Borrow<SurfacePoint> for SurfaceSample {
+    fn borrow(&self) -> &SurfacePoint {
+        &self.0.point
+    }
+}
 
 fn aov_value(aov: Aov, scene: &Scene, s: &Sample) -> Vec3 {
     match aov {

@@ -10,15 +10,40 @@
 //! same sum is formed from clamped dot products instead. Either way f_r is [`Material::eval`]:
 //! the convention changes the inputs, never the BRDF.
 
+use std::borrow::Borrow;
+
 use glam::Vec3;
 
 use crate::shading::brdf::{dot3, map3, F32x8, LocalDots, Mask, Real, LANES};
 use crate::shading::convention::{assignment_dots, ShadingConvention};
-use crate::shading::light::Light;
-use crate::shading::material::{Material, Specular};
+use crate::shading::light::{Light, LightSample};
+use crate::shading::material::{Material, PbrPoint, Specular};
 use crate::shading::shadow::{Occluder, ShadowOffset, ShadowRay};
 use crate::shading::texture::TextureImage;
 use crate::surface::{SurfaceLanes, SurfacePoint};
+
+/// Most points of a [`Shader::shade_batch`] whose shadow rays go to the occluder at once (the
+/// samples of a pixel: as many as a BVH packet holds).
+const BATCH: usize = 16;
+
+/// What shading a point under any light needs: its material, its normals turned to the viewer's
+/// side, cos θ_o, and a textured material's BRDF parameters at the point.
+#[derive(Clone, Copy)]
+struct Facing<'m> {
+    material: &'m Material,
+    ng: Vec3,
+    ns: Vec3,
+    cos_o: f32,
+    textured: Option<PbrPoint>,
+}
+
+/// A light in front of a point: its sample, cos θ_i and the BRDF's dot products.
+#[derive(Clone, Copy)]
+struct Lit {
+    ls: LightSample,
+    cos_i: f32,
+    dots: LocalDots<f32>,
+}
 
 /// Everything shading needs besides the point itself.
 pub struct Shader<'a, O: Occluder> {
@@ -54,6 +79,82 @@ impl<O: Occluder> Shader<'_, O> {
 
     #[inline(always)]
     fn shade_physical(&self, sp: &SurfacePoint, shadow_rays: &mut u64) -> Vec3 {
+        let (radiance, facing) = self.facing(sp);
+        let Some(facing) = facing else { return radiance };
+        let mut radiance = radiance;
+        for light in self.lights {
+            let Some(lit) = self.lit(&facing, sp, light) else {
+                continue;
+            };
+            if let Some(occluder) = self.occluder {
+                *shadow_rays += 1;
+                if occluder.occluded(&self.shadow_ray(&facing, sp, &lit)) {
+                    continue;
+                }
+            }
+            radiance += self.reflected(&facing, &lit);
+        }
+        // Every term is finite and ≥ 0; only the sum of saturated lights could reach infinity.
+        radiance.min(Vec3::splat(f32::MAX))
+    }
+
+    /// [`Shader::shade`] of the points of one batch — the samples of one pixel — into `out` (one
+    /// entry per point), bit for bit what `shade` gives each point: the same terms, added in the
+    /// same (light) order. What differs is that each light's shadow rays from all the points go
+    /// to the occluder together ([`Occluder::occluded_batch`]: the BVH walks them as a packet).
+    pub fn shade_batch<P: Borrow<SurfacePoint>>(&self, points: &[P], out: &mut [Vec3], shadow_rays: &mut u64) {
+        assert_eq!(points.len(), out.len(), "one radiance per point");
+        let occluder = match (self.convention, self.occluder) {
+            (ShadingConvention::Physical, Some(occluder)) if points.len() > 1 => occluder,
+            _ => {
+                for (sp, out) in points.iter().zip(out) {
+                    *out = self.shade(sp.borrow(), shadow_rays);
+                }
+                return;
+            }
+        };
+        for (points, out) in points.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
+            let mut facing: [Option<Facing>; BATCH] = [None; BATCH];
+            for (k, sp) in points.iter().enumerate() {
+                (out[k], facing[k]) = self.facing(sp.borrow());
+            }
+            for light in self.lights {
+                let mut lit = [None; BATCH];
+                // Only rays[..n] are read; the rest are placeholders.
+                let mut rays = [ShadowRay {
+                    origin: Vec3::ZERO,
+                    direction: Vec3::Z,
+                    t_max: 0.0,
+                }; BATCH];
+                let mut n = 0;
+                for (k, (sp, facing)) in points.iter().zip(&facing).enumerate() {
+                    let Some(facing) = facing else { continue };
+                    let sp = sp.borrow();
+                    let Some(l) = self.lit(facing, sp, light) else { continue };
+                    rays[n] = self.shadow_ray(facing, sp, &l);
+                    lit[n] = Some((k, l));
+                    n += 1;
+                }
+                let mut blocked = [false; BATCH];
+                occluder.occluded_batch(&rays[..n], &mut blocked[..n]);
+                *shadow_rays += n as u64;
+                for (lit, _) in lit[..n].iter().zip(blocked).filter(|(_, blocked)| !blocked) {
+                    let Some((k, l)) = lit else { continue };
+                    if let Some(facing) = &facing[*k] {
+                        out[*k] += self.reflected(facing, l);
+                    }
+                }
+            }
+            for out in out.iter_mut() {
+                *out = out.min(Vec3::splat(f32::MAX));
+            }
+        }
+    }
+
+    /// Emitted radiance of `sp`, and what shading under the lights needs of it — `None` when
+    /// no light can reach the viewer from it (the shading normal faces away from the viewer).
+    #[inline(always)]
+    fn facing<'s>(&'s self, sp: &SurfacePoint) -> (Vec3, Option<Facing<'s>>) {
         let material = &self.materials[sp.material as usize];
         let wo = sp.to_viewer;
         let (mut ng, mut ns) = (sp.geometric_normal, sp.shading_normal);
@@ -71,7 +172,7 @@ impl<O: Occluder> Shader<'_, O> {
         let cos_o = ns.dot(wo);
         // NaN (a normal no loader produces) counts as facing away, as in the lanes.
         if cos_o.is_nan() || cos_o <= 0.0 {
-            return radiance;
+            return (radiance, None);
         }
         // Textured glTF materials: their BRDF parameters at this point, looked up once for all
         // lights.
@@ -81,37 +182,57 @@ impl<O: Occluder> Shader<'_, O> {
             }
             _ => None,
         };
-        for light in self.lights {
-            let Some(ls) = light.sample(sp.position) else { continue };
-            let cos_i = ns.dot(ls.wi);
-            if cos_i.is_nan() || cos_i <= 0.0 {
-                continue;
-            }
-            let dots = if material.has_specular() {
-                // ω_i = −ω_o cannot happen here (both are on the normal's side), but stay total.
-                match LocalDots::from_unit_vectors(ns.to_array(), ls.wi.to_array(), wo.to_array()) {
-                    Some(d) => d,
-                    None => continue,
-                }
-            } else {
-                // Lambert reads no dot product: skip the half vector.
-                LocalDots::from_cosines(cos_i, cos_o, 0.0, 0.0)
-            };
-            if let Some(occluder) = self.occluder {
-                *shadow_rays += 1;
-                let ray = ShadowRay::new(self.shadow_offset, sp.position, ng, ls.wi, ls.distance, self.scene_unit);
-                if occluder.occluded(&ray) {
-                    continue;
-                }
-            }
-            let f = Vec3::from(match &textured {
-                Some(point) => point.eval(&dots),
-                None => material.eval(&dots),
-            });
-            radiance += f * ls.irradiance * cos_i;
+        let facing = Facing {
+            material,
+            ng,
+            ns,
+            cos_o,
+            textured,
+        };
+        (radiance, Some(facing))
+    }
+
+    /// The light's sample at `sp` and the BRDF's dot products, when the light is in front of
+    /// the shading normal (`None`: it adds nothing, and no shadow ray is needed).
+    #[inline(always)]
+    fn lit(&self, facing: &Facing, sp: &SurfacePoint, light: &Light) -> Option<Lit> {
+        let ls = light.sample(sp.position)?;
+        let cos_i = facing.ns.dot(ls.wi);
+        if cos_i.is_nan() || cos_i <= 0.0 {
+            return None;
         }
-        // Every term is finite and ≥ 0; only the sum of saturated lights could reach infinity.
-        radiance.min(Vec3::splat(f32::MAX))
+        let dots = if facing.material.has_specular() {
+            // ω_i = −ω_o cannot happen here (both are on the normal's side), but stay total.
+            LocalDots::from_unit_vectors(facing.ns.to_array(), ls.wi.to_array(), sp.to_viewer.to_array())?
+        } else {
+            // Lambert reads no dot product: skip the half vector.
+            LocalDots::from_cosines(cos_i, facing.cos_o, 0.0, 0.0)
+        };
+        Some(Lit { ls, cos_i, dots })
+    }
+
+    /// The shadow ray that decides whether `lit` reaches `sp`.
+    #[inline(always)]
+    fn shadow_ray(&self, facing: &Facing, sp: &SurfacePoint, lit: &Lit) -> ShadowRay {
+        let ls = &lit.ls;
+        ShadowRay::new(
+            self.shadow_offset,
+            sp.position,
+            facing.ng,
+            ls.wi,
+            ls.distance,
+            self.scene_unit,
+        )
+    }
+
+    /// f_r · E · cos θ_i of an unoccluded light.
+    #[inline(always)]
+    fn reflected(&self, facing: &Facing, lit: &Lit) -> Vec3 {
+        let f = Vec3::from(match &facing.textured {
+            Some(point) => point.eval(&lit.dots),
+            None => facing.material.eval(&lit.dots),
+        });
+        f * lit.ls.irradiance * lit.cos_i
     }
 
     /// The assignment's L_o = Σ L_i · f(ω_i, ω_o) · (n·ω_i) with ω_i from the light towards the
@@ -339,9 +460,9 @@ mod tests {
         v
     }
 
-    #[test]
-    fn eight_lanes_shade_exactly_as_one_point_at_a_time() {
-        let lights = [
+    /// A point, a spot and a directional light.
+    fn lights() -> [Light; 3] {
+        [
             Light {
                 kind: LightKind::Point {
                     position: Vec3::new(0.0, 1.0, 1.0),
@@ -366,7 +487,12 @@ mod tests {
                 power: Vec3::ONE,
                 falloff: Falloff::InverseSquare,
             },
-        ];
+        ]
+    }
+
+    #[test]
+    fn eight_lanes_shade_exactly_as_one_point_at_a_time() {
+        let lights = lights();
         let points = points();
         let conventions = [ShadingConvention::Assignment, ShadingConvention::Physical];
         let sided = materials().into_iter().flat_map(|m| {
@@ -401,5 +527,66 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Blocks a segment by a fixed rule of its origin and direction (about half of them), and
+    /// counts the segments it was asked about.
+    struct HalfOccluder(std::sync::atomic::AtomicUsize);
+
+    impl Occluder for HalfOccluder {
+        fn occluded(&self, ray: &ShadowRay) -> bool {
+            self.0.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            (ray.origin.x + 2.0 * ray.direction.y).sin() > 0.0
+        }
+    }
+
+    #[test]
+    fn a_batch_shades_exactly_as_one_point_at_a_time() {
+        let lights = lights();
+        let mut materials: Vec<Material> = materials().into_iter().step_by(3).collect();
+        let n = materials.len();
+        for k in 0..n {
+            let mut other = materials[k].clone();
+            other.two_sided = !other.two_sided;
+            materials.push(other);
+        }
+        let occluder = HalfOccluder(Default::default());
+        let shader = Shader {
+            materials: &materials,
+            lights: &lights,
+            occluder: Some(&occluder),
+            scene_unit: 1.0,
+            convention: ShadingConvention::Physical,
+            textures: None,
+            emission: false,
+            shadow_offset: Default::default(),
+        };
+        // Every point with every material, in batches of every size up to past two packets.
+        let points: Vec<SurfacePoint> = (0..materials.len() as u32)
+            .flat_map(|m| points().into_iter().map(move |p| SurfacePoint { material: m, ..p }))
+            .collect();
+        let (mut blocked, mut open) = (0, 0);
+        for size in 1..=2 * BATCH + 1 {
+            for batch in points.chunks(size) {
+                let mut got = vec![Vec3::NAN; batch.len()];
+                let (mut batch_rays, mut one_rays) = (0, 0);
+                shader.shade_batch(batch, &mut got, &mut batch_rays);
+                let asked = occluder.0.swap(0, std::sync::atomic::Ordering::Relaxed);
+                for (p, got) in batch.iter().zip(&got) {
+                    let one = shader.shade(p, &mut one_rays);
+                    assert_eq!(
+                        got.to_array().map(f32::to_bits),
+                        one.to_array().map(f32::to_bits),
+                        "{p:?}"
+                    );
+                }
+                assert_eq!(batch_rays, one_rays, "shadow rays counted");
+                assert_eq!(asked as u64, batch_rays, "the occluder answered each ray once");
+                occluder.0.store(0, std::sync::atomic::Ordering::Relaxed);
+                let lit = got.iter().filter(|r| r.max_element() > 0.0).count();
+                (open, blocked) = (open + lit, blocked + got.len() - lit);
+            }
+        }
+        assert!(open > 1000 && blocked > 1000, "{open} lit, {blocked} dark");
     }
 }
