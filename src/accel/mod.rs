@@ -143,6 +143,8 @@ impl Bvh {
     }
 
     /// Closest hit along `origin + t·direction`, 0 < t < t_max (world units; `direction` unit).
+    /// Of triangles at exactly the same distance the one with the lowest index wins, so the
+    /// answer does not depend on the tree's shape (see [`wide::Nearest`]).
     #[inline]
     pub fn intersect(&self, origin: Vec3, direction: Vec3, t_max: f32) -> Option<Hit> {
         let origin = Vec3A::from(origin * self.scale);
@@ -154,23 +156,30 @@ impl Bvh {
     }
 
     /// The closest hits of up to [`PACKET`] rays `(origin, direction, t_max)` at once, into
-    /// `hits` (one per ray): one walk of the tree for the packet ([`packet`]). Each ray's hit has
-    /// the distance [`Self::intersect`] finds; only at exactly equal distances (a ray through a
-    /// shared edge) may the other triangle win. Rays that cannot share a walk (fewer than
-    /// [`MIN_PACKET`], directions of different signs, a zero direction component, a tree too deep
-    /// for the fixed stack) are traced one by one.
+    /// `hits` (one per ray): one walk of the tree for the packet ([`packet`]). Each ray's hit is
+    /// exactly the one [`Self::intersect`] finds. Rays that cannot share a walk (fewer than
+    /// [`MIN_PACKET`], directions of different signs, a zero direction component, origins far
+    /// apart, a tree too deep for the fixed stack) are traced one by one.
     pub fn intersect_packet(&self, rays: &[(Vec3, Vec3, f32)], hits: &mut [Option<Hit>]) {
         assert!(hits.len() == rays.len(), "one hit per ray");
-        let traced = self.with_packet(rays, |packet, shears, t_max| {
-            let mut best = [None; PACKET];
-            packet.closest_hits(&self.wide, t_max, &mut best[..rays.len()]);
-            for (k, hit) in hits.iter_mut().enumerate() {
-                *hit = best[k].and_then(|(quad, h)| self.hit(&shears[k], quad, h));
-            }
-        });
-        if traced.is_none() {
+        let Some(mut prepared) = self.prepare(rays) else {
             for (&(o, d, t), hit) in rays.iter().zip(hits) {
                 *hit = self.intersect(o, d, t);
+            }
+            return;
+        };
+        let p = &mut prepared;
+        let n = rays.len();
+        if let Some(packet) = RayPacket::new(&p.wide[..n]) {
+            let mut best = [None; PACKET];
+            packet.closest_hits(&self.wide, &mut p.t_max[..n], &mut best[..n]);
+            for (k, hit) in hits.iter_mut().enumerate() {
+                *hit = best[k].and_then(|(quad, h)| self.hit(&p.shears[k], quad, h));
+            }
+        } else {
+            for (k, hit) in hits.iter_mut().enumerate() {
+                let found = self.wide.closest_hit(&p.wide[k], p.t_max[k]);
+                *hit = found.and_then(|(quad, h)| self.hit(&p.shears[k], quad, h));
             }
         }
     }
@@ -182,22 +191,27 @@ impl Bvh {
     /// [`Self::intersect_packet`].
     pub fn any_hit_packet(&self, rays: &[(Vec3, Vec3, f32)], occluded: &mut [bool]) {
         assert!(occluded.len() == rays.len(), "one answer per ray");
-        let traced = self.with_packet(rays, |packet, _, t_max| packet.any_hits(&self.wide, t_max, occluded));
-        if traced.is_none() {
+        let Some(p) = self.prepare(rays) else {
             for (&(o, d, t), blocked) in rays.iter().zip(occluded) {
                 *blocked = self.any_hit(o, d, t);
+            }
+            return;
+        };
+        let n = rays.len();
+        if let Some(packet) = RayPacket::new(&p.wide[..n]) {
+            packet.any_hits(&self.wide, &p.t_max[..n], occluded);
+        } else {
+            for (k, blocked) in occluded.iter_mut().enumerate() {
+                *blocked = self.wide.any_hit(&p.wide[k], p.t_max[k]);
             }
         }
     }
 
-    /// Runs `trace(packet, shears, t_max)` on `rays` prepared as one packet in BVH space (t_max
-    /// has one entry per ray), or returns `None` when they cannot share a walk.
+    /// `rays` prepared for the wide traversal in BVH space, or `None` when they are too few to
+    /// try a packet walk or the tree is too deep for the packet's fixed stack. When the packet
+    /// itself is refused ([`RayPacket::new`]), the prepared rays are traced one by one.
     #[inline]
-    fn with_packet<R>(
-        &self,
-        rays: &[(Vec3, Vec3, f32)],
-        trace: impl FnOnce(&RayPacket, &[WatertightRay; PACKET], &mut [f32]) -> R,
-    ) -> Option<R> {
+    fn prepare(&self, rays: &[(Vec3, Vec3, f32)]) -> Option<PreparedRays> {
         let n = rays.len();
         assert!(n <= PACKET, "a packet holds at most {PACKET} rays");
         if n < MIN_PACKET || self.wide.stack() != TraversalStack::Fixed {
@@ -206,10 +220,11 @@ impl Bvh {
         let origin = |k: usize| Vec3A::from(rays[k.min(n - 1)].0 * self.scale);
         let direction = |k: usize| without_negative_zeros(rays[k.min(n - 1)].1);
         let shears: [WatertightRay; PACKET] = std::array::from_fn(|k| WatertightRay::new(origin(k), direction(k)));
-        let wide: [WideRay; PACKET] = std::array::from_fn(|k| WideRay::new(origin(k), direction(k), &shears[k]));
-        let packet = RayPacket::new(&wide[..n])?;
-        let mut t_max: [f32; PACKET] = std::array::from_fn(|k| rays[k.min(n - 1)].2 * self.scale);
-        Some(trace(&packet, &shears, &mut t_max[..n]))
+        Some(PreparedRays {
+            wide: std::array::from_fn(|k| WideRay::new(origin(k), direction(k), &shears[k])),
+            shears,
+            t_max: std::array::from_fn(|k| rays[k.min(n - 1)].2 * self.scale),
+        })
     }
 
     /// The [`Hit`] of lane `hit.lane` of quad `quad`, found by the ray `shear` was prepared for.
@@ -263,6 +278,14 @@ impl Occluder for Bvh {
             self.any_hit_packet(&segments[..rays.len()], occluded);
         }
     }
+}
+
+/// Up to [`PACKET`] rays prepared for the wide traversal, in BVH space (entries past the rays'
+/// count repeat the last ray).
+struct PreparedRays {
+    shears: [WatertightRay; PACKET],
+    wide: [WideRay; PACKET],
+    t_max: [f32; PACKET],
 }
 
 /// `direction` with every −0.0 component turned into +0.0 (x + 0.0 does exactly that and leaves
@@ -417,6 +440,65 @@ mod tests {
             assert_eq!(bvh.intersect(from, d, 100.0), bvh.intersect(from, plus, 100.0), "{d:?}");
             assert!(bvh.any_hit(from, d, 100.0), "{d:?}");
         }
+    }
+
+    /// The torus with every triangle listed twice (the copies, at index + n, coincide exactly).
+    fn doubled_torus() -> (TriangleMesh, u32) {
+        let g = crate::scene::procedural::torus(1.0, 0.35, 64, 24);
+        let n = g.triangles.len();
+        let mut mesh = TriangleMesh {
+            material_of_triangle: vec![0; n],
+            normals: g.normals.expect("the torus has normals"),
+            positions: g.positions,
+            triangles: g.triangles,
+            ..Default::default()
+        };
+        mesh.append(mesh.clone(), 0);
+        (mesh, n as u32)
+    }
+
+    #[test]
+    fn coincident_triangles_resolve_to_the_lower_index_in_every_tree_and_packet() {
+        let (mesh, n) = doubled_torus();
+        let trees: Vec<Bvh> = BvhPreset::ALL.iter().map(|&p| Bvh::build(&mesh, p)).collect();
+        let (lo, hi) = mesh.bounds().unwrap();
+        let camera = crate::surface::camera::Camera::new(crate::scene::framing::frame_bounds(lo, hi), 64, 64).unwrap();
+        let bits = |h: Option<Hit>| h.map(|h| (h.triangle, [h.t, h.b1, h.b2].map(f32::to_bits)));
+        let mut hits = 0;
+        for py in 0..64 {
+            // A row of 16 pixels at a time: packets of rays of neighbouring pixels.
+            for px0 in (0..64).step_by(PACKET) {
+                let rays: Vec<(Vec3, Vec3, f32)> = (px0..px0 + PACKET as u32)
+                    .map(|px| {
+                        let r = camera.ray((px as f32 + 0.5) / 64.0, (py as f32 + 0.5) / 64.0);
+                        (r.origin, r.direction, r.t_max)
+                    })
+                    .collect();
+                for (k, &(o, d, t)) in rays.iter().enumerate() {
+                    let want = trees[0].intersect(o, d, t);
+                    if let Some(h) = want {
+                        assert!(
+                            h.triangle < n,
+                            "pixel ({}, {py}): the copy {} won",
+                            px0 + k as u32,
+                            h.triangle
+                        );
+                        hits += 1;
+                    }
+                    for (tree, preset) in trees.iter().zip(BvhPreset::ALL) {
+                        assert_eq!(bits(tree.intersect(o, d, t)), bits(want), "{preset:?}");
+                    }
+                }
+                for (tree, preset) in trees.iter().zip(BvhPreset::ALL) {
+                    let mut got = [None; PACKET];
+                    tree.intersect_packet(&rays, &mut got);
+                    for (&(o, d, t), got) in rays.iter().zip(got) {
+                        assert_eq!(bits(got), bits(trees[0].intersect(o, d, t)), "{preset:?} packet");
+                    }
+                }
+            }
+        }
+        assert!(hits > 500, "the torus should fill part of the frame: {hits} hits");
     }
 
     #[test]

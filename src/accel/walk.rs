@@ -81,9 +81,9 @@ impl Stack for Vec<(u32, f32)> {
 }
 
 impl WideBvh {
-    /// Calls `leaf(quad, t_max)` on every leaf whose box `test` enters before `t_max`, nearest
-    /// child first; `leaf` returns the new `t_max` (smaller once it found a hit), and whatever
-    /// is entered beyond it is skipped.
+    /// Calls `leaf(quad, t_max)` on every leaf whose box `test` enters at or before `t_max`,
+    /// nearest child first; `leaf` returns the new `t_max` (smaller once it found a hit), and
+    /// whatever is entered beyond it is skipped.
     #[inline(always)]
     pub(super) fn walk_nearest_first(
         &self,
@@ -99,7 +99,8 @@ impl WideBvh {
         let mut current = (0u32, 0.0f32);
         loop {
             let (child, t_enter) = current;
-            if t_enter < t_max {
+            // `<=`: a triangle at exactly `t_max` may still win a tie (see `Nearest`).
+            if t_enter <= t_max {
                 if child & LEAF != 0 {
                     t_max = leaf(child & !LEAF, t_max);
                 } else {

@@ -61,6 +61,36 @@ pub struct QuadHit {
     pub t: f32,
 }
 
+/// The closest hit so far, as hits are ordered: by distance, then by the triangle's index in the
+/// scene mesh.
+///
+/// Why the index: triangles at exactly the same distance (coincident faces, a ray through a
+/// shared edge) would otherwise go to whichever the walk tested first, and the walk's order
+/// depends on the tree and on the packet a ray travels in. With ties broken by index the closest
+/// hit is a function of the ray and the mesh alone, so a pixel traced alone, in a packet of its
+/// neighbours (which depend on the crop) or through another preset's tree gives the same image.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Nearest {
+    /// Distance (units of the ray's direction).
+    pub t: f32,
+    /// Scene triangle index.
+    pub primitive: u32,
+}
+
+impl Nearest {
+    /// Nothing found yet: any hit with t < `t_max` beats it (at t = `t_max` no index is below 0).
+    #[inline(always)]
+    pub fn before(t_max: f32) -> Self {
+        Self { t: t_max, primitive: 0 }
+    }
+
+    /// Whether a hit of `primitive` at `t` comes first.
+    #[inline(always)]
+    fn beaten_by(&self, t: f32, primitive: u32) -> bool {
+        t < self.t || (t == self.t && primitive < self.primitive)
+    }
+}
+
 /// A ray prepared for the wide traversal (BVH space).
 #[derive(Clone, Copy, Debug)]
 pub struct WideRay {
@@ -131,34 +161,43 @@ impl TriangleQuad {
         }
     }
 
-    /// The closest of the four triangles the ray hits with 0 < t < `t_max`, if any.
+    /// The lane of the closest of the four triangles (scene indices `primitives`) that the ray
+    /// hits at 0 < t and before `nearest` in [`Nearest`]'s order, if any; `nearest` becomes
+    /// that hit.
     ///
     /// Lane by lane this is [`WatertightRay::intersect`]: the same sheared coordinates, the same
-    /// edge functions with the same f64 recomputation of exact zeros, the same sign-folded
-    /// distance test — bit-identical results.
+    /// edge functions with the same f64 recomputation of exact zeros, the same distance
+    /// t = t·|det| / |det| — compared itself with `nearest.t`, so that exact ties are seen.
     #[inline(always)]
-    pub fn intersect(&self, ray: &WideRay, t_max: f32) -> Option<QuadHit> {
-        let (hit, t_scaled, det_abs) = self.hits(ray, t_max)?;
+    pub fn intersect(&self, ray: &WideRay, primitives: &[u32; 4], nearest: &mut Nearest) -> Option<usize> {
+        let (hit, t_scaled, det_abs) = self.crossed(ray)?;
+        // det_abs > 0 on crossed lanes; the others' quotients are never read.
         let t = (t_scaled / det_abs).to_array();
-        let mut best: Option<QuadHit> = None;
-        for (lane, &t) in t.iter().enumerate() {
-            if hit.test(lane) && best.is_none_or(|b| t < b.t) {
-                best = Some(QuadHit { lane, t });
+        let mut lane = None;
+        for k in 0..4 {
+            if hit.test(k) && t[k] > 0.0 && nearest.beaten_by(t[k], primitives[k]) {
+                *nearest = Nearest {
+                    t: t[k],
+                    primitive: primitives[k],
+                };
+                lane = Some(k);
             }
         }
-        best
+        lane
     }
 
-    /// Whether the ray hits any of the four triangles with 0 < t < `t_max` (the lanes
-    /// [`TriangleQuad::intersect`] would choose from, without dividing out their distances).
+    /// Whether the ray hits any of the four triangles with 0 < t < `t_max` (without dividing
+    /// out the distances: t·|det| < `t_max`·|det|).
     #[inline(always)]
     pub fn hits_any(&self, ray: &WideRay, t_max: f32) -> bool {
-        self.hits(ray, t_max).is_some()
+        self.crossed(ray)
+            .is_some_and(|(hit, t_scaled, det_abs)| (hit & t_scaled.cmplt(det_abs * t_max)).any())
     }
 
-    /// The lanes hit with 0 < t < `t_max` (none: `None`), and their t·|det| and |det|.
+    /// The lanes whose triangle the ray's line crosses at t > 0 (none: `None`), and their t·|det|
+    /// and |det| (> 0 on those lanes).
     #[inline(always)]
-    fn hits(&self, ray: &WideRay, t_max: f32) -> Option<(BVec4A, Vec4, Vec4)> {
+    fn crossed(&self, ray: &WideRay) -> Option<(BVec4A, Vec4, Vec4)> {
         let [kx, ky, kz] = ray.axes;
         let [sx, sy, sz] = ray.shear;
         let sheared = |vertex: usize| -> [Vec4; 3] {
@@ -191,11 +230,11 @@ impl TriangleQuad {
             return None;
         }
         let t_scaled = u * a[2] + v * b[2] + w * c[2];
-        // Fold det's sign into both terms, then 0 < t_scaled < t_max·|det| without dividing.
+        // Fold det's sign into both terms: t > 0 is then t_scaled > 0, without dividing.
         let flip = det.cmplt(zero);
         let t_scaled = Vec4::select(flip, -t_scaled, t_scaled);
         let det_abs = Vec4::select(flip, -det, det);
-        hit &= t_scaled.cmpgt(zero) & t_scaled.cmplt(det_abs * t_max);
+        hit &= t_scaled.cmpgt(zero);
         hit.any().then_some((hit, t_scaled, det_abs))
     }
 }
@@ -204,7 +243,7 @@ impl TriangleQuad {
 pub struct WideBvh {
     pub(super) nodes: Vec<Node4>,
     pub(super) quads: Vec<TriangleQuad>,
-    quad_triangles: Vec<[u32; 4]>,
+    pub(super) quad_triangles: Vec<[u32; 4]>,
     /// Each quad's box (the one its parent holds): [minimum, maximum], each [x, y, z]. Packets
     /// test it per ray before the triangles ([`super::packet`]).
     pub(super) quad_bounds: Vec<[[f32; 3]; 2]>,
@@ -397,7 +436,7 @@ impl WideBvh {
         self.quad_triangles[quad as usize][lane]
     }
 
-    /// The closest hit with 0 < t < `t_max`: (quad, lane, t).
+    /// The closest hit with 0 < t < `t_max` in [`Nearest`]'s order: (quad, lane, t).
     #[inline]
     pub fn closest_hit(&self, ray: &WideRay, t_max: f32) -> Option<(u32, QuadHit)> {
         if self.stack() == TraversalStack::Fixed {
@@ -420,14 +459,13 @@ impl WideBvh {
     #[inline(always)]
     fn closest_hit_with(&self, ray: &WideRay, t_max: f32, stack: &mut impl Stack) -> Option<(u32, QuadHit)> {
         let mut best = None;
-        self.walk_nearest_first(ray, t_max, stack, |quad, t_max| {
-            match self.quads[quad as usize].intersect(ray, t_max) {
-                Some(hit) => {
-                    best = Some((quad, hit));
-                    hit.t
-                }
-                None => t_max,
+        let mut nearest = Nearest::before(t_max);
+        self.walk_nearest_first(ray, t_max, stack, |quad, _| {
+            let q = quad as usize;
+            if let Some(lane) = self.quads[q].intersect(ray, &self.quad_triangles[q], &mut nearest) {
+                best = Some((quad, QuadHit { lane, t: nearest.t }));
             }
+            nearest.t
         });
         best
     }
