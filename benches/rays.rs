@@ -4,10 +4,11 @@
 //! pass; `--quick`: 1 run, two presets).
 //! Rays are traced through the real pipeline pieces: the automatic camera, `Bvh::intersect`
 //! for primary rays, and the shader's shadow-ray construction + `Bvh::any_hit`, in the order the
-//! renderer traces them (16×16 tiles row by row, pixels row by row within a tile).
-//! A second table compares, for the `fast` tree, the primary rays of 4-, 9- and 16-sample pixels
-//! traced one by one and through `Bvh::intersect_packet` (what multi-sample renders do; it walks
-//! the tree as one packet from 12 rays on).
+//! renderer traces them (16×16 tiles row by row, pixels in 4×4 blocks within a tile), one by one.
+//! Two more tables compare, for the `fast` tree, primary and shadow rays traced one by one and as
+//! the renderer traces them: the samples of each 4×4 pixel block in packets of up to 16 rays
+//! (`Bvh::intersect_packet`, `Bvh::any_hit_packet`, which walk the tree as one packet from 12
+//! rays on), at 1, 4, 9 and 16 samples per pixel.
 
 mod common;
 
@@ -21,6 +22,7 @@ use rayon::prelude::*;
 use pointshade::accel::packet::PACKET;
 use pointshade::accel::{Bvh, BvhPreset, Hit};
 use pointshade::film::PixelRect;
+use pointshade::render::tile::{block_order, BLOCK};
 use pointshade::render::tiles;
 use pointshade::scene::framing::{default_lights, frame_bounds};
 use pointshade::scene::mesh::TriangleMesh;
@@ -111,17 +113,18 @@ fn main() {
     }
 }
 
-/// Primary rays of multi-sample pixels, and the shadow rays of their hits: the same rays traced
-/// one by one and as packets (`Bvh::intersect_packet`, `Bvh::any_hit_packet`: one call per
-/// pixel, as the renderer does), timed alternately in one process, for 4, 9 and 16 samples per
-/// pixel (n×n grids).
+/// Primary rays and the shadow rays of their hits, grouped as the renderer groups them (the
+/// samples of a 4×4 pixel block, up to 16 rays at a time: at 1 sample per pixel a whole block, at
+/// 16 one pixel): the same rays traced one by one and as packets (`Bvh::intersect_packet`,
+/// `Bvh::any_hit_packet`, one call per group), timed alternately in one process, for 1 sample
+/// per pixel (the top table's 512×512 image) and 4, 9 and 16 (n×n grids, 256×256 pixels).
 struct PixelPackets {
-    /// Per grid size n: the primary and the shadow rays' timings.
-    rows: Vec<(u32, [Timed; 2])>,
+    /// Per grid size n: image side, and the primary and the shadow rays' timings.
+    rows: Vec<(u32, u32, [Timed; 2])>,
     runs: usize,
 }
 
-/// Pixels per side of the packet bench's image (16 samples each: ~1M rays).
+/// Pixels per side of the packet bench's multi-sample images (16 samples each: ~1M rays).
 const PACKET_SIZE: u32 = 256;
 
 impl PixelPackets {
@@ -129,12 +132,12 @@ impl PixelPackets {
         let case = cases.iter().find(|c| c.preset == BvhPreset::Fast)?;
         let bvh = &case.bvh;
         let (lo, hi) = mesh.bounds()?;
-        let camera = Camera::new(frame_bounds(lo, hi), PACKET_SIZE, PACKET_SIZE).ok()?;
         let mut rows = Vec::new();
-        for grid in [2u32, 3, 4] {
-            let per_pixel = (grid * grid) as usize;
-            let rays: Vec<Segment> = grid_rays(&camera, grid);
-            let pixels: Vec<&[Segment]> = rays.chunks(per_pixel).collect();
+        for grid in [1u32, 2, 3, 4] {
+            let size = if grid == 1 { SIZE } else { PACKET_SIZE };
+            let camera = Camera::new(frame_bounds(lo, hi), size, size).ok()?;
+            let groups = grid_rays(&camera, size, grid);
+            let pixels: Vec<&[Segment]> = groups.iter().map(Vec::as_slice).collect();
             let shadow: Vec<Vec<Segment>> = pixels
                 .iter()
                 .map(|pixel| {
@@ -153,8 +156,12 @@ impl PixelPackets {
             let shadow_seconds = alternate(runs, |packets, parallel| {
                 per_group(&shadow, parallel, |rays| count_blocked(bvh, rays, packets))
             });
-            let shadow_count = shadow.iter().map(|s| s.len()).sum();
-            rows.push((grid, [(rays.len(), primary_seconds), (shadow_count, shadow_seconds)]));
+            let count = |groups: &[&[Segment]]| groups.iter().map(|g| g.len()).sum();
+            rows.push((
+                grid,
+                size,
+                [(count(&pixels), primary_seconds), (count(&shadow), shadow_seconds)],
+            ));
         }
         Some(Self { rows, runs })
     }
@@ -162,7 +169,7 @@ impl PixelPackets {
     fn print(&self, threads: usize) {
         for (k, what) in ["primary rays", "shadow rays of their hits"].into_iter().enumerate() {
             println!(
-                "\n{PACKET_SIZE}x{PACKET_SIZE} pixels, n x n samples each, preset fast, {what} (M/s); medians of {} run(s)",
+                "\nn x n samples per pixel in groups of up to {PACKET} rays, preset fast, {what} (M/s); medians of {} run(s)",
                 self.runs
             );
             println!(
@@ -173,10 +180,11 @@ impl PixelPackets {
                 format!("single {threads}t"),
                 format!("packet {threads}t")
             );
-            for &(grid, kinds) in &self.rows {
+            for &(grid, size, kinds) in &self.rows {
                 let (rays, seconds) = kinds[k];
                 let [s1, p1, sn, pn] = seconds.map(|s| rays as f64 / s / 1e6);
-                println!("{:<22} {s1:>14.2} {p1:>14.2} {sn:>14.2} {pn:>14.2}", grid * grid);
+                let label = format!("{} ({size}x{size})", grid * grid);
+                println!("{label:<22} {s1:>14.2} {p1:>14.2} {sn:>14.2} {pn:>14.2}");
             }
         }
     }
@@ -212,19 +220,27 @@ fn alternate(runs: usize, work: impl Fn(bool, bool) -> usize) -> [f64; 4] {
     all.map(median)
 }
 
-/// `grid`² rays per pixel on a grid inside it, pixels in the renderer's order.
-fn grid_rays(camera: &Camera, grid: u32) -> Vec<Segment> {
-    let (size, g) = (PACKET_SIZE as f32, grid as f32);
-    tiles(PixelRect::full(PACKET_SIZE, PACKET_SIZE))
-        .iter()
-        .flat_map(|t| (t.y0..t.y1).flat_map(move |y| (t.x0..t.x1).map(move |x| (x, y))))
-        .flat_map(|(x, y)| (0..grid * grid).map(move |k| (x, y, k)))
-        .map(|(x, y, k)| {
-            let (jx, jy) = (((k % grid) as f32 + 0.5) / g, ((k / grid) as f32 + 0.5) / g);
-            let r = camera.ray((x as f32 + jx) / size, (y as f32 + jy) / size);
-            (r.origin, r.direction, r.t_max)
-        })
-        .collect()
+/// `grid`² rays per pixel on a grid inside it, in the renderer's order and groups: tiles row by
+/// row, each tile's pixels block by block, each block's rays in chunks of up to [`PACKET`].
+fn grid_rays(camera: &Camera, size: u32, grid: u32) -> Vec<Vec<Segment>> {
+    let (side, g) = (size as f32, grid as f32);
+    let ray = |x: u32, y: u32, k: u32| {
+        let (jx, jy) = (((k % grid) as f32 + 0.5) / g, ((k / grid) as f32 + 0.5) / g);
+        let r = camera.ray((x as f32 + jx) / side, (y as f32 + jy) / side);
+        (r.origin, r.direction, r.t_max)
+    };
+    let mut groups = Vec::new();
+    for tile in tiles(PixelRect::full(size, size)) {
+        let pixels: Vec<(u32, u32)> = block_order(tile).collect();
+        for block in pixels.chunk_by(|a, b| (a.0 / BLOCK, a.1 / BLOCK) == (b.0 / BLOCK, b.1 / BLOCK)) {
+            let rays: Vec<Segment> = block
+                .iter()
+                .flat_map(|&(x, y)| (0..grid * grid).map(move |k| ray(x, y, k)))
+                .collect();
+            groups.extend(rays.chunks(PACKET).map(<[Segment]>::to_vec));
+        }
+    }
+    groups
 }
 
 /// The sum of `f` over `groups` (one group per pixel), on one thread or all.
@@ -299,10 +315,10 @@ impl Case {
         let builds: Vec<Bvh> = (0..runs).map(|_| Bvh::build(mesh, preset)).collect();
         let build_ms = median(builds.iter().map(|b| b.build_time.as_secs_f64() * 1e3).collect());
         let bvh = builds.into_iter().next_back().unwrap();
-        // The renderer's order: tiles row by row, each tile's pixels row by row.
+        // The renderer's order: tiles row by row, each tile's pixels block by block.
         let rays: Vec<(Vec3, Vec3, f32)> = tiles(PixelRect::full(SIZE, SIZE))
-            .iter()
-            .flat_map(|t| (t.y0..t.y1).flat_map(move |y| (t.x0..t.x1).map(move |x| (x, y))))
+            .into_iter()
+            .flat_map(block_order)
             .map(|(x, y)| {
                 let r = camera.ray((x as f32 + 0.5) / SIZE as f32, (y as f32 + 0.5) / SIZE as f32);
                 (r.origin, r.direction, r.t_max)

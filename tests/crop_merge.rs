@@ -75,6 +75,12 @@ fn crops_of_a_sobol_render_merge_byte_identically() {
 }
 
 #[test]
+fn crops_of_a_one_sample_render_merge_byte_identically() {
+    // One sample per pixel: a 4×4 block's camera rays share a packet, and crops cut blocks.
+    four_crops_merge_to_the_full_render(&["--sampler", "sobol", "--spp", "1"], "one-sample");
+}
+
+#[test]
 fn crops_of_an_adaptive_render_merge_byte_identically() {
     // Adaptive decisions read neighbouring pixels: the crops' aprons must make them identical.
     four_crops_merge_to_the_full_render(&["--sampler", "adaptive", "--spp", "16"], "adaptive");

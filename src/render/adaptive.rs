@@ -35,7 +35,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-use super::tile::{Context, PixelSums, SampleJob};
+use super::tile::{block_order, Context, PixelSums, SampleJob};
 use super::{assemble, tiles};
 use crate::film::{sampler::pixel_offsets, FilmSettings, PixelRect, SamplerKind};
 
@@ -140,8 +140,7 @@ fn centre_pass(ctx: &Context, rect: PixelRect) -> PixelSums {
         .par_iter()
         .map(|t| {
             let mut sums = PixelSums::new((t.width() * t.height()) as usize, naovs);
-            let jobs: Vec<SampleJob> = (t.y0..t.y1)
-                .flat_map(|y| (t.x0..t.x1).map(move |x| (x, y)))
+            let jobs: Vec<SampleJob> = block_order(*t)
                 .map(|(x, y)| SampleJob {
                     slot: (y - t.y0) * t.width() + (x - t.x0),
                     film: Vec2::new(x as f32 + 0.5, y as f32 + 0.5),

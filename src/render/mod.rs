@@ -20,7 +20,7 @@ use crate::accel::{Bvh, BvhPreset};
 use crate::film::{sampler::pixel_offsets, Image, PixelRect, SamplerKind};
 use crate::plan::{Aov, RenderPlan};
 use crate::scene::Scene;
-use tile::{Context, PixelSums, SampleJob};
+use tile::{block_order, Context, PixelSums, SampleJob};
 
 /// Side of the square tiles the region is cut into.
 pub const TILE: u32 = 16;
@@ -158,13 +158,11 @@ fn fixed(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) -> Pi
             let mut sums = PixelSums::new((t.width() * t.height()) as usize, naovs);
             let mut offsets = vec![Vec2::ZERO; film.spp as usize];
             let mut jobs = Vec::with_capacity((t.width() * t.height() * film.spp) as usize);
-            for y in t.y0..t.y1 {
-                for x in t.x0..t.x1 {
-                    pixel_offsets(film.sampler, film.seed, x, y, 0, &mut offsets);
-                    let slot = (y - t.y0) * t.width() + (x - t.x0);
-                    let corner = Vec2::new(x as f32, y as f32);
-                    jobs.extend(offsets.iter().map(|&o| SampleJob { slot, film: corner + o }));
-                }
+            for (x, y) in block_order(*t) {
+                pixel_offsets(film.sampler, film.seed, x, y, 0, &mut offsets);
+                let slot = (y - t.y0) * t.width() + (x - t.x0);
+                let corner = Vec2::new(x as f32, y as f32);
+                jobs.extend(offsets.iter().map(|&o| SampleJob { slot, film: corner + o }));
             }
             ctx.trace(&jobs, &mut sums, &mut Vec::new());
             on_tile(done.fetch_add(1, Ordering::Relaxed) + 1);

@@ -12,7 +12,7 @@ use glam::{Vec2, Vec3};
 
 use crate::accel::packet::PACKET;
 use crate::accel::Bvh;
-use crate::film::SamplerKind;
+use crate::film::{PixelRect, SamplerKind};
 use crate::plan::{Aov, RenderPlan};
 use crate::scene::Scene;
 use crate::shading::shader::Shader;
@@ -79,8 +79,35 @@ pub struct Counters {
 /// A surface point with what the AOVs need that shading does not.
 struct Sample {
     slot: u32,
+    /// Which camera-ray packet of the batch it came from: its shadow rays share packets too.
+    packet: u32,
     point: SurfacePoint,
     depth: f32,
+}
+
+/// Side of the film's pixel blocks (4×4 = [`PACKET`] pixels): the camera rays of one block's
+/// samples, consecutive in a batch, go through the tree as packets of up to [`PACKET`] — at one
+/// sample per pixel a whole block, at 16 one pixel.
+pub const BLOCK: u32 = 4;
+
+/// The film's pixel block (the grid of [`BLOCK`]×[`BLOCK`] blocks from pixel (0, 0)) a film
+/// position lies in.
+#[inline]
+fn block_of(film: Vec2) -> (u32, u32) {
+    // Film positions are non-negative: `as` truncates them to their pixel.
+    (film.x as u32 / BLOCK, film.y as u32 / BLOCK)
+}
+
+/// The pixels of `rect` block by block (the film's blocks that meet it, row by row; each block's
+/// pixels row by row), so that batches list the samples of a block together.
+pub fn block_order(rect: PixelRect) -> impl Iterator<Item = (u32, u32)> {
+    let first = |lo: u32| lo / BLOCK * BLOCK;
+    (first(rect.y0)..rect.y1).step_by(BLOCK as usize).flat_map(move |by| {
+        (first(rect.x0)..rect.x1).step_by(BLOCK as usize).flat_map(move |bx| {
+            let xs = bx.max(rect.x0)..(bx + BLOCK).min(rect.x1);
+            (by.max(rect.y0)..(by + BLOCK).min(rect.y1)).flat_map(move |y| xs.clone().map(move |x| (x, y)))
+        })
+    })
 }
 
 /// Everything a batch needs, built once per render.
@@ -135,37 +162,37 @@ impl<'a> Context<'a> {
         scratch.clear();
         let t0 = Instant::now();
         if let (true, Some(bvh)) = (plan.trace_rays, self.bvh) {
-            // Consecutive samples of one pixel (the jobs list them pixel by pixel) go through the
-            // tree as one packet: one walk for up to PACKET nearly parallel rays.
+            // Consecutive samples of one pixel block go through the tree as packets: one walk
+            // for up to PACKET nearly parallel rays (exactly the hits of one walk per ray).
             let mut rays = [(Vec3::ZERO, Vec3::ZERO, 0.0); PACKET];
             let mut hits = [None; PACKET];
-            for group in jobs.chunk_by(|a, b| a.film.floor() == b.film.floor()) {
-                for group in group.chunks(PACKET) {
-                    let n = group.len();
-                    for (ray, job) in rays.iter_mut().zip(group) {
-                        let uv = job.film / self.size;
-                        let r = self.camera.ray(uv.x, uv.y);
-                        *ray = (r.origin, r.direction, r.t_max);
+            let blocks = jobs.chunk_by(|a, b| block_of(a.film) == block_of(b.film));
+            for (packet, group) in blocks.flat_map(|block| block.chunks(PACKET)).enumerate() {
+                let n = group.len();
+                for (ray, job) in rays.iter_mut().zip(group) {
+                    let uv = job.film / self.size;
+                    let r = self.camera.ray(uv.x, uv.y);
+                    *ray = (r.origin, r.direction, r.t_max);
+                }
+                bvh.intersect_packet(&rays[..n], &mut hits[..n]);
+                for ((job, &(origin, direction, _)), hit) in group.iter().zip(&rays).zip(&hits) {
+                    let Some(hit) = hit else { continue };
+                    let mut point = surface_point(&scene.mesh, hit, direction, plan.uvs);
+                    if plan.normal_textures {
+                        apply_normal_texture(&mut point, &scene.mesh, hit, &scene.materials, &scene.textures);
                     }
-                    bvh.intersect_packet(&rays[..n], &mut hits[..n]);
-                    for ((job, &(origin, direction, _)), hit) in group.iter().zip(&rays).zip(&hits) {
-                        let Some(hit) = hit else { continue };
-                        let mut point = surface_point(&scene.mesh, hit, direction, plan.uvs);
-                        if plan.normal_textures {
-                            apply_normal_texture(&mut point, &scene.mesh, hit, &scene.materials, &scene.textures);
-                        }
-                        // Decided once per render: no square root per hit unless the AOV is written.
-                        let depth = if self.depth_aov {
-                            hit.t + (origin - scene.camera.position).length()
-                        } else {
-                            0.0
-                        };
-                        scratch.push(SurfaceSample(Sample {
-                            slot: job.slot,
-                            point,
-                            depth,
-                        }));
-                    }
+                    // Decided once per render: no square root per hit unless the AOV is written.
+                    let depth = if self.depth_aov {
+                        hit.t + (origin - scene.camera.position).length()
+                    } else {
+                        0.0
+                    };
+                    scratch.push(SurfaceSample(Sample {
+                        slot: job.slot,
+                        packet: packet as u32,
+                        point,
+                        depth,
+                    }));
                 }
             }
             self.counters
@@ -174,16 +201,14 @@ impl<'a> Context<'a> {
         }
         let t1 = Instant::now();
         let mut rays = 0u64;
-        // A pixel's samples are shaded together: their shadow rays towards each light are
-        // nearly parallel and go through the tree as one packet (the sums are the same, bit for
-        // bit, and added in the same order).
+        // The points of a camera-ray packet are shaded together: their shadow rays towards each
+        // light are nearly parallel and go through the tree as one packet (each point's value
+        // is the same, bit for bit, and each slot adds its samples in the same order).
         let mut radiance = [Vec3::ZERO; PACKET];
-        for pixel in scratch.chunk_by(|SurfaceSample(a), SurfaceSample(b)| a.slot == b.slot) {
-            for group in pixel.chunks(PACKET) {
-                self.shader.shade_batch(group, &mut radiance[..group.len()], &mut rays);
-                for (SurfaceSample(s), radiance) in group.iter().zip(&radiance) {
-                    sums.radiance[s.slot as usize] += *radiance;
-                }
+        for group in scratch.chunk_by(|SurfaceSample(a), SurfaceSample(b)| a.packet == b.packet) {
+            self.shader.shade_batch(group, &mut radiance[..group.len()], &mut rays);
+            for (SurfaceSample(s), radiance) in group.iter().zip(&radiance) {
+                sums.radiance[s.slot as usize] += *radiance;
             }
         }
         if self.record_surface {
@@ -222,5 +247,31 @@ fn aov_value(aov: Aov, scene: &Scene, s: &Sample) -> Vec3 {
             let m = &scene.materials[s.point.material as usize];
             Vec3::from(m.albedo) * m.kd
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{block_order, BLOCK};
+    use crate::film::PixelRect;
+
+    #[test]
+    fn block_order_lists_each_pixel_once_with_the_pixels_of_a_block_together() {
+        // A rect whose edges cut the film's blocks on every side.
+        let rect = PixelRect {
+            x0: 5,
+            y0: 3,
+            x1: 22,
+            y1: 14,
+        };
+        let pixels: Vec<(u32, u32)> = block_order(rect).collect();
+        let mut sorted = pixels.clone();
+        sorted.sort_by_key(|&(x, y)| (y, x));
+        let expected: Vec<(u32, u32)> = (3..14).flat_map(|y| (5..22).map(move |x| (x, y))).collect();
+        assert_eq!(sorted, expected);
+        let block = |&(x, y): &(u32, u32)| (x / BLOCK, y / BLOCK);
+        let runs = pixels.chunk_by(|a, b| block(a) == block(b)).count();
+        // Blocks meeting the rect: columns 1..=5, rows 0..=3.
+        assert_eq!(runs, 5 * 4, "each block's pixels form one run");
     }
 }
