@@ -162,25 +162,19 @@ impl Bvh {
     /// apart, a tree too deep for the fixed stack) are traced one by one.
     pub fn intersect_packet(&self, rays: &[(Vec3, Vec3, f32)], hits: &mut [Option<Hit>]) {
         assert!(hits.len() == rays.len(), "one hit per ray");
-        let Some(mut prepared) = self.prepare(rays) else {
-            for (&(o, d, t), hit) in rays.iter().zip(hits) {
-                *hit = self.intersect(o, d, t);
-            }
-            return;
-        };
-        let p = &mut prepared;
         let n = rays.len();
-        if let Some(packet) = RayPacket::new(&p.wide[..n]) {
-            let mut best = [None; PACKET];
-            packet.closest_hits(&self.wide, &mut p.t_max[..n], &mut best[..n]);
-            for (k, hit) in hits.iter_mut().enumerate() {
-                *hit = best[k].and_then(|(quad, h)| self.hit(&p.shears[k], quad, h));
+        if let Some(mut p) = self.prepare(rays) {
+            if let Some(packet) = RayPacket::new(&p.wide[..n]) {
+                let mut best = [None; PACKET];
+                packet.closest_hits(&self.wide, &mut p.t_max[..n], &mut best[..n]);
+                for (k, hit) in hits.iter_mut().enumerate() {
+                    *hit = best[k].and_then(|(quad, h)| self.hit(&p.shears[k], quad, h));
+                }
+                return;
             }
-        } else {
-            for (k, hit) in hits.iter_mut().enumerate() {
-                let found = self.wide.closest_hit(&p.wide[k], p.t_max[k]);
-                *hit = found.and_then(|(quad, h)| self.hit(&p.shears[k], quad, h));
-            }
+        }
+        for (&(o, d, t), hit) in rays.iter().zip(hits) {
+            *hit = self.intersect(o, d, t);
         }
     }
 
@@ -191,25 +185,21 @@ impl Bvh {
     /// [`Self::intersect_packet`].
     pub fn any_hit_packet(&self, rays: &[(Vec3, Vec3, f32)], occluded: &mut [bool]) {
         assert!(occluded.len() == rays.len(), "one answer per ray");
-        let Some(p) = self.prepare(rays) else {
-            for (&(o, d, t), blocked) in rays.iter().zip(occluded) {
-                *blocked = self.any_hit(o, d, t);
-            }
-            return;
-        };
         let n = rays.len();
-        if let Some(packet) = RayPacket::new(&p.wide[..n]) {
-            packet.any_hits(&self.wide, &p.t_max[..n], occluded);
-        } else {
-            for (k, blocked) in occluded.iter_mut().enumerate() {
-                *blocked = self.wide.any_hit(&p.wide[k], p.t_max[k]);
+        if let Some(p) = self.prepare(rays) {
+            if let Some(packet) = RayPacket::new(&p.wide[..n]) {
+                packet.any_hits(&self.wide, &p.t_max[..n], occluded);
+                return;
             }
+        }
+        for (&(o, d, t), blocked) in rays.iter().zip(occluded) {
+            *blocked = self.any_hit(o, d, t);
         }
     }
 
-    /// `rays` prepared for the wide traversal in BVH space, or `None` when they are too few to
-    /// try a packet walk or the tree is too deep for the packet's fixed stack. When the packet
-    /// itself is refused ([`RayPacket::new`]), the prepared rays are traced one by one.
+    /// `rays` prepared for the wide traversal in BVH space, or `None` when they are too few for
+    /// a packet walk, cannot share one ([`packet::may_share_walk`]: checked before preparing
+    /// anything) or the tree is too deep for the packet's fixed stack.
     #[inline]
     fn prepare(&self, rays: &[(Vec3, Vec3, f32)]) -> Option<PreparedRays> {
         let n = rays.len();
@@ -219,6 +209,9 @@ impl Bvh {
         }
         let origin = |k: usize| Vec3A::from(rays[k.min(n - 1)].0 * self.scale);
         let direction = |k: usize| without_negative_zeros(rays[k.min(n - 1)].1);
+        if !packet::may_share_walk((0..n).map(|k| (origin(k), direction(k).recip()))) {
+            return None;
+        }
         let shears: [WatertightRay; PACKET] = std::array::from_fn(|k| WatertightRay::new(origin(k), direction(k)));
         Some(PreparedRays {
             wide: std::array::from_fn(|k| WideRay::new(origin(k), direction(k), &shears[k])),

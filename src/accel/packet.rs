@@ -14,7 +14,7 @@
 //! bound: the closest hit found is the same, bit for bit, and at exactly equal distances the
 //! same triangle wins (the lower index, [`Nearest`]), whatever order the leaves came in.
 
-use glam::Vec4;
+use glam::{Vec3A, Vec4};
 
 use super::walk::{FixedStack, NodeTest};
 use super::wide::{Nearest, Node4, QuadHit, WideBvh, WideRay};
@@ -61,7 +61,8 @@ impl<'a> RayPacket<'a> {
             lane_origin: [[Vec4::ZERO; 3]; PACKET / 4],
             lane_inv_dir: [[Vec4::ZERO; 3]; PACKET / 4],
         };
-        if rays.len() > PACKET {
+        let axes = |v: &[Vec4; 3]| Vec3A::new(v[0].x, v[1].x, v[2].x);
+        if rays.len() > PACKET || !may_share_walk(rays.iter().map(|r| (axes(&r.origin), axes(&r.inv_dir)))) {
             return None;
         }
         for axis in 0..3 {
@@ -69,14 +70,8 @@ impl<'a> RayPacket<'a> {
             let (mut i_lo, mut i_hi) = (f32::INFINITY, f32::NEG_INFINITY);
             for ray in rays {
                 let (o, inv) = (ray.origin[axis].x, ray.inv_dir[axis].x);
-                if ray.near[axis] != first.near[axis] || !inv.is_finite() {
-                    return None;
-                }
                 (o_lo, o_hi) = (o_lo.min(o), o_hi.max(o));
                 (i_lo, i_hi) = (i_lo.min(inv), i_hi.max(inv));
-            }
-            if o_hi - o_lo > MAX_ORIGIN_SPREAD {
-                return None;
             }
             // Positive direction: the near plane is the minimum and the earliest entry comes
             // from the largest origin; negative: the other way round.
@@ -153,6 +148,25 @@ impl<'a> RayPacket<'a> {
             open.reduce(f32::max)
         });
     }
+}
+
+/// Whether rays with these origins and inverse directions (BVH space) can share a walk: every
+/// inverse direction finite (a zero component needs the single-ray test's NaN rule, which
+/// interval bounds do not follow) and of one sign per axis across the rays, and the origins
+/// within [`MAX_ORIGIN_SPREAD`] on every axis. [`RayPacket::new`] refuses the others; callers
+/// ask first to skip preparing rays that will go one by one.
+pub(super) fn may_share_walk(mut rays: impl Iterator<Item = (Vec3A, Vec3A)>) -> bool {
+    let Some((origin, inv_dir)) = rays.next() else {
+        return false;
+    };
+    let negative = inv_dir.cmplt(Vec3A::ZERO);
+    let (mut lo, mut hi) = (origin, origin);
+    let mut ok = inv_dir.is_finite();
+    for (origin, inv_dir) in rays {
+        ok &= inv_dir.is_finite() && inv_dir.cmplt(Vec3A::ZERO) == negative;
+        (lo, hi) = (lo.min(origin), hi.max(origin));
+    }
+    ok && (hi - lo).cmple(Vec3A::splat(MAX_ORIGIN_SPREAD)).all()
 }
 
 impl RayPacket<'_> {
