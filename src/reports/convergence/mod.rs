@@ -113,12 +113,13 @@ pub fn own_reference(sweep: &Sweep) -> InputResult<Reference> {
     })
 }
 
+/// A point without its times yet: what `image` (taking `mean_spp` samples per pixel) scores
+/// against the reference.
 fn point(
     renderer: &'static str,
     sampler: &str,
     spp: u32,
     mean_spp: f64,
-    times: Vec<f64>,
     image: &Image,
     reference: &Reference,
 ) -> InputResult<Point> {
@@ -137,59 +138,87 @@ fn point(
         sampler: sampler.to_string(),
         spp,
         mean_spp,
-        seconds: median(&times),
-        all_seconds: times,
+        seconds: 0.0,
+        all_seconds: Vec::new(),
         rmse: c.rmse,
         rel_mse: c.rel_mse,
         within: c.within_tolerance,
     })
 }
 
-/// Runs the sweep; `progress` receives one line per finished point.
-pub fn run(sweep: &Sweep, reference: &Reference, progress: &mut dyn FnMut(&Point)) -> InputResult<Vec<Point>> {
-    let mut points = Vec::new();
-    for &sampler in &sweep.samplers {
-        for &spp in &sweep.spp {
-            if sampler.check_spp(spp).is_err() {
-                continue; // the grid takes square counts only
-            }
-            let mut times = Vec::new();
-            let mut last = None;
-            for _ in 0..sweep.repeats.max(1) {
+/// One configuration of the sweep.
+enum Config<'a> {
+    Ours(SamplerKind, u32),
+    Mitsuba(SamplerKind, u32, &'a MitsubaRunner, MitsubaJob, PathBuf),
+}
+
+impl Config<'_> {
+    /// Renders once; returns the seconds, and on the first repeat the scored point.
+    fn measure(&self, sweep: &Sweep, reference: &Reference, first: bool) -> InputResult<(f64, Option<Point>)> {
+        match self {
+            &Config::Ours(sampler, spp) => {
                 let (image, mean_spp, time) = render_once(sweep, sampler, spp)?;
-                times.push(time.as_secs_f64());
-                last = Some((image, mean_spp));
+                let point = first
+                    .then(|| point("pointshade", sampler.name(), spp, mean_spp, &image, reference))
+                    .transpose()?;
+                Ok((time.as_secs_f64(), point))
             }
-            let (image, mean_spp) = last.expect("at least one repeat");
-            let p = point("pointshade", sampler.name(), spp, mean_spp, times, &image, reference)?;
-            progress(&p);
-            points.push(p);
+            Config::Mitsuba(sampler, spp, mitsuba, job, out) => {
+                let t = mitsuba.render_job(job, out)?;
+                let point = if first {
+                    let image = crate::output::read_linear(out)?;
+                    Some(point("mitsuba", sampler.name(), *spp, *spp as f64, &image, reference)?)
+                } else {
+                    None
+                };
+                Ok(((t.load + t.render).as_secs_f64(), point))
+            }
         }
+    }
+}
+
+/// Runs the sweep; `progress` receives one line per finished point.
+///
+/// The repeats go round-robin over every configuration (each renderer, sampler and sample
+/// count once, then again): a slow spell of a shared machine then slows every configuration
+/// alike instead of all the repeats of one renderer's (three runs of the dragon's sweep with the
+/// renderers one after the other put the same two points at 0.85×, 0.91× and 1.13× of each
+/// other).
+pub fn run(sweep: &Sweep, reference: &Reference, progress: &mut dyn FnMut(&Point)) -> InputResult<Vec<Point>> {
+    let mut configs = Vec::new();
+    for &sampler in &sweep.samplers {
+        // The grid takes square counts only.
+        let counts = sweep.spp.iter().filter(|&&spp| sampler.check_spp(spp).is_ok());
+        configs.extend(counts.map(|&spp| Config::Ours(sampler, spp)));
     }
     if let Some(mitsuba) = &sweep.mitsuba {
         for sampler in [SamplerKind::Grid, SamplerKind::Independent] {
-            for &spp in &sweep.spp {
-                if sampler.check_spp(spp).is_err() {
-                    continue;
-                }
+            for &spp in sweep.spp.iter().filter(|&&spp| sampler.check_spp(spp).is_ok()) {
                 let scene = load(sweep, sampler, spp)?;
                 let exported = export(&scene, spp, BsdfChoice::NativeWhereExact);
                 let stem = sweep.out.join(format!("mitsuba-{}-{spp}", sampler.name()));
                 let job = MitsubaJob::write(&exported.per_light, &stem, (scene.film.width, scene.film.height))?;
-                let out = stem.with_extension("exr");
-                let mut times = Vec::new();
-                for _ in 0..sweep.repeats.max(1) {
-                    let t = mitsuba.render_job(&job, &out)?;
-                    times.push((t.load + t.render).as_secs_f64());
-                }
-                let image = crate::output::read_linear(&out)?;
-                let p = point("mitsuba", sampler.name(), spp, spp as f64, times, &image, reference)?;
-                progress(&p);
-                points.push(p);
+                configs.push(Config::Mitsuba(sampler, spp, mitsuba, job, stem.with_extension("exr")));
             }
         }
     }
-    Ok(points)
+    let repeats = sweep.repeats.max(1);
+    let mut points: Vec<Option<Point>> = configs.iter().map(|_| None).collect();
+    for repeat in 0..repeats {
+        for (config, slot) in configs.iter().zip(&mut points) {
+            let (seconds, scored) = config.measure(sweep, reference, repeat == 0)?;
+            if scored.is_some() {
+                *slot = scored;
+            }
+            let Some(point) = slot.as_mut() else { continue }; // the first repeat scores it
+            point.all_seconds.push(seconds);
+            if repeat + 1 == repeats {
+                point.seconds = median(&point.all_seconds);
+                progress(point);
+            }
+        }
+    }
+    Ok(points.into_iter().flatten().collect())
 }
 
 /// The points as CSV, with the reference described in a leading comment line.
