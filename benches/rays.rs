@@ -252,33 +252,35 @@ fn per_group(groups: &[&[Segment]], parallel: bool, f: impl Fn(&[Segment]) -> us
     }
 }
 
-/// Hits among one pixel's `rays`: one packet call, or one call per ray — the very code
+/// Hits among one group's `rays`: one packet call, or one call per ray — the very code
 /// `intersect_packet` falls back to below MIN_PACKET rays (calling `intersect` from here
 /// instead ran ~15% slower or faster depending on where the compiler put it, for identical
 /// work).
 fn count_hits(bvh: &Bvh, rays: &[Segment], packets: bool) -> usize {
-    let mut hits = [None; PACKET];
-    if packets {
-        bvh.intersect_packet(rays, &mut hits[..rays.len()]);
-    } else {
-        for (ray, hit) in rays.chunks(1).zip(hits.chunks_mut(1)) {
-            bvh.intersect_packet(ray, hit);
-        }
-    }
-    hits.iter().filter(|h| h.is_some()).count()
+    count(rays, packets, |r, h| bvh.intersect_packet(r, h), Option::is_some)
 }
 
-/// Blocked segments among one pixel's shadow rays, as [`count_hits`] does for hits.
+/// Blocked segments among one group's shadow rays, as [`count_hits`] does for hits.
 fn count_blocked(bvh: &Bvh, rays: &[Segment], packets: bool) -> usize {
-    let mut blocked = [false; PACKET];
+    count(rays, packets, |r, b| bvh.any_hit_packet(r, b), |&b| b)
+}
+
+/// `trace(rays, answers)` as one call or one call per ray; the answers that are `counted`.
+fn count<T: Copy + Default>(
+    rays: &[Segment],
+    packets: bool,
+    trace: impl Fn(&[Segment], &mut [T]),
+    counted: impl Fn(&T) -> bool,
+) -> usize {
+    let mut answers = [T::default(); PACKET];
     if packets {
-        bvh.any_hit_packet(rays, &mut blocked[..rays.len()]);
+        trace(rays, &mut answers[..rays.len()]);
     } else {
-        for (ray, b) in rays.chunks(1).zip(blocked.chunks_mut(1)) {
-            bvh.any_hit_packet(ray, b);
+        for (ray, answer) in rays.chunks(1).zip(answers.chunks_mut(1)) {
+            trace(ray, answer);
         }
     }
-    blocked.iter().filter(|&&b| b).count()
+    answers[..rays.len()].iter().filter(|a| counted(a)).count()
 }
 
 /// The shadow ray from the point `hit` found towards a point light at `light`, offset as the

@@ -246,6 +246,14 @@ mod tests {
         }
     }
 
+    /// The torus's tree and a camera framing it.
+    fn torus_scene() -> (Bvh, Camera) {
+        let mesh = torus_mesh();
+        let (lo, hi) = mesh.bounds().unwrap();
+        let camera = Camera::new(frame_bounds(lo, hi), SIZE, SIZE).unwrap();
+        (Bvh::build(&mesh, BvhPreset::Fast), camera)
+    }
+
     /// `PACKET` rays on a 4×4 grid inside pixel (px, py), as `(origin, direction, t_max)`.
     fn pixel_rays(camera: &Camera, px: u32, py: u32) -> Vec<(Vec3, Vec3, f32)> {
         (0..PACKET)
@@ -271,10 +279,7 @@ mod tests {
 
     #[test]
     fn a_packet_finds_each_rays_own_closest_hit() {
-        let mesh = torus_mesh();
-        let bvh = Bvh::build(&mesh, BvhPreset::Fast);
-        let (lo, hi) = mesh.bounds().unwrap();
-        let camera = Camera::new(frame_bounds(lo, hi), SIZE, SIZE).unwrap();
+        let (bvh, camera) = torus_scene();
         let mut hits = 0;
         // The samples of each pixel (nearly one origin, nearly parallel).
         for py in 0..SIZE {
@@ -310,10 +315,7 @@ mod tests {
 
     #[test]
     fn a_packet_answers_each_segments_own_occlusion() {
-        let mesh = torus_mesh();
-        let bvh = Bvh::build(&mesh, BvhPreset::Fast);
-        let (lo, hi) = mesh.bounds().unwrap();
-        let camera = Camera::new(frame_bounds(lo, hi), SIZE, SIZE).unwrap();
+        let (bvh, camera) = torus_scene();
         let light = Vec3::new(0.4, 2.5, 0.9);
         let (mut blocked, mut open, mut packets) = (0, 0, 0);
         for py in (0..SIZE).step_by(2) {
