@@ -16,6 +16,7 @@ pub mod triangle;
 mod walk;
 pub mod wide;
 
+use std::mem::MaybeUninit;
 use std::time::{Duration, Instant};
 
 use glam::{Vec3, Vec3A};
@@ -162,19 +163,17 @@ impl Bvh {
     /// apart, a tree too deep for the fixed stack) are traced one by one.
     pub fn intersect_packet(&self, rays: &[(Vec3, Vec3, f32)], hits: &mut [Option<Hit>]) {
         assert!(hits.len() == rays.len(), "one hit per ray");
-        let n = rays.len();
-        if let Some(mut p) = self.prepare(rays) {
-            if let Some(packet) = RayPacket::new(&p.wide[..n]) {
-                let mut best = [None; PACKET];
-                packet.closest_hits(&self.wide, &mut p.t_max[..n], &mut best[..n]);
-                for (k, hit) in hits.iter_mut().enumerate() {
-                    *hit = best[k].and_then(|(quad, h)| self.hit(&p.shears[k], quad, h));
-                }
-                return;
+        let traced = self.with_packet(rays, |packet, wide, t_max| {
+            let mut best = [None; PACKET];
+            packet.closest_hits(&self.wide, t_max, &mut best[..wide.len()]);
+            for ((hit, best), ray) in hits.iter_mut().zip(best).zip(wide) {
+                *hit = best.and_then(|(quad, h)| self.hit(&ray.watertight(), quad, h));
             }
-        }
-        for (&(o, d, t), hit) in rays.iter().zip(hits) {
-            *hit = self.intersect(o, d, t);
+        });
+        if traced.is_none() {
+            for (&(o, d, t), hit) in rays.iter().zip(hits) {
+                *hit = self.intersect(o, d, t);
+            }
         }
     }
 
@@ -185,39 +184,49 @@ impl Bvh {
     /// [`Self::intersect_packet`].
     pub fn any_hit_packet(&self, rays: &[(Vec3, Vec3, f32)], occluded: &mut [bool]) {
         assert!(occluded.len() == rays.len(), "one answer per ray");
-        let n = rays.len();
-        if let Some(p) = self.prepare(rays) {
-            if let Some(packet) = RayPacket::new(&p.wide[..n]) {
-                packet.any_hits(&self.wide, &p.t_max[..n], occluded);
-                return;
+        let traced = self.with_packet(rays, |packet, _, t_max| packet.any_hits(&self.wide, t_max, occluded));
+        if traced.is_none() {
+            for (&(o, d, t), blocked) in rays.iter().zip(occluded) {
+                *blocked = self.any_hit(o, d, t);
             }
-        }
-        for (&(o, d, t), blocked) in rays.iter().zip(occluded) {
-            *blocked = self.any_hit(o, d, t);
         }
     }
 
-    /// `rays` prepared for the wide traversal in BVH space, or `None` when they are too few for
-    /// a packet walk, cannot share one ([`packet::may_share_walk`]: checked before preparing
+    /// Runs `trace(packet, rays, t_max)` on `rays` prepared as one packet in BVH space (one
+    /// prepared ray and one `t_max` per ray), or returns `None` when they are too few for a
+    /// packet walk, cannot share one ([`packet::may_share_walk`], asked before preparing
     /// anything) or the tree is too deep for the packet's fixed stack.
-    #[inline]
-    fn prepare(&self, rays: &[(Vec3, Vec3, f32)]) -> Option<PreparedRays> {
+    ///
+    /// The prepared rays (~3 KB for a full packet) are written in place, in this frame: building
+    /// them as a value and returning it showed up as 3–4% of the adaptive render in `memmove`.
+    #[inline(always)]
+    fn with_packet<R>(
+        &self,
+        rays: &[(Vec3, Vec3, f32)],
+        trace: impl FnOnce(&RayPacket, &[WideRay], &mut [f32]) -> R,
+    ) -> Option<R> {
         let n = rays.len();
         assert!(n <= PACKET, "a packet holds at most {PACKET} rays");
         if n < MIN_PACKET || self.wide.stack() != TraversalStack::Fixed {
             return None;
         }
-        let origin = |k: usize| Vec3A::from(rays[k.min(n - 1)].0 * self.scale);
-        let direction = |k: usize| without_negative_zeros(rays[k.min(n - 1)].1);
+        let origin = |k: usize| Vec3A::from(rays[k].0 * self.scale);
+        let direction = |k: usize| without_negative_zeros(rays[k].1);
         if !packet::may_share_walk((0..n).map(|k| (origin(k), direction(k).recip()))) {
             return None;
         }
-        let shears: [WatertightRay; PACKET] = std::array::from_fn(|k| WatertightRay::new(origin(k), direction(k)));
-        Some(PreparedRays {
-            wide: std::array::from_fn(|k| WideRay::new(origin(k), direction(k), &shears[k])),
-            shears,
-            t_max: std::array::from_fn(|k| rays[k.min(n - 1)].2 * self.scale),
-        })
+        let mut wide = [const { MaybeUninit::<WideRay>::uninit() }; PACKET];
+        let mut t_max = [0.0f32; PACKET];
+        for k in 0..n {
+            let (o, d) = (origin(k), direction(k));
+            wide[k].write(WideRay::new(o, d, &WatertightRay::new(o, d)));
+            t_max[k] = rays[k].2 * self.scale;
+        }
+        // SAFETY: entries 0..n were written just above, and `MaybeUninit<WideRay>` has the
+        // layout of `WideRay`.
+        let wide = unsafe { std::slice::from_raw_parts(wide.as_ptr().cast::<WideRay>(), n) };
+        let packet = RayPacket::new(wide)?;
+        Some(trace(&packet, wide, &mut t_max[..n]))
     }
 
     /// The [`Hit`] of lane `hit.lane` of quad `quad`, found by the ray `shear` was prepared for.
@@ -271,14 +280,6 @@ impl Occluder for Bvh {
             self.any_hit_packet(&segments[..rays.len()], occluded);
         }
     }
-}
-
-/// Up to [`PACKET`] rays prepared for the wide traversal, in BVH space (entries past the rays'
-/// count repeat the last ray).
-struct PreparedRays {
-    shears: [WatertightRay; PACKET],
-    wide: [WideRay; PACKET],
-    t_max: [f32; PACKET],
 }
 
 /// `direction` with every −0.0 component turned into +0.0 (x + 0.0 does exactly that and leaves

@@ -121,6 +121,16 @@ impl WideRay {
     }
 }
 
+impl WideRay {
+    /// The watertight test's ray this was prepared from (the same origin, permutation and shear
+    /// constants, bit for bit).
+    #[inline]
+    pub fn watertight(&self) -> WatertightRay {
+        let origin = Vec3A::new(self.origin[0].x, self.origin[1].x, self.origin[2].x);
+        WatertightRay::from_parts(origin, self.axes, self.shear.map(|s| s.x))
+    }
+}
+
 impl NodeTest for WideRay {
     /// Which of the node's four boxes the segment [0, t_max] enters, and where.
     ///
