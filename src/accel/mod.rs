@@ -150,10 +150,9 @@ impl Bvh {
     pub fn intersect(&self, origin: Vec3, direction: Vec3, t_max: f32) -> Option<Hit> {
         let origin = Vec3A::from(origin * self.scale);
         let direction = without_negative_zeros(direction);
-        let shear = WatertightRay::new(origin, direction);
-        let ray = WideRay::new(origin, direction, &shear);
+        let ray = WideRay::new(origin, direction, &WatertightRay::new(origin, direction));
         let (quad, hit) = self.wide.closest_hit(&ray, t_max * self.scale)?;
-        self.hit(&shear, quad, hit)
+        Some(self.hit(quad, hit))
     }
 
     /// The closest hits of up to [`PACKET`] rays `(origin, direction, t_max)` at once, into
@@ -166,8 +165,8 @@ impl Bvh {
         let traced = self.with_packet(rays, |packet, wide, t_max| {
             let mut best = [None; PACKET];
             packet.closest_hits(&self.wide, t_max, &mut best[..wide.len()]);
-            for ((hit, best), ray) in hits.iter_mut().zip(best).zip(wide) {
-                *hit = best.and_then(|(quad, h)| self.hit(&ray.watertight(), quad, h));
+            for (hit, best) in hits.iter_mut().zip(best) {
+                *hit = best.map(|(quad, h)| self.hit(quad, h));
             }
         });
         if traced.is_none() {
@@ -229,18 +228,15 @@ impl Bvh {
         Some(trace(&packet, wide, &mut t_max[..n]))
     }
 
-    /// The [`Hit`] of lane `hit.lane` of quad `quad`, found by the ray `shear` was prepared for.
+    /// The [`Hit`] of lane `hit.lane` of quad `quad`, in world units.
     #[inline]
-    fn hit(&self, shear: &WatertightRay, quad: u32, hit: QuadHit) -> Option<Hit> {
-        let triangle = self.wide.primitive(quad, hit.lane);
-        // Barycentrics of the winning triangle only (the same arithmetic as its lane).
-        let h = shear.intersect(&self.wide.vertices(quad, hit.lane), f32::INFINITY)?;
-        Some(Hit {
-            triangle,
+    fn hit(&self, quad: u32, hit: QuadHit) -> Hit {
+        Hit {
+            triangle: self.wide.primitive(quad, hit.lane),
             t: hit.t / self.scale,
-            b1: h.b1,
-            b2: h.b2,
-        })
+            b1: hit.b1,
+            b2: hit.b2,
+        }
     }
 
     /// True if anything lies along `origin + t·direction` for 0 < t < t_max (stops at the first hit).

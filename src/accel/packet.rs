@@ -109,9 +109,9 @@ impl<'a> RayPacket<'a> {
             let q = quad as usize;
             let mut found = false;
             for k in self.rays_entering(&bvh.quad_bounds[q], t_max) {
-                if let Some(lane) = bvh.quads[q].intersect(&self.rays[k], &bvh.quad_triangles[q], &mut nearest[k]) {
-                    t_max[k] = nearest[k].t;
-                    best[k] = Some((quad, QuadHit { lane, t: t_max[k] }));
+                if let Some(hit) = bvh.quads[q].intersect(&self.rays[k], &bvh.quad_triangles[q], &mut nearest[k]) {
+                    t_max[k] = hit.t;
+                    best[k] = Some((quad, hit));
                     found = true;
                 }
             }

@@ -58,13 +58,6 @@ impl WatertightRay {
         }
     }
 
-    /// The ray of `origin` with permutation `axes` and shear constants `shear`, as
-    /// [`Self::new`] computed them (for rays stored in another layout).
-    #[inline(always)]
-    pub(super) fn from_parts(origin: Vec3A, axes: [usize; 3], shear: [f32; 3]) -> Self {
-        Self { origin, axes, shear }
-    }
-
     /// kx, ky, kz: the permutation that makes the ray's largest component z.
     #[inline(always)]
     pub fn axes(&self) -> [usize; 3] {

@@ -59,6 +59,23 @@ pub struct QuadHit {
     pub lane: usize,
     /// Distance along the ray (units of its direction).
     pub t: f32,
+    /// Barycentric weight of the triangle's vertex 1.
+    pub b1: f32,
+    /// Barycentric weight of its vertex 2.
+    pub b2: f32,
+}
+
+/// The lanes whose triangle a ray's line crosses in front of its origin, and what their
+/// distances and barycentrics are made of (the watertight test's terms, lane by lane).
+struct Crossing {
+    lanes: BVec4A,
+    /// t·|det| and |det| (> 0 on crossed lanes).
+    t_scaled: Vec4,
+    det_abs: Vec4,
+    /// The signed determinant u + v + w and the edge functions v, w.
+    det: Vec4,
+    v: Vec4,
+    w: Vec4,
 }
 
 /// The closest hit so far, as hits are ordered: by distance, then by the triangle's index in the
@@ -121,16 +138,6 @@ impl WideRay {
     }
 }
 
-impl WideRay {
-    /// The watertight test's ray this was prepared from (the same origin, permutation and shear
-    /// constants, bit for bit).
-    #[inline]
-    pub fn watertight(&self) -> WatertightRay {
-        let origin = Vec3A::new(self.origin[0].x, self.origin[1].x, self.origin[2].x);
-        WatertightRay::from_parts(origin, self.axes, self.shear.map(|s| s.x))
-    }
-}
-
 impl NodeTest for WideRay {
     /// Which of the node's four boxes the segment [0, t_max] enters, and where.
     ///
@@ -171,21 +178,21 @@ impl TriangleQuad {
         }
     }
 
-    /// The lane of the closest of the four triangles (scene indices `primitives`) that the ray
-    /// hits at 0 < t and before `nearest` in [`Nearest`]'s order, if any; `nearest` becomes
-    /// that hit.
+    /// The closest of the four triangles (scene indices `primitives`) that the ray hits at
+    /// 0 < t and before `nearest` in [`Nearest`]'s order, if any; `nearest` becomes that hit.
     ///
     /// Lane by lane this is [`WatertightRay::intersect`]: the same sheared coordinates, the same
     /// edge functions with the same f64 recomputation of exact zeros, the same distance
-    /// t = t·|det| / |det| — compared itself with `nearest.t`, so that exact ties are seen.
+    /// t = t·|det| / |det| — compared itself with `nearest.t`, so that exact ties are seen — and
+    /// the same barycentrics v/det, w/det, computed for the winning lane only.
     #[inline(always)]
-    pub fn intersect(&self, ray: &WideRay, primitives: &[u32; 4], nearest: &mut Nearest) -> Option<usize> {
-        let (hit, t_scaled, det_abs) = self.crossed(ray)?;
+    pub fn intersect(&self, ray: &WideRay, primitives: &[u32; 4], nearest: &mut Nearest) -> Option<QuadHit> {
+        let c = self.crossed(ray)?;
         // det_abs > 0 on crossed lanes; the others' quotients are never read.
-        let t = (t_scaled / det_abs).to_array();
+        let t = (c.t_scaled / c.det_abs).to_array();
         let mut lane = None;
         for k in 0..4 {
-            if hit.test(k) && t[k] > 0.0 && nearest.beaten_by(t[k], primitives[k]) {
+            if c.lanes.test(k) && t[k] > 0.0 && nearest.beaten_by(t[k], primitives[k]) {
                 *nearest = Nearest {
                     t: t[k],
                     primitive: primitives[k],
@@ -193,7 +200,15 @@ impl TriangleQuad {
                 lane = Some(k);
             }
         }
-        lane
+        let lane = lane?;
+        // det ≠ 0 on crossed lanes.
+        let inv_det = 1.0 / c.det.to_array()[lane];
+        Some(QuadHit {
+            lane,
+            t: t[lane],
+            b1: c.v.to_array()[lane] * inv_det,
+            b2: c.w.to_array()[lane] * inv_det,
+        })
     }
 
     /// Whether the ray hits any of the four triangles with 0 < t < `t_max` (without dividing
@@ -201,13 +216,12 @@ impl TriangleQuad {
     #[inline(always)]
     pub fn hits_any(&self, ray: &WideRay, t_max: f32) -> bool {
         self.crossed(ray)
-            .is_some_and(|(hit, t_scaled, det_abs)| (hit & t_scaled.cmplt(det_abs * t_max)).any())
+            .is_some_and(|c| (c.lanes & c.t_scaled.cmplt(c.det_abs * t_max)).any())
     }
 
-    /// The lanes whose triangle the ray's line crosses at t > 0 (none: `None`), and their t·|det|
-    /// and |det| (> 0 on those lanes).
+    /// The lanes whose triangle the ray's line crosses at t > 0 (none: `None`).
     #[inline(always)]
-    fn crossed(&self, ray: &WideRay) -> Option<(BVec4A, Vec4, Vec4)> {
+    fn crossed(&self, ray: &WideRay) -> Option<Crossing> {
         let [kx, ky, kz] = ray.axes;
         let [sx, sy, sz] = ray.shear;
         let sheared = |vertex: usize| -> [Vec4; 3] {
@@ -245,7 +259,14 @@ impl TriangleQuad {
         let t_scaled = Vec4::select(flip, -t_scaled, t_scaled);
         let det_abs = Vec4::select(flip, -det, det);
         hit &= t_scaled.cmpgt(zero);
-        hit.any().then_some((hit, t_scaled, det_abs))
+        hit.any().then_some(Crossing {
+            lanes: hit,
+            t_scaled,
+            det_abs,
+            det,
+            v,
+            w,
+        })
     }
 }
 
@@ -434,12 +455,6 @@ impl WideBvh {
         }
     }
 
-    /// The vertices of lane `lane` of quad `quad`.
-    pub fn vertices(&self, quad: u32, lane: usize) -> [Vec3A; 3] {
-        let v = &self.quads[quad as usize].v;
-        [0, 1, 2].map(|vertex| Vec3A::new(v[vertex][0][lane], v[vertex][1][lane], v[vertex][2][lane]))
-    }
-
     /// The input primitive of lane `lane` of quad `quad`.
     #[inline(always)]
     pub fn primitive(&self, quad: u32, lane: usize) -> u32 {
@@ -472,8 +487,8 @@ impl WideBvh {
         let mut nearest = Nearest::before(t_max);
         self.walk_nearest_first(ray, t_max, stack, |quad, _| {
             let q = quad as usize;
-            if let Some(lane) = self.quads[q].intersect(ray, &self.quad_triangles[q], &mut nearest) {
-                best = Some((quad, QuadHit { lane, t: nearest.t }));
+            if let Some(hit) = self.quads[q].intersect(ray, &self.quad_triangles[q], &mut nearest) {
+                best = Some((quad, hit));
             }
             nearest.t
         });
