@@ -1,40 +1,73 @@
-//! `pointshade convergence`: the CSV lists every point with a falling error, and the plots exist.
+//! `pointshade convergence`: the CSV lists every point with a falling error, and the plots exist;
+//! bad input fails before anything is rendered or written.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
-#[test]
-fn convergence_writes_csv_and_plots_with_falling_error() {
-    let d = std::env::temp_dir().join(format!("pointshade-convergence-{}", std::process::id()));
+const BIN: &str = env!("CARGO_BIN_EXE_pointshade");
+
+/// A fresh folder for one test, and in it `small.toml`: the Lambert scene at `width`×`height`.
+fn small_scene(test: &str, width: u32, height: u32) -> (PathBuf, PathBuf) {
+    let d = std::env::temp_dir().join(format!("pointshade-convergence-{test}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     let lambert = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/lambert.toml")).unwrap();
     let meshes = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes");
     let small = lambert
-        .replace("width = 512", "width = 96")
-        .replace("height = 384", "height = 72")
+        .replace("width = 512", &format!("width = {width}"))
+        .replace("height = 384", &format!("height = {height}"))
         .replace("../meshes", meshes.to_str().unwrap());
     let scene = d.join("small.toml");
     std::fs::write(&scene, small).unwrap();
-    let bin = env!("CARGO_BIN_EXE_pointshade");
+    (d, scene)
+}
+
+/// Renders `scene` with a 16×16 grid into `d/ref.exr`.
+fn reference(d: &Path, scene: &Path) -> PathBuf {
     let reference = d.join("ref.exr");
-    let r = Command::new(bin)
-        .args([
-            "render",
-            scene.to_str().unwrap(),
-            "-o",
-            reference.to_str().unwrap(),
-            "--sampler",
-            "grid",
-            "--spp",
-            "256",
-            "--quiet",
-        ])
+    let r = Command::new(BIN)
+        .args(["render", scene.to_str().unwrap(), "-o", reference.to_str().unwrap()])
+        .args(["--sampler", "grid", "--spp", "256", "--quiet"])
         .output()
         .unwrap();
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    reference
+}
+
+#[test]
+fn a_reference_of_another_size_fails_before_anything_is_written() {
+    let (d, scene) = small_scene("size", 48, 36);
+    let (_, other) = small_scene("size-ref", 40, 30);
+    let reference = reference(other.parent().unwrap(), &other);
     let out = d.join("out");
-    let r = Command::new(bin)
+    let r = Command::new(BIN)
+        .args([
+            "convergence",
+            scene.to_str().unwrap(),
+            "--reference",
+            reference.to_str().unwrap(),
+        ])
+        .args(["--spp", "1", "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert!(!r.status.success(), "a 40×30 reference for a 48×36 scene must fail");
+    assert_eq!(stderr.trim().lines().count(), 1, "one line: {stderr}");
+    assert!(
+        stderr.contains("--reference") && stderr.contains("40×30") && stderr.contains("48×36"),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "no output folder for a run that failed");
+    std::fs::remove_dir_all(d).unwrap();
+    std::fs::remove_dir_all(other.parent().unwrap()).unwrap();
+}
+
+#[test]
+fn convergence_writes_csv_and_plots_with_falling_error() {
+    let (d, scene) = small_scene("sweep", 96, 72);
+    let reference = reference(&d, &scene);
+    let out = d.join("out");
+    let r = Command::new(BIN)
         .args([
             "convergence",
             scene.to_str().unwrap(),

@@ -6,7 +6,7 @@ use crate::cli::option_error;
 use crate::error::InputError;
 use crate::film::SamplerKind;
 use crate::output::read_linear;
-use crate::reports::convergence::{own_reference, run, write_outputs, Reference, Sweep};
+use crate::reports::convergence::{check, own_reference, run, write_outputs, Reference, Sweep};
 use crate::shading::shadow::ShadowOffset;
 use crate::validation::run::MitsubaRunner;
 
@@ -84,7 +84,6 @@ pub fn run_command(args: ConvergenceArgs) -> Result<(), InputError> {
     } else {
         None
     };
-    std::fs::create_dir_all(&args.out).map_err(|e| InputError::new(&args.out, format!("cannot create: {e}")))?;
     let sweep = Sweep {
         scene: args.scene.clone(),
         spp,
@@ -95,11 +94,18 @@ pub fn run_command(args: ConvergenceArgs) -> Result<(), InputError> {
         mitsuba,
         out: args.out.clone(),
     };
-    let reference = match &args.reference {
-        Some(path) => Reference {
+    let given = match &args.reference {
+        Some(path) => Some(Reference {
             image: read_linear(path)?,
             description: path.display().to_string(),
-        },
+        }),
+        None => None,
+    };
+    // Bad input fails here, before the output folder exists.
+    check(&sweep, given.as_ref())?;
+    std::fs::create_dir_all(&args.out).map_err(|e| InputError::new(&args.out, format!("cannot create: {e}")))?;
+    let reference = match given {
+        Some(reference) => reference,
         None => {
             eprintln!("no --reference: rendering a pointshade 32×32-grid reference (the plot says so)");
             own_reference(&sweep)?

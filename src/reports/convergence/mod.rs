@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use crate::error::{InputError, InputResult};
-use crate::film::{Image, SamplerKind};
+use crate::film::{FilmSettings, Image, SamplerKind};
 use crate::output::{encode, write_all_or_nothing, Format};
 use crate::scene::Scene;
 use crate::shading::shadow::ShadowOffset;
@@ -91,6 +91,35 @@ fn load(sweep: &Sweep, sampler: SamplerKind, spp: u32) -> InputResult<Scene> {
     Ok(scene)
 }
 
+/// Checks what can fail before anything is rendered or written: the scene loads, its film is
+/// valid with every sampler of the sweep (and the threshold), and `reference` has its size.
+pub fn check(sweep: &Sweep, reference: Option<&Reference>) -> InputResult<()> {
+    let film = load(sweep, sweep.samplers[0], sweep.spp[0])?.film;
+    for &sampler in &sweep.samplers[1..] {
+        let film = FilmSettings {
+            sampler,
+            ..film.clone()
+        };
+        film.validate().map_err(|e| InputError::new(&sweep.scene, e))?;
+    }
+    match reference {
+        Some(r) if (r.image.width, r.image.height) != (film.width, film.height) => {
+            Err(size_mismatch(r, film.width, film.height))
+        }
+        _ => Ok(()),
+    }
+}
+
+fn size_mismatch(reference: &Reference, width: u32, height: u32) -> InputError {
+    InputError::new(
+        "--reference",
+        format!(
+            "is {}×{}, the scene renders {width}×{height}",
+            reference.image.width, reference.image.height
+        ),
+    )
+}
+
 /// One pointshade render: load + plan + BVH + render, timed; returns the image and mean spp.
 fn render_once(sweep: &Sweep, sampler: SamplerKind, spp: u32) -> InputResult<(Image, f64, Duration)> {
     let start = Instant::now();
@@ -124,13 +153,7 @@ fn point(
     reference: &Reference,
 ) -> InputResult<Point> {
     if (image.width, image.height) != (reference.image.width, reference.image.height) {
-        return Err(InputError::new(
-            "--reference",
-            format!(
-                "is {}×{}, the scene renders {}×{}",
-                reference.image.width, reference.image.height, image.width, image.height
-            ),
-        ));
+        return Err(size_mismatch(reference, image.width, image.height));
     }
     let c = compare(image, &reference.image, TOLERANCE, 0);
     Ok(Point {
