@@ -23,11 +23,15 @@ pub enum Aov {
     Depth,
     /// Diffuse albedo times kd.
     Albedo,
+    /// Samples each pixel took, in every channel: the film's spp, or what the adaptive sampler
+    /// decided — a map of where it spent its samples. Not a per-sample value: the driver writes
+    /// it from the counts.
+    Samples,
 }
 
 impl Aov {
     /// Every AOV.
-    pub const ALL: [Aov; 4] = [Aov::Normal, Aov::Position, Aov::Depth, Aov::Albedo];
+    pub const ALL: [Aov; 5] = [Aov::Normal, Aov::Position, Aov::Depth, Aov::Albedo, Aov::Samples];
 
     /// Name on the command line and in file names.
     pub fn name(self) -> &'static str {
@@ -36,6 +40,7 @@ impl Aov {
             Aov::Position => "position",
             Aov::Depth => "depth",
             Aov::Albedo => "albedo",
+            Aov::Samples => "samples",
         }
     }
 
@@ -46,7 +51,7 @@ impl Aov {
             let aov = Aov::ALL
                 .into_iter()
                 .find(|a| a.name() == name)
-                .ok_or_else(|| format!("unknown AOV '{name}' (expected normal, position, depth or albedo)"))?;
+                .ok_or_else(|| format!("unknown AOV '{name}' (expected normal, position, depth, albedo or samples)"))?;
             if !out.contains(&aov) {
                 out.push(aov);
             }

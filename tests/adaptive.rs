@@ -3,10 +3,11 @@
 
 use std::path::Path;
 
+use glam::Vec3;
 use pointshade::film::{Image, SamplerKind};
-use pointshade::plan::RenderPlan;
+use pointshade::plan::{Aov, RenderPlan};
 use pointshade::render::{render_scene, Rendered};
-use pointshade::scene;
+use pointshade::scene::{self, Scene};
 use pointshade::validation::compare::compare;
 
 fn render(sampler: SamplerKind, spp: u32) -> Rendered {
@@ -15,6 +16,11 @@ fn render(sampler: SamplerKind, spp: u32) -> Rendered {
 
 /// The test scene with its lights' power times `dim`, at `exposure` stops.
 fn render_lit(sampler: SamplerKind, spp: u32, dim: f32, exposure: f32) -> Rendered {
+    let s = lit_scene(sampler, spp, dim, exposure);
+    render_scene(&s, &RenderPlan::new(&s, &[]), &|_| {}).unwrap()
+}
+
+fn lit_scene(sampler: SamplerKind, spp: u32, dim: f32, exposure: f32) -> Scene {
     let mut s = scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/lambert.toml")).unwrap();
     s.film.width = 128;
     s.film.height = 96;
@@ -24,8 +30,7 @@ fn render_lit(sampler: SamplerKind, spp: u32, dim: f32, exposure: f32) -> Render
     for light in &mut s.lights {
         light.power *= dim;
     }
-    let plan = RenderPlan::new(&s, &[]);
-    render_scene(&s, &plan, &|_| {}).unwrap()
+    s
 }
 
 fn rmse(a: &Image, reference: &Image) -> f64 {
@@ -120,4 +125,26 @@ fn a_dim_scene_exposed_up_is_sampled_like_the_bright_one() {
         total(&dim),
         total(&bright)
     );
+}
+
+#[test]
+fn the_samples_aov_is_the_count_each_pixel_took() {
+    for (sampler, spp) in [(SamplerKind::Adaptive, 64), (SamplerKind::Sobol, 4)] {
+        let s = lit_scene(sampler, spp, 1.0, 0.0);
+        let r = render_scene(&s, &RenderPlan::new(&s, &[Aov::Samples]), &|_| {}).unwrap();
+        let [(Aov::Samples, image)] = &r.aovs[..] else {
+            panic!("one samples AOV expected")
+        };
+        let counts = match &r.sample_counts {
+            Some(c) => c.clone(),
+            None => vec![spp; image.pixels.len()],
+        };
+        assert_eq!(counts.len(), image.pixels.len());
+        for (i, (&pixel, &count)) in image.pixels.iter().zip(&counts).enumerate() {
+            assert_eq!(pixel, Vec3::splat(count as f32), "{sampler:?}, pixel {i}");
+        }
+        let distinct = counts.iter().collect::<std::collections::BTreeSet<_>>().len();
+        let expected = if sampler == SamplerKind::Adaptive { 3 } else { 1 };
+        assert!(distinct >= expected, "{sampler:?}: {distinct} distinct counts");
+    }
 }

@@ -44,7 +44,7 @@ pub struct RenderArgs {
     /// Exposure in stops for PNG output.
     #[arg(long, allow_negative_numbers = true)]
     exposure: Option<f32>,
-    /// Extra images written beside the output as EXR: normal,position,depth,albedo.
+    /// Extra images written beside the output as EXR: normal,position,depth,albedo,samples.
     #[arg(long)]
     aov: Option<String>,
     /// Worker threads (default: all cores).

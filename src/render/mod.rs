@@ -93,7 +93,16 @@ pub fn render(
         .aovs
         .iter()
         .zip(&sums.aovs)
-        .map(|(&a, s)| (a, average(s)))
+        .map(|(&a, s)| match a {
+            Aov::Samples => (
+                a,
+                Image {
+                    pixels: (0..image.pixels.len()).map(|i| Vec3::splat(count(i))).collect(),
+                    ..image
+                },
+            ),
+            _ => (a, average(s)),
+        })
         .collect();
     let c = &ctx.counters;
     let stats = RenderStats {
