@@ -82,3 +82,53 @@ fn size_mismatch_and_unreadable_files_are_one_line_errors() {
     }
     std::fs::remove_dir_all(d).unwrap();
 }
+
+#[test]
+fn group_by_splits_the_squared_error_by_label_and_refuses_bad_label_images() {
+    let d = dir("groups");
+    let (ours, reference, counts) = (d.join("ours.exr"), d.join("ref.exr"), d.join("counts.exr"));
+    write(&ours, &[1.0, 2.0, 3.5, 4.0], 2);
+    write(&reference, &[1.0, 2.5, 3.0, 4.0], 2);
+    // Pixels 0 and 3 took one sample, 1 and 2 sixteen: all the error is in the second group.
+    write(&counts, &[1.0, 16.0, 16.0, 1.0], 2);
+    let (code, stdout, stderr) = run(&[
+        ours.as_os_str(),
+        reference.as_os_str(),
+        "--group-by".as_ref(),
+        counts.as_os_str(),
+    ]);
+    assert_eq!(code, Some(0), "{stderr}");
+    let row = |value: &str| {
+        stdout
+            .lines()
+            .map(|l| l.split_whitespace().collect::<Vec<_>>())
+            .find(|f| f.len() == 4 && f[0] == value)
+            .unwrap_or_else(|| panic!("no row for {value}: {stdout}"))
+            .join(" ")
+    };
+    assert_eq!(row("1"), "1 2 0.0000e0 0.0%");
+    assert_eq!(row("16"), "16 2 5.0000e-1 100.0%");
+    let (small, ramp) = (d.join("small.exr"), d.join("ramp.exr"));
+    write(&small, &[1.0, 16.0], 2);
+    let values: Vec<f32> = (0..4 * 40).map(|i| i as f32).collect();
+    write(&ramp, &values, 40);
+    write(&ours, &[1.0; 160], 40);
+    write(&reference, &[1.0; 160], 40);
+    for (labels, expect) in [
+        (&small, "differs"),
+        (&ramp, "distinct values"),
+        (&d.join("none.exr"), "none.exr"),
+    ] {
+        let (code, _, stderr) = run(&[
+            ours.as_os_str(),
+            reference.as_os_str(),
+            "--group-by".as_ref(),
+            labels.as_os_str(),
+        ]);
+        assert_eq!(code, Some(2), "{stderr}");
+        let lines: Vec<_> = stderr.lines().collect();
+        assert_eq!(lines.len(), 1, "{stderr}");
+        assert!(lines[0].starts_with("error:") && lines[0].contains(expect), "{stderr}");
+    }
+    std::fs::remove_dir_all(d).unwrap();
+}

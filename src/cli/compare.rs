@@ -4,8 +4,9 @@ use std::path::PathBuf;
 
 use crate::cli::option_error;
 use crate::error::InputError;
+use crate::film::Image;
 use crate::output::{encode, read_linear, write_all_or_nothing, Format};
-use crate::validation::compare::compare;
+use crate::validation::compare::{compare, error_by_group, group_table};
 
 /// Arguments of `pointshade compare`.
 #[derive(clap::Args)]
@@ -23,6 +24,10 @@ pub struct CompareArgs {
     /// Number of worst pixels to list.
     #[arg(long, default_value_t = 10)]
     worst: usize,
+    /// Also split the squared error by the value of this image's first channel (EXR of the same
+    /// size with a few distinct values, such as `render --aov samples`): where the error sits.
+    #[arg(long)]
+    group_by: Option<PathBuf>,
 }
 
 /// Runs `pointshade compare`; prints the metrics on stdout.
@@ -34,20 +39,31 @@ pub fn run(args: CompareArgs) -> Result<(), InputError> {
         ));
     }
     let ours = read_linear(&args.ours)?;
-    let reference = read_linear(&args.reference)?;
-    if (ours.width, ours.height) != (reference.width, reference.height) {
-        return Err(InputError::new(
-            &args.reference,
-            format!(
-                "size {}×{} differs from {}×{} of {}",
-                reference.width,
-                reference.height,
-                ours.width,
-                ours.height,
-                args.ours.display()
-            ),
-        ));
-    }
+    let same_size = |path: &PathBuf| -> Result<Image, InputError> {
+        let image = read_linear(path)?;
+        if (ours.width, ours.height) != (image.width, image.height) {
+            return Err(InputError::new(
+                path,
+                format!(
+                    "size {}×{} differs from {}×{} of {}",
+                    image.width,
+                    image.height,
+                    ours.width,
+                    ours.height,
+                    args.ours.display()
+                ),
+            ));
+        }
+        Ok(image)
+    };
+    let reference = same_size(&args.reference)?;
+    let groups = match &args.group_by {
+        Some(path) => {
+            let labels = same_size(path)?;
+            Some(error_by_group(&ours, &reference, &labels).map_err(|e| InputError::new(path, e))?)
+        }
+        None => None,
+    };
     let c = compare(&ours, &reference, args.tol, args.worst);
     if let Some(path) = &args.heatmap {
         let bytes = encode(&c.heat_map(ours.width, ours.height), Format::of(path)?, 0.0)
@@ -55,5 +71,8 @@ pub fn run(args: CompareArgs) -> Result<(), InputError> {
         write_all_or_nothing(&[(path.clone(), bytes)])?;
     }
     print!("{}", c.summary());
+    if let Some(groups) = groups {
+        print!("{}", group_table(&groups));
+    }
     Ok(())
 }

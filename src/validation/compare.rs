@@ -125,6 +125,76 @@ pub fn compare(ours: &Image, reference: &Image, tolerance: f32, worst: usize) ->
     }
 }
 
+/// The pixels whose group image has one value, and their part of the error.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ErrorGroup {
+    /// The value (first channel of the group image), e.g. a sample count.
+    pub value: f32,
+    /// Pixels in the group (finite in both images).
+    pub pixels: usize,
+    /// RMSE over the group's channels.
+    pub rmse: f64,
+    /// The group's share of the image's summed squared error (0 when there is no error).
+    pub share: f64,
+}
+
+/// Most distinct values `error_by_group` accepts: it is meant for labels such as sample counts,
+/// not for continuous images.
+pub const MAX_GROUPS: usize = 64;
+
+/// The squared error of `ours` against `reference` split by the value of `groups`' first channel
+/// at each pixel (all three the same size; checked by the caller), groups in increasing value.
+/// Pixels non-finite in either image are left out, as in [`compare`]'s RMSE. Errs when `groups`
+/// has more than [`MAX_GROUPS`] distinct finite values or a non-finite one.
+pub fn error_by_group(ours: &Image, reference: &Image, groups: &Image) -> Result<Vec<ErrorGroup>, String> {
+    let mut labelled: Vec<(f32, f64)> = Vec::new();
+    for ((o, r), g) in ours.pixels.iter().zip(&reference.pixels).zip(&groups.pixels) {
+        if !g.x.is_finite() {
+            return Err(format!("has a non-finite value ({})", g.x));
+        }
+        if o.is_finite() && r.is_finite() {
+            labelled.push((g.x, (*o - *r).as_dvec3().length_squared()));
+        }
+    }
+    labelled.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let total: f64 = labelled.iter().map(|(_, sq)| sq).sum();
+    let groups: Vec<ErrorGroup> = labelled
+        .chunk_by(|a, b| a.0 == b.0)
+        .map(|group| {
+            let sq: f64 = group.iter().map(|(_, sq)| sq).sum();
+            ErrorGroup {
+                value: group[0].0,
+                pixels: group.len(),
+                rmse: (sq / (3 * group.len()) as f64).sqrt(),
+                share: if total > 0.0 { sq / total } else { 0.0 },
+            }
+        })
+        .collect();
+    if groups.len() > MAX_GROUPS {
+        return Err(format!(
+            "has {} distinct values; groups are for a few labels, such as a samples AOV (at most {MAX_GROUPS})",
+            groups.len()
+        ));
+    }
+    Ok(groups)
+}
+
+/// `groups` as a table, one line per group.
+pub fn group_table(groups: &[ErrorGroup]) -> String {
+    let mut s = String::from("squared error by group:\n        value     pixels         RMSE  share\n");
+    for g in groups {
+        let _ = writeln!(
+            s,
+            "  {:>11} {:>10} {:>12.4e} {:>5.1}%",
+            g.value,
+            g.pixels,
+            g.rmse,
+            100.0 * g.share
+        );
+    }
+    s
+}
+
 impl Comparison {
     /// The metrics as a few lines of text (what `pointshade compare` prints).
     pub fn summary(&self) -> String {
@@ -211,6 +281,45 @@ mod tests {
             height: 1,
             pixels: values.iter().map(|&v| Vec3::splat(v)).collect(),
         }
+    }
+
+    #[test]
+    fn error_by_group_splits_the_squared_error_and_its_groups_add_up_to_the_rmse() {
+        let reference = image(&[1.0, 1.0, 2.0, 0.0, 0.5, f32::NAN]);
+        let ours = image(&[1.1, 1.0, 2.2, 0.0, 0.8, 0.5]);
+        // Sample counts: pixels 0 and 3 took 1, pixels 1, 2 and 5 took 16, pixel 4 took 64.
+        let counts = image(&[1.0, 16.0, 16.0, 1.0, 64.0, 16.0]);
+        let groups = error_by_group(&ours, &reference, &counts).unwrap();
+        let summary: Vec<(f32, usize)> = groups.iter().map(|g| (g.value, g.pixels)).collect();
+        // The NaN reference pixel is left out, as in the RMSE.
+        assert_eq!(summary, [(1.0, 2), (16.0, 2), (64.0, 1)]);
+        // Squared errors per pixel (three channels): 0.03, 0, 0.12, 0, 0.27 → total 0.42.
+        let shares: Vec<f64> = groups.iter().map(|g| g.share).collect();
+        for (got, want) in shares.iter().zip([0.03 / 0.42, 0.12 / 0.42, 0.27 / 0.42]) {
+            assert!((got - want).abs() < 1e-6, "{shares:?}");
+        }
+        assert!(
+            (groups[2].rmse - 0.3).abs() < 1e-6,
+            "one pixel off by 0.3: {:?}",
+            groups[2]
+        );
+        let c = compare(&ours, &reference, 1e-3, 0);
+        let pooled = groups.iter().map(|g| g.rmse.powi(2) * g.pixels as f64).sum::<f64>() / 5.0;
+        assert!((pooled.sqrt() - c.rmse).abs() < 1e-9, "{} vs {}", pooled.sqrt(), c.rmse);
+    }
+
+    #[test]
+    fn error_by_group_refuses_continuous_and_non_finite_labels() {
+        let a = image(&[0.5; 100]);
+        let ramp: Vec<f32> = (0..100).map(|i| i as f32).collect();
+        let err = error_by_group(&a, &a, &image(&ramp)).unwrap_err();
+        assert!(err.contains("100 distinct values"), "{err}");
+        let mut labels = [1.0; 100];
+        labels[7] = f32::INFINITY;
+        assert!(error_by_group(&a, &a, &image(&labels)).is_err());
+        // No error at all: every share is 0, not NaN.
+        let groups = error_by_group(&a, &a, &image(&[1.0; 100])).unwrap();
+        assert_eq!(groups[0].share, 0.0);
     }
 
     #[test]
