@@ -167,6 +167,31 @@ fn absurd_sizes_and_bad_options() {
     assert!(!out.exists());
 }
 
+#[test]
+fn an_output_folder_that_does_not_exist_fails_before_anything_is_rendered() {
+    let c = Case::new("folder");
+    let tri = c.dir.join("tri.obj");
+    let out = c.dir.join("missing").join("out.png");
+    // merge's crop does not even exist: the folder is checked before any input is read.
+    for (command, input) in [("render", tri), ("merge", c.dir.join("crop.exr"))] {
+        let r = Command::new(env!("CARGO_BIN_EXE_pointshade"))
+            .arg(command)
+            .arg(&input)
+            .arg("-o")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(2), "{command}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{command}: {stderr}");
+        assert!(
+            stderr.contains("out.png") && stderr.contains("does not exist"),
+            "{command}: {stderr}"
+        );
+    }
+    assert!(!c.dir.join("missing").exists());
+}
+
 /// A valid single-square glTF document (builder and the JSON besides buffers and accessors).
 fn gltf_square() -> (GltfBuilder, serde_json::Value) {
     let mut b = GltfBuilder::default();

@@ -37,7 +37,7 @@ pub struct BakeArgs {
 /// Runs `pointshade bake`.
 pub fn run(args: BakeArgs) -> Result<(), InputError> {
     let start = Instant::now();
-    if Format::of(&args.output)? != Format::Png {
+    if Format::of_output(&args.output)? != Format::Png {
         return Err(InputError::new(
             &args.output,
             "a baked normal image is written as PNG (the assignment's format)",

@@ -23,7 +23,7 @@ pub struct MergeArgs {
 
 /// Runs `pointshade merge`.
 pub fn run(args: MergeArgs) -> Result<(), InputError> {
-    let format = Format::of(&args.output)?;
+    let format = Format::of_output(&args.output)?;
     if !(args.exposure.is_finite() && args.exposure.abs() <= 64.0) {
         return Err(crate::cli::option_error(
             "--exposure",

@@ -93,7 +93,7 @@ pub fn run(args: NormalMapArgs) -> Result<(), InputError> {
         .output
         .clone()
         .unwrap_or_else(|| default_output(&args.input, &scene, is_scene));
-    let format = Format::of(&output)?;
+    let format = Format::of_output(&output)?;
     if args.threads == Some(0) {
         return Err(option_error("--threads", "must be at least 1"));
     }

@@ -69,7 +69,7 @@ pub struct RenderArgs {
 pub fn run(args: RenderArgs) -> Result<(), InputError> {
     let t_load = Instant::now();
     let output = args.output.clone().unwrap_or_else(|| default_output(&args.scene));
-    let format = Format::of(&output)?;
+    let format = Format::of_output(&output)?;
     let aovs = match &args.aov {
         Some(list) => Aov::parse_list(list).map_err(|e| option_error("--aov", e))?,
         None => Vec::new(),

@@ -34,6 +34,23 @@ impl Format {
             _ => Err(InputError::new(path, "unsupported output type (expected .png or .exr)")),
         }
     }
+
+    /// [`Self::of`] an output file that is about to be made, also checking that its folder
+    /// exists: asked before any work, so that a long render does not fail at the very end.
+    pub fn of_output(path: &Path) -> InputResult<Format> {
+        let format = Self::of(path)?;
+        let folder = path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        if !folder.is_dir() {
+            return Err(InputError::new(
+                path,
+                format!("the folder {} does not exist", folder.display()),
+            ));
+        }
+        Ok(format)
+    }
 }
 
 /// The sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1].
