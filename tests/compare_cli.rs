@@ -1,6 +1,6 @@
 //! `pointshade compare` on synthetic EXRs with known errors, NaN and Inf pixels, and bad input.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use glam::Vec3;
@@ -35,18 +35,23 @@ fn run(args: &[&std::ffi::OsStr]) -> (Option<i32>, String, String) {
     )
 }
 
+/// `compare OURS REFERENCE OPTION PATH`.
+fn run_with(ours: &Path, reference: &Path, option: &str, path: &Path) -> (Option<i32>, String, String) {
+    run(&[
+        ours.as_os_str(),
+        reference.as_os_str(),
+        option.as_ref(),
+        path.as_os_str(),
+    ])
+}
+
 #[test]
 fn reports_known_errors_and_non_finite_pixels_and_writes_a_heat_map() {
     let d = dir("known");
     let (ours, reference, heat) = (d.join("ours.exr"), d.join("ref.exr"), d.join("heat.png"));
     write(&ours, &[1.0, 2.0, f32::NAN, 4.0, 5.0, 6.5], 3);
     write(&reference, &[1.0, 2.0, 3.0, f32::INFINITY, 5.0, 6.0], 3);
-    let (code, stdout, stderr) = run(&[
-        ours.as_os_str(),
-        reference.as_os_str(),
-        "--heatmap".as_ref(),
-        heat.as_os_str(),
-    ]);
+    let (code, stdout, stderr) = run_with(&ours, &reference, "--heatmap", &heat);
     assert_eq!(code, Some(0), "{stderr}");
     assert!(stdout.contains("within 1e-3           50.0000%"), "{stdout}");
     assert!(
@@ -91,12 +96,7 @@ fn group_by_splits_the_squared_error_by_label_and_refuses_bad_label_images() {
     write(&reference, &[1.0, 2.5, 3.0, 4.0], 2);
     // Pixels 0 and 3 took one sample, 1 and 2 sixteen: all the error is in the second group.
     write(&counts, &[1.0, 16.0, 16.0, 1.0], 2);
-    let (code, stdout, stderr) = run(&[
-        ours.as_os_str(),
-        reference.as_os_str(),
-        "--group-by".as_ref(),
-        counts.as_os_str(),
-    ]);
+    let (code, stdout, stderr) = run_with(&ours, &reference, "--group-by", &counts);
     assert_eq!(code, Some(0), "{stderr}");
     let row = |value: &str| {
         stdout
@@ -119,12 +119,7 @@ fn group_by_splits_the_squared_error_by_label_and_refuses_bad_label_images() {
         (&ramp, "distinct values"),
         (&d.join("none.exr"), "none.exr"),
     ] {
-        let (code, _, stderr) = run(&[
-            ours.as_os_str(),
-            reference.as_os_str(),
-            "--group-by".as_ref(),
-            labels.as_os_str(),
-        ]);
+        let (code, _, stderr) = run_with(&ours, &reference, "--group-by", labels);
         assert_eq!(code, Some(2), "{stderr}");
         let lines: Vec<_> = stderr.lines().collect();
         assert_eq!(lines.len(), 1, "{stderr}");
