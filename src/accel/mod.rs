@@ -224,8 +224,7 @@ impl Bvh {
         // SAFETY: entries 0..n were written just above, and `MaybeUninit<WideRay>` has the
         // layout of `WideRay`.
         let wide = unsafe { std::slice::from_raw_parts(wide.as_ptr().cast::<WideRay>(), n) };
-        let packet = RayPacket::new(wide)?;
-        Some(trace(&packet, wide, &mut t_max[..n]))
+        Some(trace(&RayPacket::new(wide), wide, &mut t_max[..n]))
     }
 
     /// The [`Hit`] of lane `hit.lane` of quad `quad`, in world units.

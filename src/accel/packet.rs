@@ -46,11 +46,14 @@ pub struct RayPacket<'a> {
 }
 
 impl<'a> RayPacket<'a> {
-    /// The packet of `rays`, or `None` when they cannot share a walk: their directions differ in
-    /// sign on some axis, or a direction component is zero (1/d infinite: the single-ray test's
-    /// NaN rule handles that case, interval bounds would not).
-    pub fn new(rays: &'a [WideRay]) -> Option<Self> {
-        let first = rays.first()?;
+    /// The packet of 1..=[`PACKET`] `rays` that [`may_share_walk`] accepted: the caller asks
+    /// once, before preparing the rays, with the same origins and `1/d`.
+    pub(super) fn new(rays: &'a [WideRay]) -> Self {
+        debug_assert!(
+            rays.len() <= PACKET && may_share_walk(rays.iter().map(origin_and_inverse)),
+            "rays that cannot share a walk"
+        );
+        let first = &rays[0];
         let mut packet = Self {
             rays,
             origin_near: [Vec4::ZERO; 3],
@@ -61,10 +64,6 @@ impl<'a> RayPacket<'a> {
             lane_origin: [[Vec4::ZERO; 3]; PACKET / 4],
             lane_inv_dir: [[Vec4::ZERO; 3]; PACKET / 4],
         };
-        let axes = |v: &[Vec4; 3]| Vec3A::new(v[0].x, v[1].x, v[2].x);
-        if rays.len() > PACKET || !may_share_walk(rays.iter().map(|r| (axes(&r.origin), axes(&r.inv_dir)))) {
-            return None;
-        }
         for axis in 0..3 {
             let (mut o_lo, mut o_hi) = (f32::INFINITY, f32::NEG_INFINITY);
             let (mut i_lo, mut i_hi) = (f32::INFINITY, f32::NEG_INFINITY);
@@ -82,8 +81,6 @@ impl<'a> RayPacket<'a> {
             packet.inv_lo[axis] = Vec4::splat(i_lo);
             packet.inv_hi[axis] = Vec4::splat(i_hi);
         }
-        // The lanes only once the rays are known to share a walk (refused packets are common
-        // where pixels span silhouettes).
         let lane = |group: usize, k: usize| &rays[(4 * group + k).min(rays.len() - 1)];
         for group in 0..rays.len().div_ceil(4) {
             for axis in 0..3 {
@@ -92,7 +89,7 @@ impl<'a> RayPacket<'a> {
                     Vec4::from_array([0, 1, 2, 3].map(|k| lane(group, k).inv_dir[axis].x));
             }
         }
-        Some(packet)
+        packet
     }
 
     /// Each ray's closest hit with 0 < t < `t_max[k]` in [`Nearest`]'s order, written to
@@ -153,8 +150,8 @@ impl<'a> RayPacket<'a> {
 /// Whether rays with these origins and inverse directions (BVH space) can share a walk: every
 /// inverse direction finite (a zero component needs the single-ray test's NaN rule, which
 /// interval bounds do not follow) and of one sign per axis across the rays, and the origins
-/// within [`MAX_ORIGIN_SPREAD`] on every axis. [`RayPacket::new`] refuses the others; callers
-/// ask first to skip preparing rays that will go one by one.
+/// within [`MAX_ORIGIN_SPREAD`] on every axis. Asked before the rays are prepared, so that
+/// rays that will go one by one are not (refusals are common where pixels span silhouettes).
 pub(super) fn may_share_walk(mut rays: impl Iterator<Item = (Vec3A, Vec3A)>) -> bool {
     let Some((origin, inv_dir)) = rays.next() else {
         return false;
@@ -167,6 +164,12 @@ pub(super) fn may_share_walk(mut rays: impl Iterator<Item = (Vec3A, Vec3A)>) -> 
         (lo, hi) = (lo.min(origin), hi.max(origin));
     }
     ok && (hi - lo).cmple(Vec3A::splat(MAX_ORIGIN_SPREAD)).all()
+}
+
+/// A prepared ray's origin and inverse direction, as [`may_share_walk`] takes them.
+fn origin_and_inverse(ray: &WideRay) -> (Vec3A, Vec3A) {
+    let axes = |v: &[Vec4; 3]| Vec3A::new(v[0].x, v[1].x, v[2].x);
+    (axes(&ray.origin), axes(&ray.inv_dir))
 }
 
 impl RayPacket<'_> {
@@ -224,7 +227,7 @@ impl NodeTest for RayPacket<'_> {
 mod tests {
     use glam::{Vec3, Vec3A};
 
-    use super::{RayPacket, PACKET};
+    use super::{may_share_walk, origin_and_inverse, PACKET};
     use crate::accel::triangle::WatertightRay;
     use crate::accel::wide::WideRay;
     use crate::accel::{Bvh, BvhPreset};
@@ -336,7 +339,7 @@ mod tests {
                 for (segments, what) in [(&cut, "camera"), (&shadow, "shadow")] {
                     let (b, o) = compare_occlusion(&bvh, segments, &format!("{what} segments of ({px}, {py})"));
                     (blocked, open) = (blocked + b, open + o);
-                    packets += RayPacket::new(&wide(segments)).is_some() as usize;
+                    packets += shares_walk(&wide(segments)) as usize;
                 }
             }
         }
@@ -346,6 +349,11 @@ mod tests {
             "{packets} of {groups} groups went as packets"
         );
         assert!(blocked > 10_000 && open > 10_000, "{blocked} blocked, {open} open");
+    }
+
+    /// Whether prepared rays may go through the tree as one packet.
+    fn shares_walk(rays: &[WideRay]) -> bool {
+        may_share_walk(rays.iter().map(origin_and_inverse))
     }
 
     /// The rays prepared for the wide traversal, as [`Bvh::intersect_packet`] does (unit scale).
@@ -364,8 +372,8 @@ mod tests {
         let (lo, hi) = mesh.bounds().unwrap();
         let camera = Camera::new(frame_bounds(lo, hi), SIZE, SIZE).unwrap();
         let pixel = wide(&pixel_rays(&camera, 40, 50));
-        assert!(RayPacket::new(&pixel).is_some());
+        assert!(shares_walk(&pixel));
         let mixed = wide(&[(Vec3::ZERO, Vec3::X, 1.0), (Vec3::ZERO, -Vec3::X, 1.0)]);
-        assert!(RayPacket::new(&mixed).is_none());
+        assert!(!shares_walk(&mixed));
     }
 }
