@@ -33,6 +33,12 @@ impl Aov {
     /// Every AOV.
     pub const ALL: [Aov; 5] = [Aov::Normal, Aov::Position, Aov::Depth, Aov::Albedo, Aov::Samples];
 
+    /// Whether the AOV is a mean over the pixel's samples (summed sample by sample in the
+    /// surface stage); `samples` is a property of the pixel, written from its count.
+    pub fn per_sample(self) -> bool {
+        self != Aov::Samples
+    }
+
     /// Name on the command line and in file names.
     pub fn name(self) -> &'static str {
         match self {

@@ -89,20 +89,15 @@ pub fn render(
         pixels: sums.iter().enumerate().map(|(i, &v)| v / count(i)).collect(),
     };
     let image = average(&sums.radiance);
+    let sample_counts = || Image {
+        pixels: (0..image.pixels.len()).map(|i| Vec3::splat(count(i))).collect(),
+        ..image
+    };
     let aovs = plan
         .aovs
         .iter()
         .zip(&sums.aovs)
-        .map(|(&a, s)| match a {
-            Aov::Samples => (
-                a,
-                Image {
-                    pixels: (0..image.pixels.len()).map(|i| Vec3::splat(count(i))).collect(),
-                    ..image
-                },
-            ),
-            _ => (a, average(s)),
-        })
+        .map(|(&a, s)| (a, if a.per_sample() { average(s) } else { sample_counts() }))
         .collect();
     let c = &ctx.counters;
     let stats = RenderStats {

@@ -216,8 +216,7 @@ impl<'a> Context<'a> {
                 sums.surface[s.slot as usize] = s.point.material + 1;
             }
         }
-        // The samples AOV is not a per-sample value: the driver writes it from the counts.
-        for (k, aov) in plan.aovs.iter().enumerate().filter(|(_, &a)| a != Aov::Samples) {
+        for (k, aov) in plan.aovs.iter().enumerate().filter(|(_, a)| a.per_sample()) {
             for SurfaceSample(s) in scratch.iter() {
                 sums.aovs[k][s.slot as usize] += aov_value(*aov, scene, s);
             }
@@ -248,7 +247,7 @@ fn aov_value(aov: Aov, scene: &Scene, s: &Sample) -> Vec3 {
             let m = &scene.materials[s.point.material as usize];
             Vec3::from(m.albedo) * m.kd
         }
-        // Written from the counts by the driver (and skipped by the loop above).
+        // Not per sample: the driver writes it from the counts (the loop above skips it).
         Aov::Samples => Vec3::ZERO,
     }
 }
