@@ -22,7 +22,7 @@ use rayon::prelude::*;
 use pointshade::accel::packet::PACKET;
 use pointshade::accel::{Bvh, BvhPreset, Hit};
 use pointshade::film::PixelRect;
-use pointshade::render::tile::{block_order, BLOCK};
+use pointshade::render::tile::{block_order, pixel_block};
 use pointshade::render::tiles;
 use pointshade::scene::framing::{default_lights, frame_bounds};
 use pointshade::scene::mesh::TriangleMesh;
@@ -232,7 +232,7 @@ fn grid_rays(camera: &Camera, size: u32, grid: u32) -> Vec<Vec<Segment>> {
     let mut groups = Vec::new();
     for tile in tiles(PixelRect::full(size, size)) {
         let pixels: Vec<(u32, u32)> = block_order(tile).collect();
-        for block in pixels.chunk_by(|a, b| (a.0 / BLOCK, a.1 / BLOCK) == (b.0 / BLOCK, b.1 / BLOCK)) {
+        for block in pixels.chunk_by(|a, b| pixel_block(a.0, a.1) == pixel_block(b.0, b.1)) {
             let rays: Vec<Segment> = block
                 .iter()
                 .flat_map(|&(x, y)| (0..grid * grid).map(move |k| ray(x, y, k)))

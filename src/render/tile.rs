@@ -90,12 +90,18 @@ struct Sample {
 /// sample per pixel a whole block, at 16 one pixel.
 pub const BLOCK: u32 = 4;
 
-/// The film's pixel block (the grid of [`BLOCK`]×[`BLOCK`] blocks from pixel (0, 0)) a film
-/// position lies in.
+/// The film's pixel block (the grid of [`BLOCK`]×[`BLOCK`] blocks from pixel (0, 0)) pixel
+/// (x, y) lies in.
+#[inline]
+pub fn pixel_block(x: u32, y: u32) -> (u32, u32) {
+    (x / BLOCK, y / BLOCK)
+}
+
+/// The pixel block a film position lies in.
 #[inline]
 fn block_of(film: Vec2) -> (u32, u32) {
     // Film positions are non-negative: `as` truncates them to their pixel.
-    (film.x as u32 / BLOCK, film.y as u32 / BLOCK)
+    pixel_block(film.x as u32, film.y as u32)
 }
 
 /// The pixels of `rect` block by block (the film's blocks that meet it, row by row; each block's
@@ -254,7 +260,7 @@ fn aov_value(aov: Aov, scene: &Scene, s: &Sample) -> Vec3 {
 
 #[cfg(test)]
 mod tests {
-    use super::{block_order, BLOCK};
+    use super::{block_order, pixel_block};
     use crate::film::PixelRect;
 
     #[test]
@@ -271,8 +277,9 @@ mod tests {
         sorted.sort_by_key(|&(x, y)| (y, x));
         let expected: Vec<(u32, u32)> = (3..14).flat_map(|y| (5..22).map(move |x| (x, y))).collect();
         assert_eq!(sorted, expected);
-        let block = |&(x, y): &(u32, u32)| (x / BLOCK, y / BLOCK);
-        let runs = pixels.chunk_by(|a, b| block(a) == block(b)).count();
+        let runs = pixels
+            .chunk_by(|a, b| pixel_block(a.0, a.1) == pixel_block(b.0, b.1))
+            .count();
         // Blocks meeting the rect: columns 1..=5, rows 0..=3.
         assert_eq!(runs, 5 * 4, "each block's pixels form one run");
     }
