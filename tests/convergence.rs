@@ -22,6 +22,27 @@ fn small_scene(test: &str, width: u32, height: u32) -> (PathBuf, PathBuf) {
     (d, scene)
 }
 
+/// The index of a column of `convergence.csv`.
+fn column(name: &str) -> usize {
+    const HEADER: &str = "renderer,sampler,spp,threshold,mean_spp,seconds_median,seconds_all,rmse,rel_mse,within_1e-3";
+    HEADER.split(',').position(|c| c == name).unwrap()
+}
+
+/// Runs `pointshade convergence` on `scene` against `reference` with `options`, into `out`.
+fn convergence(scene: &Path, reference: &Path, out: &Path, options: &[&str]) -> std::process::Output {
+    Command::new(BIN)
+        .args([
+            "convergence",
+            scene.to_str().unwrap(),
+            "--reference",
+            reference.to_str().unwrap(),
+        ])
+        .args(options)
+        .args(["--out", out.to_str().unwrap()])
+        .output()
+        .unwrap()
+}
+
 /// Renders `scene` with a 16×16 grid into `d/ref.exr`.
 fn reference(d: &Path, scene: &Path) -> PathBuf {
     let reference = d.join("ref.exr");
@@ -40,16 +61,7 @@ fn a_reference_of_another_size_fails_before_anything_is_written() {
     let (_, other) = small_scene("size-ref", 40, 30);
     let reference = reference(other.parent().unwrap(), &other);
     let out = d.join("out");
-    let r = Command::new(BIN)
-        .args([
-            "convergence",
-            scene.to_str().unwrap(),
-            "--reference",
-            reference.to_str().unwrap(),
-        ])
-        .args(["--spp", "1", "--out", out.to_str().unwrap()])
-        .output()
-        .unwrap();
+    let r = convergence(&scene, &reference, &out, &["--spp", "1"]);
     let stderr = String::from_utf8_lossy(&r.stderr);
     assert!(!r.status.success(), "a 40×30 reference for a 48×36 scene must fail");
     assert_eq!(stderr.trim().lines().count(), 1, "one line: {stderr}");
@@ -67,25 +79,8 @@ fn convergence_writes_csv_and_plots_with_falling_error() {
     let (d, scene) = small_scene("sweep", 96, 72);
     let reference = reference(&d, &scene);
     let out = d.join("out");
-    let r = Command::new(BIN)
-        .args([
-            "convergence",
-            scene.to_str().unwrap(),
-            "--reference",
-            reference.to_str().unwrap(),
-        ])
-        .args([
-            "--spp",
-            "1,4,16",
-            "--sampler",
-            "sobol,adaptive,grid",
-            "--repeats",
-            "2",
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
+    let options = ["--spp", "1,4,16", "--sampler", "sobol,adaptive,grid", "--repeats", "2"];
+    let r = convergence(&scene, &reference, &out, &options);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     let csv = std::fs::read_to_string(out.join("convergence.csv")).unwrap();
     let rows: Vec<Vec<&str>> = csv
@@ -99,7 +94,7 @@ fn convergence_writes_csv_and_plots_with_falling_error() {
         let rmse: Vec<f64> = rows
             .iter()
             .filter(|r| r[1] == sampler)
-            .map(|r| r[6].parse().unwrap())
+            .map(|r| r[column("rmse")].parse().unwrap())
             .collect();
         assert!(
             rmse.windows(2).all(|w| w[1] < w[0]),
@@ -107,7 +102,10 @@ fn convergence_writes_csv_and_plots_with_falling_error() {
         );
     }
     for row in &rows {
-        let times: Vec<f64> = row[5].split(' ').map(|t| t.parse().unwrap()).collect();
+        let times: Vec<f64> = row[column("seconds_all")]
+            .split(' ')
+            .map(|t| t.parse().unwrap())
+            .collect();
         assert_eq!(times.len(), 2, "two repeats timed");
     }
     for f in ["convergence.svg", "convergence.png", "reference.png"] {
@@ -119,4 +117,61 @@ fn convergence_writes_csv_and_plots_with_falling_error() {
         "the SVG has the error lines"
     );
     std::fs::remove_dir_all(d).unwrap();
+}
+
+#[test]
+fn several_thresholds_trace_the_adaptive_sampler_at_its_largest_sample_count() {
+    let (d, scene) = small_scene("thresholds", 96, 72);
+    let reference = reference(&d, &scene);
+    let out = d.join("out");
+    let options = ["--spp", "1,4,16", "--sampler", "adaptive", "--repeats", "1"];
+    let r = convergence(
+        &scene,
+        &reference,
+        &out,
+        &[&options[..], &["--adaptive-threshold", "0.2,0.05,0.01"]].concat(),
+    );
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let csv = std::fs::read_to_string(out.join("convergence.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .filter(|l| l.starts_with("pointshade,"))
+        .map(|l| l.split(',').collect())
+        .collect();
+    let value = |row: &Vec<&str>, name: &str| -> f64 { row[column(name)].parse().unwrap() };
+    // One point per threshold, each at the cap of 16 samples (not one per sample count).
+    let thresholds: Vec<f64> = rows.iter().map(|r| value(r, "threshold")).collect();
+    assert_eq!(thresholds, [0.2, 0.05, 0.01], "{csv}");
+    assert!(rows.iter().all(|r| r[column("spp")] == "16"), "{csv}");
+    // A lower threshold takes more samples and leaves less error.
+    let mean_spp: Vec<f64> = rows.iter().map(|r| value(r, "mean_spp")).collect();
+    let rmse: Vec<f64> = rows.iter().map(|r| value(r, "rmse")).collect();
+    assert!(mean_spp.windows(2).all(|w| w[1] > w[0]), "samples: {mean_spp:?}");
+    assert!(rmse.windows(2).all(|w| w[1] < w[0]), "error: {rmse:?}");
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+#[test]
+fn a_threshold_list_with_a_bad_entry_fails_with_one_line_before_anything_is_written() {
+    let (d, scene) = small_scene("bad-threshold", 48, 36);
+    let reference = reference(&d, &scene);
+    let out = d.join("out");
+    for (list, says) in [
+        ("0.01,x", "--adaptive-threshold"),
+        ("0.01,NaN", "adaptive_threshold"),
+        ("0.01,2", "adaptive_threshold"),
+    ] {
+        let r = convergence(
+            &scene,
+            &reference,
+            &out,
+            &["--sampler", "adaptive", "--adaptive-threshold", list],
+        );
+        let stderr = String::from_utf8_lossy(&r.stderr);
+        assert!(!r.status.success(), "{list} must fail");
+        assert_eq!(stderr.trim().lines().count(), 1, "one line: {stderr}");
+        assert!(stderr.contains(says), "{list}: {stderr}");
+        assert!(!out.exists(), "no output folder for a run that failed");
+    }
+    std::fs::remove_dir_all(&d).unwrap();
 }

@@ -24,9 +24,11 @@ pub struct ConvergenceArgs {
     /// pointshade samplers (comma-separated): sobol, adaptive, grid, independent.
     #[arg(long, default_value = "sobol,adaptive")]
     sampler: String,
-    /// Threshold of the adaptive sampler (default: the scene's, 0.01 unless it sets one).
+    /// Thresholds of the adaptive sampler (comma-separated; default: the scene's, 0.01 unless it
+    /// sets one). With several, the adaptive sampler runs each at the largest --spp (its cap)
+    /// instead of running each sample count: its error against time is traced by the threshold.
     #[arg(long)]
-    adaptive_threshold: Option<f32>,
+    adaptive_threshold: Option<String>,
     /// Repeats per point; the median time is kept.
     #[arg(long, default_value_t = 3)]
     repeats: u32,
@@ -46,22 +48,18 @@ pub struct ConvergenceArgs {
 
 /// Runs `pointshade convergence`.
 pub fn run_command(args: ConvergenceArgs) -> Result<(), InputError> {
-    let spp = args
-        .spp
-        .split(',')
-        .map(|s| {
-            s.trim()
-                .parse::<u32>()
-                .ok()
-                .filter(|&n| (1..=crate::film::MAX_SPP).contains(&n))
-        })
-        .collect::<Option<Vec<u32>>>()
-        .ok_or_else(|| {
-            option_error(
-                "--spp",
-                format!("expected sample counts like 1,4,16,64, got '{}'", args.spp),
-            )
-        })?;
+    let spp = comma_list("--spp", &args.spp, "sample counts like 1,4,16,64", |s| {
+        s.parse::<u32>()
+            .ok()
+            .filter(|&n| (1..=crate::film::MAX_SPP).contains(&n))
+    })?;
+    // The range is the film's to check (with the scene named), as for a threshold in the scene.
+    let adaptive_thresholds = match &args.adaptive_threshold {
+        Some(text) => comma_list("--adaptive-threshold", text, "thresholds like 0.02,0.01,0.005", |s| {
+            s.parse::<f32>().ok()
+        })?,
+        None => Vec::new(),
+    };
     let samplers = args
         .sampler
         .split(',')
@@ -90,7 +88,7 @@ pub fn run_command(args: ConvergenceArgs) -> Result<(), InputError> {
         samplers,
         repeats: args.repeats,
         shadow_offset,
-        adaptive_threshold: args.adaptive_threshold,
+        adaptive_thresholds,
         mitsuba,
         out: args.out.clone(),
     };
@@ -112,15 +110,16 @@ pub fn run_command(args: ConvergenceArgs) -> Result<(), InputError> {
         }
     };
     eprintln!(
-        "{:<11} {:<12} {:>5} {:>9} {:>10} {:>12} {:>10}",
-        "renderer", "sampler", "spp", "mean spp", "seconds", "RMSE", "within"
+        "{:<11} {:<12} {:>5} {:>9} {:>9} {:>10} {:>12} {:>10}",
+        "renderer", "sampler", "spp", "threshold", "mean spp", "seconds", "RMSE", "within"
     );
     let points = run(&sweep, &reference, &mut |p| {
         eprintln!(
-            "{:<11} {:<12} {:>5} {:>9.2} {:>10.4} {:>12.4e} {:>9.3}%",
+            "{:<11} {:<12} {:>5} {:>9} {:>9.2} {:>10.4} {:>12.4e} {:>9.3}%",
             p.renderer,
             p.sampler,
             p.spp,
+            p.threshold.map(|t| t.to_string()).unwrap_or_default(),
             p.mean_spp,
             p.seconds,
             p.rmse,
@@ -137,4 +136,18 @@ pub fn run_command(args: ConvergenceArgs) -> Result<(), InputError> {
     }
     eprintln!("wrote {}/convergence.{{csv,svg,png}}", args.out.display());
     Ok(())
+}
+
+/// The comma-separated values of `option` (`text`), each read by `parse`; an error naming the
+/// option and what it expects (`expected`) if any is not one.
+fn comma_list<T>(
+    option: &str,
+    text: &str,
+    expected: &str,
+    parse: impl Fn(&str) -> Option<T>,
+) -> Result<Vec<T>, InputError> {
+    text.split(',')
+        .map(|s| parse(s.trim()))
+        .collect::<Option<Vec<T>>>()
+        .ok_or_else(|| option_error(option, format!("expected {expected}, got '{text}'")))
 }

@@ -33,6 +33,8 @@ pub struct Point {
     pub sampler: String,
     /// Samples per pixel asked for (the most, for the adaptive sampler).
     pub spp: u32,
+    /// The adaptive sampler's threshold (adaptive points only).
+    pub threshold: Option<f32>,
     /// Samples per pixel actually taken, on average.
     pub mean_spp: f64,
     /// Median time over the repeats, in seconds.
@@ -60,8 +62,10 @@ pub struct Sweep {
     pub repeats: u32,
     /// Shadow-ray offset of pointshade's renders (`mitsuba` when comparing with Mitsuba).
     pub shadow_offset: ShadowOffset,
-    /// The adaptive sampler's threshold, if not the scene's.
-    pub adaptive_threshold: Option<f32>,
+    /// The adaptive sampler's thresholds (empty: the scene's). With more than one, the adaptive
+    /// sampler is swept over them at the largest sample count (its cap) instead of over the
+    /// sample counts: the threshold is what trades its error for time; the cap only bounds it.
+    pub adaptive_thresholds: Vec<f32>,
     /// Run Mitsuba's grid and independent samplers too.
     pub mitsuba: Option<MitsubaRunner>,
     /// Folder for the outputs (and Mitsuba's scene files).
@@ -82,22 +86,46 @@ fn median(v: &[f64]) -> f64 {
     s[s.len() / 2]
 }
 
-fn load(sweep: &Sweep, sampler: SamplerKind, spp: u32) -> InputResult<Scene> {
+fn load(sweep: &Sweep, sampler: SamplerKind, spp: u32, threshold: Option<f32>) -> InputResult<Scene> {
     let mut scene = load_sampled(&sweep.scene, sampler, spp)?;
-    if let Some(t) = sweep.adaptive_threshold {
+    if let Some(t) = threshold {
         scene.film.adaptive_threshold = t;
         scene.film.validate().map_err(|e| InputError::new(&sweep.scene, e))?;
     }
     Ok(scene)
 }
 
+impl Sweep {
+    /// pointshade's renders: each sampler at each sample count it takes (the grid: the square
+    /// ones), except the adaptive sampler given several thresholds, which takes each threshold
+    /// at the largest count.
+    fn ours(&self) -> Vec<(SamplerKind, u32, Option<f32>)> {
+        let mut renders = Vec::new();
+        for &sampler in &self.samplers {
+            let counts = self.spp.iter().filter(|&&spp| sampler.check_spp(spp).is_ok());
+            match (sampler, self.adaptive_thresholds.as_slice()) {
+                (SamplerKind::Adaptive, thresholds) if thresholds.len() > 1 => {
+                    let cap = counts.copied().max().unwrap_or(1);
+                    renders.extend(thresholds.iter().map(|&t| (sampler, cap, Some(t))));
+                }
+                (SamplerKind::Adaptive, thresholds) => {
+                    renders.extend(counts.map(|&spp| (sampler, spp, thresholds.first().copied())));
+                }
+                _ => renders.extend(counts.map(|&spp| (sampler, spp, None))),
+            }
+        }
+        renders
+    }
+}
+
 /// Checks what can fail before anything is rendered or written: the scene loads, its film is
-/// valid with every sampler of the sweep (and the threshold), and `reference` has its size.
+/// valid with every sampler of the sweep (and every threshold), and `reference` has its size.
 pub fn check(sweep: &Sweep, reference: Option<&Reference>) -> InputResult<()> {
-    let film = load(sweep, sweep.samplers[0], sweep.spp[0])?.film;
-    for &sampler in &sweep.samplers[1..] {
+    let film = load(sweep, sweep.samplers[0], sweep.spp[0], None)?.film;
+    for (sampler, _, threshold) in sweep.ours() {
         let film = FilmSettings {
             sampler,
+            adaptive_threshold: threshold.unwrap_or(film.adaptive_threshold),
             ..film.clone()
         };
         film.validate().map_err(|e| InputError::new(&sweep.scene, e))?;
@@ -120,24 +148,41 @@ fn size_mismatch(reference: &Reference, width: u32, height: u32) -> InputError {
     )
 }
 
-/// One pointshade render: load + plan + BVH + render, timed; returns the image and mean spp.
-fn render_once(sweep: &Sweep, sampler: SamplerKind, spp: u32) -> InputResult<(Image, f64, Duration)> {
+/// One timed pointshade render.
+struct OurRender {
+    image: Image,
+    /// Samples per pixel taken, on average.
+    mean_spp: f64,
+    /// The threshold the adaptive sampler used (adaptive renders only).
+    threshold: Option<f32>,
+    /// Load + plan + BVH + render.
+    time: Duration,
+}
+
+/// One pointshade render: load + plan + BVH + render, timed (`threshold`: the adaptive
+/// sampler's, if not the scene's).
+fn render_once(sweep: &Sweep, sampler: SamplerKind, spp: u32, threshold: Option<f32>) -> InputResult<OurRender> {
     let start = Instant::now();
-    let scene = load(sweep, sampler, spp)?;
+    let scene = load(sweep, sampler, spp, threshold)?;
     let (rendered, _) = render_ours(&scene, sweep.shadow_offset)?;
-    let elapsed = start.elapsed();
+    let time = start.elapsed();
     let pixels = (rendered.image.width * rendered.image.height) as f64;
-    Ok((rendered.image, rendered.stats.primary_rays as f64 / pixels, elapsed))
+    Ok(OurRender {
+        image: rendered.image,
+        mean_spp: rendered.stats.primary_rays as f64 / pixels,
+        threshold: (sampler == SamplerKind::Adaptive).then_some(scene.film.adaptive_threshold),
+        time,
+    })
 }
 
 /// A pointshade reference when none is given: 32×32 grid samples per pixel.
 pub fn own_reference(sweep: &Sweep) -> InputResult<Reference> {
-    let (image, _, time) = render_once(sweep, SamplerKind::Grid, 1024)?;
+    let ours = render_once(sweep, SamplerKind::Grid, 1024, None)?;
     Ok(Reference {
-        image,
+        image: ours.image,
         description: format!(
             "pointshade 32×32 grid ({:.1} s), no external reference given",
-            time.as_secs_f64()
+            ours.time.as_secs_f64()
         ),
     })
 }
@@ -146,8 +191,7 @@ pub fn own_reference(sweep: &Sweep) -> InputResult<Reference> {
 /// against the reference.
 fn point(
     renderer: &'static str,
-    sampler: &str,
-    spp: u32,
+    (sampler, spp, threshold): (&str, u32, Option<f32>),
     mean_spp: f64,
     image: &Image,
     reference: &Reference,
@@ -160,6 +204,7 @@ fn point(
         renderer,
         sampler: sampler.to_string(),
         spp,
+        threshold,
         mean_spp,
         seconds: 0.0,
         all_seconds: Vec::new(),
@@ -171,7 +216,7 @@ fn point(
 
 /// One configuration of the sweep.
 enum Config<'a> {
-    Ours(SamplerKind, u32),
+    Ours(SamplerKind, u32, Option<f32>),
     Mitsuba(SamplerKind, u32, &'a MitsubaRunner, MitsubaJob, PathBuf),
 }
 
@@ -179,18 +224,25 @@ impl Config<'_> {
     /// Renders once; returns the seconds, and on the first repeat the scored point.
     fn measure(&self, sweep: &Sweep, reference: &Reference, first: bool) -> InputResult<(f64, Option<Point>)> {
         match self {
-            &Config::Ours(sampler, spp) => {
-                let (image, mean_spp, time) = render_once(sweep, sampler, spp)?;
+            &Config::Ours(sampler, spp, threshold) => {
+                let ours = render_once(sweep, sampler, spp, threshold)?;
+                let what = (sampler.name(), spp, ours.threshold);
                 let point = first
-                    .then(|| point("pointshade", sampler.name(), spp, mean_spp, &image, reference))
+                    .then(|| point("pointshade", what, ours.mean_spp, &ours.image, reference))
                     .transpose()?;
-                Ok((time.as_secs_f64(), point))
+                Ok((ours.time.as_secs_f64(), point))
             }
             Config::Mitsuba(sampler, spp, mitsuba, job, out) => {
                 let t = mitsuba.render_job(job, out)?;
                 let point = if first {
                     let image = crate::output::read_linear(out)?;
-                    Some(point("mitsuba", sampler.name(), *spp, *spp as f64, &image, reference)?)
+                    Some(point(
+                        "mitsuba",
+                        (sampler.name(), *spp, None),
+                        *spp as f64,
+                        &image,
+                        reference,
+                    )?)
                 } else {
                     None
                 };
@@ -208,16 +260,13 @@ impl Config<'_> {
 /// renderers one after the other put the same two points at 0.85×, 0.91× and 1.13× of each
 /// other).
 pub fn run(sweep: &Sweep, reference: &Reference, progress: &mut dyn FnMut(&Point)) -> InputResult<Vec<Point>> {
-    let mut configs = Vec::new();
-    for &sampler in &sweep.samplers {
-        // The grid takes square counts only.
-        let counts = sweep.spp.iter().filter(|&&spp| sampler.check_spp(spp).is_ok());
-        configs.extend(counts.map(|&spp| Config::Ours(sampler, spp)));
-    }
+    let mut configs: Vec<Config> = (sweep.ours().into_iter())
+        .map(|(sampler, spp, threshold)| Config::Ours(sampler, spp, threshold))
+        .collect();
     if let Some(mitsuba) = &sweep.mitsuba {
         for sampler in [SamplerKind::Grid, SamplerKind::Independent] {
             for &spp in sweep.spp.iter().filter(|&&spp| sampler.check_spp(spp).is_ok()) {
-                let scene = load(sweep, sampler, spp)?;
+                let scene = load(sweep, sampler, spp, None)?;
                 let exported = export(&scene, spp, BsdfChoice::NativeWhereExact);
                 let stem = sweep.out.join(format!("mitsuba-{}-{spp}", sampler.name()));
                 let job = MitsubaJob::write(&exported.per_light, &stem, (scene.film.width, scene.film.height))?;
@@ -247,7 +296,7 @@ pub fn run(sweep: &Sweep, reference: &Reference, progress: &mut dyn FnMut(&Point
 /// The points as CSV, with the reference described in a leading comment line.
 pub fn csv(points: &[Point], reference: &Reference) -> String {
     let mut s = format!("# reference: {}\n", reference.description);
-    s.push_str("renderer,sampler,spp,mean_spp,seconds_median,seconds_all,rmse,rel_mse,within_1e-3\n");
+    s.push_str("renderer,sampler,spp,threshold,mean_spp,seconds_median,seconds_all,rmse,rel_mse,within_1e-3\n");
     for p in points {
         let all = p
             .all_seconds
@@ -255,9 +304,10 @@ pub fn csv(points: &[Point], reference: &Reference) -> String {
             .map(|t| format!("{t:.4}"))
             .collect::<Vec<_>>()
             .join(" ");
+        let threshold = p.threshold.map(|t| t.to_string()).unwrap_or_default();
         let _ = writeln!(
             s,
-            "{},{},{},{:.3},{:.4},{},{:.6e},{:.6e},{:.6}",
+            "{},{},{},{threshold},{:.3},{:.4},{},{:.6e},{:.6e},{:.6}",
             p.renderer, p.sampler, p.spp, p.mean_spp, p.seconds, all, p.rmse, p.rel_mse, p.within
         );
     }
@@ -287,4 +337,36 @@ pub fn write_outputs(
         (out.join("reference.png"), reference_png),
     ])?;
     Ok(note)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sweep(thresholds: &[f32]) -> Sweep {
+        Sweep {
+            scene: PathBuf::from("scene.toml"),
+            spp: vec![1, 2, 4],
+            samplers: vec![SamplerKind::Grid, SamplerKind::Adaptive],
+            repeats: 1,
+            shadow_offset: ShadowOffset::ErrorBound,
+            adaptive_thresholds: thresholds.to_vec(),
+            mitsuba: None,
+            out: PathBuf::from("out"),
+        }
+    }
+
+    #[test]
+    fn the_adaptive_sampler_is_swept_over_its_thresholds_only_when_given_several() {
+        use SamplerKind::{Adaptive, Grid};
+        // The grid takes the square counts; the adaptive sampler each count, at the scene's
+        // threshold or the one given.
+        let grid = [(Grid, 1, None), (Grid, 4, None)];
+        let by_count = |t| [(Adaptive, 1, t), (Adaptive, 2, t), (Adaptive, 4, t)];
+        assert_eq!(sweep(&[]).ours(), [&grid[..], &by_count(None)].concat());
+        assert_eq!(sweep(&[0.01]).ours(), [&grid[..], &by_count(Some(0.01))].concat());
+        // Several thresholds: each once, at the largest count.
+        let by_threshold = [(Adaptive, 4, Some(0.02)), (Adaptive, 4, Some(0.01))];
+        assert_eq!(sweep(&[0.02, 0.01]).ours(), [&grid[..], &by_threshold].concat());
+    }
 }

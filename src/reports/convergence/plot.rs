@@ -1,5 +1,6 @@
 //! The convergence plot: RMSE against seconds, both axes logarithmic, one line per renderer and
-//! sampler (plotters; SVG and PNG from the same drawing code).
+//! sampler (plotters; SVG and PNG from the same drawing code). The adaptive sampler's line runs
+//! through its sample counts or, when it was swept over several thresholds, through those.
 //!
 //! Text needs a font: the first of a few common system fonts (or `POINTSHADE_FONT`) is
 //! registered with plotters. Without one the plot is drawn without text and a note says so.
@@ -107,18 +108,19 @@ where
     series.sort();
     series.dedup();
     for (renderer, sampler) in series {
-        let mut pts: Vec<(f64, f64)> = finite
+        let members: Vec<&&Point> = finite
             .iter()
             .filter(|p| p.renderer == renderer && p.sampler == sampler)
-            .map(|p| (p.seconds, p.rmse))
             .collect();
+        let mut pts: Vec<(f64, f64)> = members.iter().map(|p| (p.seconds, p.rmse)).collect();
+        let label = label(renderer, sampler, members.iter().filter_map(|p| p.threshold));
         pts.sort_by(|a, b| a.0.total_cmp(&b.0));
         let c = colour(renderer, sampler);
         let line = chart
             .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
             .map_err(err)?;
         if text {
-            line.label(format!("{renderer} {sampler}"))
+            line.label(label)
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(2)));
         }
         chart
@@ -136,6 +138,22 @@ where
             .map_err(err)?;
     }
     root.present().map_err(err)
+}
+
+/// A series' legend: renderer and sampler, and the range of thresholds when the adaptive
+/// sampler's points were traced by several.
+fn label(renderer: &str, sampler: &str, thresholds: impl Iterator<Item = f32>) -> String {
+    let thresholds: Vec<f32> = thresholds.collect();
+    let (lo, hi) = thresholds
+        .iter()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &t| {
+            (lo.min(t), hi.max(t))
+        });
+    if lo < hi {
+        format!("{renderer} {sampler}, thresholds {hi}…{lo}")
+    } else {
+        format!("{renderer} {sampler}")
+    }
 }
 
 /// The plot as SVG text.
@@ -174,4 +192,21 @@ pub fn png(title: &str, subtitle: &str, points: &[Point]) -> Result<(Vec<u8>, Op
         )
     });
     Ok((bytes.into_inner(), note))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::label;
+
+    #[test]
+    fn the_legend_names_the_thresholds_only_when_they_trace_the_line() {
+        assert_eq!(label("pointshade", "sobol", [].into_iter()), "pointshade sobol");
+        let one = [0.005f32; 3].into_iter();
+        assert_eq!(label("pointshade", "adaptive", one), "pointshade adaptive");
+        let several = [0.02f32, 0.005, 0.01].into_iter();
+        assert_eq!(
+            label("pointshade", "adaptive", several),
+            "pointshade adaptive, thresholds 0.02…0.005"
+        );
+    }
 }
