@@ -43,6 +43,19 @@ fn convergence(scene: &Path, reference: &Path, out: &Path, options: &[&str]) -> 
         .unwrap()
 }
 
+/// Runs a sweep that must succeed; returns the CSV and its pointshade rows, split into fields.
+fn pointshade_rows(scene: &Path, reference: &Path, out: &Path, options: &[&str]) -> (String, Vec<Vec<String>>) {
+    let r = convergence(scene, reference, out, options);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let csv = std::fs::read_to_string(out.join("convergence.csv")).unwrap();
+    let rows = csv
+        .lines()
+        .filter(|l| l.starts_with("pointshade,"))
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect();
+    (csv, rows)
+}
+
 /// Renders `scene` with a 16×16 grid into `d/ref.exr`.
 fn reference(d: &Path, scene: &Path) -> PathBuf {
     let reference = d.join("ref.exr");
@@ -80,14 +93,7 @@ fn convergence_writes_csv_and_plots_with_falling_error() {
     let reference = reference(&d, &scene);
     let out = d.join("out");
     let options = ["--spp", "1,4,16", "--sampler", "sobol,adaptive,grid", "--repeats", "2"];
-    let r = convergence(&scene, &reference, &out, &options);
-    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
-    let csv = std::fs::read_to_string(out.join("convergence.csv")).unwrap();
-    let rows: Vec<Vec<&str>> = csv
-        .lines()
-        .filter(|l| l.starts_with("pointshade,"))
-        .map(|l| l.split(',').collect())
-        .collect();
+    let (csv, rows) = pointshade_rows(&scene, &reference, &out, &options);
     // sobol and adaptive at 1, 4, 16; grid at the squares 1, 4, 16.
     assert_eq!(rows.len(), 9, "{csv}");
     for sampler in ["sobol", "grid"] {
@@ -125,20 +131,9 @@ fn several_thresholds_trace_the_adaptive_sampler_at_its_largest_sample_count() {
     let reference = reference(&d, &scene);
     let out = d.join("out");
     let options = ["--spp", "1,4,16", "--sampler", "adaptive", "--repeats", "1"];
-    let r = convergence(
-        &scene,
-        &reference,
-        &out,
-        &[&options[..], &["--adaptive-threshold", "0.2,0.05,0.01"]].concat(),
-    );
-    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
-    let csv = std::fs::read_to_string(out.join("convergence.csv")).unwrap();
-    let rows: Vec<Vec<&str>> = csv
-        .lines()
-        .filter(|l| l.starts_with("pointshade,"))
-        .map(|l| l.split(',').collect())
-        .collect();
-    let value = |row: &Vec<&str>, name: &str| -> f64 { row[column(name)].parse().unwrap() };
+    let options = [&options[..], &["--adaptive-threshold", "0.2,0.05,0.01"]].concat();
+    let (csv, rows) = pointshade_rows(&scene, &reference, &out, &options);
+    let value = |row: &Vec<String>, name: &str| -> f64 { row[column(name)].parse().unwrap() };
     // One point per threshold, each at the cap of 16 samples (not one per sample count).
     let thresholds: Vec<f64> = rows.iter().map(|r| value(r, "threshold")).collect();
     assert_eq!(thresholds, [0.2, 0.05, 0.01], "{csv}");
