@@ -96,22 +96,30 @@ fn load(sweep: &Sweep, sampler: SamplerKind, spp: u32, threshold: Option<f32>) -
 }
 
 impl Sweep {
+    /// The sample counts `sampler` takes (the grid: the square ones).
+    fn counts(&self, sampler: SamplerKind) -> impl Iterator<Item = u32> + '_ {
+        self.spp
+            .iter()
+            .copied()
+            .filter(move |&spp| sampler.check_spp(spp).is_ok())
+    }
+
     /// pointshade's renders: each sampler at each sample count it takes (the grid: the square
     /// ones), except the adaptive sampler given several thresholds, which takes each threshold
     /// at the largest count.
     fn ours(&self) -> Vec<(SamplerKind, u32, Option<f32>)> {
         let mut renders = Vec::new();
         for &sampler in &self.samplers {
-            let counts = self.spp.iter().filter(|&&spp| sampler.check_spp(spp).is_ok());
+            let counts = self.counts(sampler);
             match (sampler, self.adaptive_thresholds.as_slice()) {
                 (SamplerKind::Adaptive, thresholds) if thresholds.len() > 1 => {
-                    let cap = counts.copied().max().unwrap_or(1);
+                    let cap = counts.max().unwrap_or(1);
                     renders.extend(thresholds.iter().map(|&t| (sampler, cap, Some(t))));
                 }
                 (SamplerKind::Adaptive, thresholds) => {
-                    renders.extend(counts.map(|&spp| (sampler, spp, thresholds.first().copied())));
+                    renders.extend(counts.map(|spp| (sampler, spp, thresholds.first().copied())));
                 }
-                _ => renders.extend(counts.map(|&spp| (sampler, spp, None))),
+                _ => renders.extend(counts.map(|spp| (sampler, spp, None))),
             }
         }
         renders
@@ -260,12 +268,14 @@ impl Config<'_> {
 /// renderers one after the other put the same two points at 0.85×, 0.91× and 1.13× of each
 /// other).
 pub fn run(sweep: &Sweep, reference: &Reference, progress: &mut dyn FnMut(&Point)) -> InputResult<Vec<Point>> {
-    let mut configs: Vec<Config> = (sweep.ours().into_iter())
+    let mut configs: Vec<Config> = sweep
+        .ours()
+        .into_iter()
         .map(|(sampler, spp, threshold)| Config::Ours(sampler, spp, threshold))
         .collect();
     if let Some(mitsuba) = &sweep.mitsuba {
         for sampler in [SamplerKind::Grid, SamplerKind::Independent] {
-            for &spp in sweep.spp.iter().filter(|&&spp| sampler.check_spp(spp).is_ok()) {
+            for spp in sweep.counts(sampler) {
                 let scene = load(sweep, sampler, spp, None)?;
                 let exported = export(&scene, spp, BsdfChoice::NativeWhereExact);
                 let stem = sweep.out.join(format!("mitsuba-{}-{spp}", sampler.name()));
