@@ -170,3 +170,24 @@ fn a_threshold_list_with_a_bad_entry_fails_with_one_line_before_anything_is_writ
     }
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+#[test]
+fn the_grid_takes_the_square_counts_and_fails_with_none() {
+    let (d, scene) = small_scene("grid-counts", 48, 36);
+    let reference = reference(&d, &scene);
+    let out = d.join("out");
+    // 2 is not square: the grid runs at 4 only, the other sampler at both.
+    let options = ["--spp", "2,4", "--sampler", "sobol,grid", "--repeats", "1"];
+    let (csv, rows) = pointshade_rows(&scene, &reference, &out, &options);
+    let runs: Vec<(&str, &str)> = rows.iter().map(|r| (r[1].as_str(), r[2].as_str())).collect();
+    assert_eq!(runs, [("sobol", "2"), ("sobol", "4"), ("grid", "4")], "{csv}");
+    std::fs::remove_dir_all(&out).unwrap();
+    // No square count at all: one line, nothing written.
+    let r = convergence(&scene, &reference, &out, &["--spp", "2,3", "--sampler", "sobol,grid"]);
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert!(!r.status.success(), "a grid with no square count must fail");
+    assert_eq!(stderr.trim().lines().count(), 1, "one line: {stderr}");
+    assert!(stderr.contains("--spp") && stderr.contains("grid"), "{stderr}");
+    assert!(!out.exists(), "no output folder for a run that failed");
+    std::fs::remove_dir_all(&d).unwrap();
+}

@@ -126,13 +126,26 @@ impl Sweep {
     }
 }
 
-/// Checks what can fail before anything is rendered or written: the scene loads, its film is
-/// valid with every sampler of the sweep (and every threshold), and `reference` has its size.
+/// Checks what can fail before anything is rendered or written: every sampler takes some of
+/// the sample counts, the scene loads, its film is valid for every render of the sweep (sampler,
+/// count and threshold), and `reference` has its size.
 pub fn check(sweep: &Sweep, reference: Option<&Reference>) -> InputResult<()> {
-    let film = load(sweep, sweep.samplers[0], sweep.spp[0], None)?.film;
-    for (sampler, _, threshold) in sweep.ours() {
+    for &sampler in &sweep.samplers {
+        if sweep.counts(sampler).next().is_none() {
+            let why = sampler.check_spp(sweep.spp[0]).unwrap_err();
+            return Err(InputError::new(
+                "--spp",
+                format!("no count for the {} sampler: {why}", sampler.name()),
+            ));
+        }
+    }
+    let renders = sweep.ours();
+    let (sampler, spp, _) = renders[0];
+    let film = load(sweep, sampler, spp, None)?.film;
+    for (sampler, spp, threshold) in renders {
         let film = FilmSettings {
             sampler,
+            spp,
             adaptive_threshold: threshold.unwrap_or(film.adaptive_threshold),
             ..film.clone()
         };
