@@ -22,12 +22,6 @@ fn small_scene(test: &str, width: u32, height: u32) -> (PathBuf, PathBuf) {
     (d, scene)
 }
 
-/// The index of a column of `convergence.csv`.
-fn column(name: &str) -> usize {
-    const HEADER: &str = "renderer,sampler,spp,threshold,mean_spp,seconds_median,seconds_all,rmse,rel_mse,within_1e-3";
-    HEADER.split(',').position(|c| c == name).unwrap()
-}
-
 /// Runs `pointshade convergence` on `scene` against `reference` with `options`, into `out`.
 fn convergence(scene: &Path, reference: &Path, out: &Path, options: &[&str]) -> std::process::Output {
     Command::new(BIN)
@@ -43,17 +37,57 @@ fn convergence(scene: &Path, reference: &Path, out: &Path, options: &[&str]) -> 
         .unwrap()
 }
 
-/// Runs a sweep that must succeed; returns the CSV and its pointshade rows, split into fields.
-fn pointshade_rows(scene: &Path, reference: &Path, out: &Path, options: &[&str]) -> (String, Vec<Vec<String>>) {
+/// The pointshade rows of a `convergence.csv`, read by the column names of its header.
+struct Table {
+    csv: String,
+    header: Vec<String>,
+    rows: Vec<Vec<String>>,
+}
+
+impl Table {
+    /// The field `name` of each row of `sampler`'s (every row: `None`).
+    fn column(&self, sampler: Option<&str>, name: &str) -> Vec<&str> {
+        let at = |name: &str| {
+            self.header
+                .iter()
+                .position(|c| c == name)
+                .unwrap_or_else(|| panic!("no column {name}"))
+        };
+        let (s, k) = (at("sampler"), at(name));
+        let rows = self.rows.iter().filter(|r| sampler.is_none_or(|want| r[s] == want));
+        rows.map(|r| r[k].as_str()).collect()
+    }
+
+    /// The same, as numbers.
+    fn numbers(&self, sampler: Option<&str>, name: &str) -> Vec<f64> {
+        self.column(sampler, name).iter().map(|v| v.parse().unwrap()).collect()
+    }
+}
+
+/// Runs a sweep that must succeed; returns its CSV's pointshade rows.
+fn pointshade_rows(scene: &Path, reference: &Path, out: &Path, options: &[&str]) -> Table {
     let r = convergence(scene, reference, out, options);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     let csv = std::fs::read_to_string(out.join("convergence.csv")).unwrap();
+    let split = |l: &str| l.split(',').map(str::to_string).collect::<Vec<_>>();
+    let header = split(csv.lines().find(|l| l.starts_with("renderer,")).unwrap());
     let rows = csv
         .lines()
         .filter(|l| l.starts_with("pointshade,"))
-        .map(|l| l.split(',').map(str::to_string).collect())
+        .map(split)
         .collect();
-    (csv, rows)
+    Table { csv, header, rows }
+}
+
+/// Runs a sweep that must fail (`why`) before writing anything: a non-zero exit, one line on
+/// stderr naming each of `says`, and no `out` folder.
+fn fails_before_writing(scene: &Path, reference: &Path, out: &Path, options: &[&str], why: &str, says: &[&str]) {
+    let r = convergence(scene, reference, out, options);
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert!(!r.status.success(), "{why} must fail");
+    assert_eq!(stderr.trim().lines().count(), 1, "one line: {stderr}");
+    assert!(says.iter().all(|s| stderr.contains(s)), "{why}: {stderr}");
+    assert!(!out.exists(), "no output folder for a run that failed");
 }
 
 /// Renders `scene` with a 16×16 grid into `d/ref.exr`.
@@ -74,15 +108,15 @@ fn a_reference_of_another_size_fails_before_anything_is_written() {
     let (_, other) = small_scene("size-ref", 40, 30);
     let reference = reference(other.parent().unwrap(), &other);
     let out = d.join("out");
-    let r = convergence(&scene, &reference, &out, &["--spp", "1"]);
-    let stderr = String::from_utf8_lossy(&r.stderr);
-    assert!(!r.status.success(), "a 40×30 reference for a 48×36 scene must fail");
-    assert_eq!(stderr.trim().lines().count(), 1, "one line: {stderr}");
-    assert!(
-        stderr.contains("--reference") && stderr.contains("40×30") && stderr.contains("48×36"),
-        "{stderr}"
+    let why = "a 40×30 reference for a 48×36 scene";
+    fails_before_writing(
+        &scene,
+        &reference,
+        &out,
+        &["--spp", "1"],
+        why,
+        &["--reference", "40×30", "48×36"],
     );
-    assert!(!out.exists(), "no output folder for a run that failed");
     std::fs::remove_dir_all(d).unwrap();
     std::fs::remove_dir_all(other.parent().unwrap()).unwrap();
 }
@@ -93,25 +127,18 @@ fn convergence_writes_csv_and_plots_with_falling_error() {
     let reference = reference(&d, &scene);
     let out = d.join("out");
     let options = ["--spp", "1,4,16", "--sampler", "sobol,adaptive,grid", "--repeats", "2"];
-    let (csv, rows) = pointshade_rows(&scene, &reference, &out, &options);
+    let table = pointshade_rows(&scene, &reference, &out, &options);
     // sobol and adaptive at 1, 4, 16; grid at the squares 1, 4, 16.
-    assert_eq!(rows.len(), 9, "{csv}");
+    assert_eq!(table.rows.len(), 9, "{}", table.csv);
     for sampler in ["sobol", "grid"] {
-        let rmse: Vec<f64> = rows
-            .iter()
-            .filter(|r| r[1] == sampler)
-            .map(|r| r[column("rmse")].parse().unwrap())
-            .collect();
+        let rmse = table.numbers(Some(sampler), "rmse");
         assert!(
             rmse.windows(2).all(|w| w[1] < w[0]),
             "{sampler}: error must fall with samples: {rmse:?}"
         );
     }
-    for row in &rows {
-        let times: Vec<f64> = row[column("seconds_all")]
-            .split(' ')
-            .map(|t| t.parse().unwrap())
-            .collect();
+    for times in table.column(None, "seconds_all") {
+        let times: Vec<f64> = times.split(' ').map(|t| t.parse().unwrap()).collect();
         assert_eq!(times.len(), 2, "two repeats timed");
     }
     for f in ["convergence.svg", "convergence.png", "reference.png"] {
@@ -132,15 +159,17 @@ fn several_thresholds_trace_the_adaptive_sampler_at_its_largest_sample_count() {
     let out = d.join("out");
     let options = ["--spp", "1,4,16", "--sampler", "adaptive", "--repeats", "1"];
     let options = [&options[..], &["--adaptive-threshold", "0.2,0.05,0.01"]].concat();
-    let (csv, rows) = pointshade_rows(&scene, &reference, &out, &options);
-    let value = |row: &Vec<String>, name: &str| -> f64 { row[column(name)].parse().unwrap() };
+    let table = pointshade_rows(&scene, &reference, &out, &options);
     // One point per threshold, each at the cap of 16 samples (not one per sample count).
-    let thresholds: Vec<f64> = rows.iter().map(|r| value(r, "threshold")).collect();
-    assert_eq!(thresholds, [0.2, 0.05, 0.01], "{csv}");
-    assert!(rows.iter().all(|r| r[column("spp")] == "16"), "{csv}");
+    assert_eq!(table.numbers(None, "threshold"), [0.2, 0.05, 0.01], "{}", table.csv);
+    assert!(
+        table.column(None, "spp").iter().all(|&spp| spp == "16"),
+        "{}",
+        table.csv
+    );
     // A lower threshold takes more samples and leaves less error.
-    let mean_spp: Vec<f64> = rows.iter().map(|r| value(r, "mean_spp")).collect();
-    let rmse: Vec<f64> = rows.iter().map(|r| value(r, "rmse")).collect();
+    let mean_spp = table.numbers(None, "mean_spp");
+    let rmse = table.numbers(None, "rmse");
     assert!(mean_spp.windows(2).all(|w| w[1] > w[0]), "samples: {mean_spp:?}");
     assert!(rmse.windows(2).all(|w| w[1] < w[0]), "error: {rmse:?}");
     std::fs::remove_dir_all(&d).unwrap();
@@ -156,17 +185,8 @@ fn a_threshold_list_with_a_bad_entry_fails_with_one_line_before_anything_is_writ
         ("0.01,NaN", "adaptive_threshold"),
         ("0.01,2", "adaptive_threshold"),
     ] {
-        let r = convergence(
-            &scene,
-            &reference,
-            &out,
-            &["--sampler", "adaptive", "--adaptive-threshold", list],
-        );
-        let stderr = String::from_utf8_lossy(&r.stderr);
-        assert!(!r.status.success(), "{list} must fail");
-        assert_eq!(stderr.trim().lines().count(), 1, "one line: {stderr}");
-        assert!(stderr.contains(says), "{list}: {stderr}");
-        assert!(!out.exists(), "no output folder for a run that failed");
+        let options = ["--sampler", "adaptive", "--adaptive-threshold", list];
+        fails_before_writing(&scene, &reference, &out, &options, list, &[says]);
     }
     std::fs::remove_dir_all(&d).unwrap();
 }
@@ -178,16 +198,23 @@ fn the_grid_takes_the_square_counts_and_fails_with_none() {
     let out = d.join("out");
     // 2 is not square: the grid runs at 4 only, the other sampler at both.
     let options = ["--spp", "2,4", "--sampler", "sobol,grid", "--repeats", "1"];
-    let (csv, rows) = pointshade_rows(&scene, &reference, &out, &options);
-    let runs: Vec<(&str, &str)> = rows.iter().map(|r| (r[1].as_str(), r[2].as_str())).collect();
-    assert_eq!(runs, [("sobol", "2"), ("sobol", "4"), ("grid", "4")], "{csv}");
+    let table = pointshade_rows(&scene, &reference, &out, &options);
+    let runs: Vec<(&str, &str)> = table
+        .column(None, "sampler")
+        .into_iter()
+        .zip(table.column(None, "spp"))
+        .collect();
+    assert_eq!(runs, [("sobol", "2"), ("sobol", "4"), ("grid", "4")], "{}", table.csv);
     std::fs::remove_dir_all(&out).unwrap();
     // No square count at all: one line, nothing written.
-    let r = convergence(&scene, &reference, &out, &["--spp", "2,3", "--sampler", "sobol,grid"]);
-    let stderr = String::from_utf8_lossy(&r.stderr);
-    assert!(!r.status.success(), "a grid with no square count must fail");
-    assert_eq!(stderr.trim().lines().count(), 1, "one line: {stderr}");
-    assert!(stderr.contains("--spp") && stderr.contains("grid"), "{stderr}");
-    assert!(!out.exists(), "no output folder for a run that failed");
+    let options = ["--spp", "2,3", "--sampler", "sobol,grid"];
+    fails_before_writing(
+        &scene,
+        &reference,
+        &out,
+        &options,
+        "a grid with no square count",
+        &["--spp", "grid"],
+    );
     std::fs::remove_dir_all(&d).unwrap();
 }
