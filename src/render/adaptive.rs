@@ -36,7 +36,7 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 use super::tile::{block_order, Context, PixelSums, SampleJob};
-use super::{assemble, tiles};
+use super::{assemble, par_tiles, tiles};
 use crate::film::{sampler::pixel_offsets, FilmSettings, PixelRect, SamplerKind};
 
 /// Samples of an active pixel's first refinement round (a 4×4-stratified Sobol net); each later
@@ -83,8 +83,7 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
     let naovs = ctx.plan.aovs.len();
     let done = AtomicU64::new(0);
     let region_tiles = tiles(region);
-    let parts: Vec<(PixelSums, Vec<u32>)> = region_tiles
-        .par_iter()
+    let parts: Vec<(PixelSums, Vec<u32>)> = par_tiles(&region_tiles)
         .map(|t| {
             let n = (t.width() * t.height()) as usize;
             let mut sums = PixelSums::new(n, naovs);
@@ -136,8 +135,7 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
 fn centre_pass(ctx: &Context, rect: PixelRect) -> PixelSums {
     let naovs = ctx.plan.aovs.len();
     let rect_tiles = tiles(rect);
-    let parts: Vec<PixelSums> = rect_tiles
-        .par_iter()
+    let parts: Vec<PixelSums> = par_tiles(&rect_tiles)
         .map(|t| {
             let mut sums = PixelSums::new((t.width() * t.height()) as usize, naovs);
             let jobs: Vec<SampleJob> = block_order(*t)
