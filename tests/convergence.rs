@@ -22,19 +22,71 @@ fn small_scene(test: &str, width: u32, height: u32) -> (PathBuf, PathBuf) {
     (d, scene)
 }
 
-/// Runs `pointshade convergence` on `scene` against `reference` with `options`, into `out`.
-fn convergence(scene: &Path, reference: &Path, out: &Path, options: &[&str]) -> std::process::Output {
-    Command::new(BIN)
-        .args([
-            "convergence",
-            scene.to_str().unwrap(),
-            "--reference",
-            reference.to_str().unwrap(),
-        ])
-        .args(options)
-        .args(["--out", out.to_str().unwrap()])
-        .output()
-        .unwrap()
+/// One test's sweep: its folder, the small scene in it, a reference and the output folder.
+/// Dropping it removes the folder.
+struct Sweep {
+    dir: PathBuf,
+    scene: PathBuf,
+    reference: PathBuf,
+    out: PathBuf,
+}
+
+impl Sweep {
+    /// A fresh folder for `test` with the Lambert scene at `width`×`height` and its reference.
+    fn new(test: &str, width: u32, height: u32) -> Self {
+        let (dir, scene) = small_scene(test, width, height);
+        let reference = reference(&dir, &scene);
+        Self {
+            out: dir.join("out"),
+            dir,
+            scene,
+            reference,
+        }
+    }
+
+    /// Runs `pointshade convergence` with `options`.
+    fn run(&self, options: &[&str]) -> std::process::Output {
+        Command::new(BIN)
+            .args(["convergence", self.scene.to_str().unwrap(), "--reference"])
+            .arg(&self.reference)
+            .args(options)
+            .arg("--out")
+            .arg(&self.out)
+            .output()
+            .unwrap()
+    }
+
+    /// Runs a sweep that must succeed; returns its CSV's pointshade rows.
+    fn rows(&self, options: &[&str]) -> Table {
+        let r = self.run(options);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        let csv = std::fs::read_to_string(self.out.join("convergence.csv")).unwrap();
+        let split = |l: &str| l.split(',').map(str::to_string).collect::<Vec<_>>();
+        let header = split(csv.lines().find(|l| l.starts_with("renderer,")).unwrap());
+        let rows = csv
+            .lines()
+            .filter(|l| l.starts_with("pointshade,"))
+            .map(split)
+            .collect();
+        Table { csv, header, rows }
+    }
+
+    /// Runs a sweep that must fail (`why`) before writing anything: a non-zero exit, one line
+    /// on stderr naming each of `says`, and no output folder.
+    fn fails_before_writing(&self, options: &[&str], why: &str, says: &[&str]) {
+        let r = self.run(options);
+        let stderr = String::from_utf8_lossy(&r.stderr);
+        assert!(!r.status.success(), "{why} must fail");
+        assert_eq!(stderr.trim().lines().count(), 1, "one line: {stderr}");
+        assert!(says.iter().all(|s| stderr.contains(s)), "{why}: {stderr}");
+        assert!(!self.out.exists(), "no output folder for a run that failed");
+    }
+}
+
+impl Drop for Sweep {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
 }
 
 /// The pointshade rows of a `convergence.csv`, read by the column names of its header.
@@ -64,32 +116,6 @@ impl Table {
     }
 }
 
-/// Runs a sweep that must succeed; returns its CSV's pointshade rows.
-fn pointshade_rows(scene: &Path, reference: &Path, out: &Path, options: &[&str]) -> Table {
-    let r = convergence(scene, reference, out, options);
-    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
-    let csv = std::fs::read_to_string(out.join("convergence.csv")).unwrap();
-    let split = |l: &str| l.split(',').map(str::to_string).collect::<Vec<_>>();
-    let header = split(csv.lines().find(|l| l.starts_with("renderer,")).unwrap());
-    let rows = csv
-        .lines()
-        .filter(|l| l.starts_with("pointshade,"))
-        .map(split)
-        .collect();
-    Table { csv, header, rows }
-}
-
-/// Runs a sweep that must fail (`why`) before writing anything: a non-zero exit, one line on
-/// stderr naming each of `says`, and no `out` folder.
-fn fails_before_writing(scene: &Path, reference: &Path, out: &Path, options: &[&str], why: &str, says: &[&str]) {
-    let r = convergence(scene, reference, out, options);
-    let stderr = String::from_utf8_lossy(&r.stderr);
-    assert!(!r.status.success(), "{why} must fail");
-    assert_eq!(stderr.trim().lines().count(), 1, "one line: {stderr}");
-    assert!(says.iter().all(|s| stderr.contains(s)), "{why}: {stderr}");
-    assert!(!out.exists(), "no output folder for a run that failed");
-}
-
 /// Renders `scene` with a 16×16 grid into `d/ref.exr`.
 fn reference(d: &Path, scene: &Path) -> PathBuf {
     let reference = d.join("ref.exr");
@@ -104,30 +130,18 @@ fn reference(d: &Path, scene: &Path) -> PathBuf {
 
 #[test]
 fn a_reference_of_another_size_fails_before_anything_is_written() {
-    let (d, scene) = small_scene("size", 48, 36);
-    let (_, other) = small_scene("size-ref", 40, 30);
-    let reference = reference(other.parent().unwrap(), &other);
-    let out = d.join("out");
+    let mut sweep = Sweep::new("size", 48, 36);
+    let other = Sweep::new("size-ref", 40, 30);
+    sweep.reference = other.reference.clone();
     let why = "a 40×30 reference for a 48×36 scene";
-    fails_before_writing(
-        &scene,
-        &reference,
-        &out,
-        &["--spp", "1"],
-        why,
-        &["--reference", "40×30", "48×36"],
-    );
-    std::fs::remove_dir_all(d).unwrap();
-    std::fs::remove_dir_all(other.parent().unwrap()).unwrap();
+    sweep.fails_before_writing(&["--spp", "1"], why, &["--reference", "40×30", "48×36"]);
 }
 
 #[test]
 fn convergence_writes_csv_and_plots_with_falling_error() {
-    let (d, scene) = small_scene("sweep", 96, 72);
-    let reference = reference(&d, &scene);
-    let out = d.join("out");
+    let sweep = Sweep::new("sweep", 96, 72);
     let options = ["--spp", "1,4,16", "--sampler", "sobol,adaptive,grid", "--repeats", "2"];
-    let table = pointshade_rows(&scene, &reference, &out, &options);
+    let table = sweep.rows(&options);
     // sobol and adaptive at 1, 4, 16; grid at the squares 1, 4, 16.
     assert_eq!(table.rows.len(), 9, "{}", table.csv);
     for sampler in ["sobol", "grid"] {
@@ -142,24 +156,21 @@ fn convergence_writes_csv_and_plots_with_falling_error() {
         assert_eq!(times.len(), 2, "two repeats timed");
     }
     for f in ["convergence.svg", "convergence.png", "reference.png"] {
-        assert!(std::fs::metadata(out.join(f)).unwrap().len() > 1000, "{f}");
+        assert!(std::fs::metadata(sweep.out.join(f)).unwrap().len() > 1000, "{f}");
     }
-    let svg = std::fs::read_to_string(out.join("convergence.svg")).unwrap();
+    let svg = std::fs::read_to_string(sweep.out.join("convergence.svg")).unwrap();
     assert!(
         svg.contains("<svg") && svg.contains("polyline"),
         "the SVG has the error lines"
     );
-    std::fs::remove_dir_all(d).unwrap();
 }
 
 #[test]
 fn several_thresholds_trace_the_adaptive_sampler_at_its_largest_sample_count() {
-    let (d, scene) = small_scene("thresholds", 96, 72);
-    let reference = reference(&d, &scene);
-    let out = d.join("out");
+    let sweep = Sweep::new("thresholds", 96, 72);
     let options = ["--spp", "1,4,16", "--sampler", "adaptive", "--repeats", "1"];
     let options = [&options[..], &["--adaptive-threshold", "0.2,0.05,0.01"]].concat();
-    let table = pointshade_rows(&scene, &reference, &out, &options);
+    let table = sweep.rows(&options);
     // One point per threshold, each at the cap of 16 samples (not one per sample count).
     assert_eq!(table.numbers(None, "threshold"), [0.2, 0.05, 0.01], "{}", table.csv);
     assert!(
@@ -172,49 +183,34 @@ fn several_thresholds_trace_the_adaptive_sampler_at_its_largest_sample_count() {
     let rmse = table.numbers(None, "rmse");
     assert!(mean_spp.windows(2).all(|w| w[1] > w[0]), "samples: {mean_spp:?}");
     assert!(rmse.windows(2).all(|w| w[1] < w[0]), "error: {rmse:?}");
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 #[test]
 fn a_threshold_list_with_a_bad_entry_fails_with_one_line_before_anything_is_written() {
-    let (d, scene) = small_scene("bad-threshold", 48, 36);
-    let reference = reference(&d, &scene);
-    let out = d.join("out");
+    let sweep = Sweep::new("bad-threshold", 48, 36);
     for (list, says) in [
         ("0.01,x", "--adaptive-threshold"),
         ("0.01,NaN", "adaptive_threshold"),
         ("0.01,2", "adaptive_threshold"),
     ] {
         let options = ["--sampler", "adaptive", "--adaptive-threshold", list];
-        fails_before_writing(&scene, &reference, &out, &options, list, &[says]);
+        sweep.fails_before_writing(&options, list, &[says]);
     }
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 #[test]
 fn the_grid_takes_the_square_counts_and_fails_with_none() {
-    let (d, scene) = small_scene("grid-counts", 48, 36);
-    let reference = reference(&d, &scene);
-    let out = d.join("out");
+    let sweep = Sweep::new("grid-counts", 48, 36);
     // 2 is not square: the grid runs at 4 only, the other sampler at both.
-    let options = ["--spp", "2,4", "--sampler", "sobol,grid", "--repeats", "1"];
-    let table = pointshade_rows(&scene, &reference, &out, &options);
+    let table = sweep.rows(&["--spp", "2,4", "--sampler", "sobol,grid", "--repeats", "1"]);
     let runs: Vec<(&str, &str)> = table
         .column(None, "sampler")
         .into_iter()
         .zip(table.column(None, "spp"))
         .collect();
     assert_eq!(runs, [("sobol", "2"), ("sobol", "4"), ("grid", "4")], "{}", table.csv);
-    std::fs::remove_dir_all(&out).unwrap();
+    std::fs::remove_dir_all(&sweep.out).unwrap();
     // No square count at all: one line, nothing written.
     let options = ["--spp", "2,3", "--sampler", "sobol,grid"];
-    fails_before_writing(
-        &scene,
-        &reference,
-        &out,
-        &options,
-        "a grid with no square count",
-        &["--spp", "grid"],
-    );
-    std::fs::remove_dir_all(&d).unwrap();
+    sweep.fails_before_writing(&options, "a grid with no square count", &["--spp", "grid"]);
 }
