@@ -25,10 +25,11 @@ pub struct RenderArgs {
     #[arg(long)]
     spp: Option<u32>,
     /// Sampler: grid (spp = N², sub-pixel centres), sobol (default), independent, adaptive
-    /// (Sobol samples where a pixel needs them, spp at most).
+    /// (sub-pixel cells subdivided where a pixel needs them, spp at most).
     #[arg(long)]
     sampler: Option<String>,
-    /// Adaptive sampler: relative change below which a pixel stops taking samples (default 0.01).
+    /// Adaptive sampler: relative tolerance of a pixel's refinement (default 0.01; smaller takes
+    /// more samples).
     #[arg(long)]
     adaptive_threshold: Option<f32>,
     /// Render only pixels [x0, x1) × [y0, y1) of the frame, into an EXR crop that `pointshade

@@ -8,6 +8,7 @@
 //! nor on the tiling, and crops merge bit-identically into the full frame.
 
 mod adaptive;
+mod subdivision;
 pub mod tile;
 
 use std::sync::atomic::{AtomicU64, Ordering};
