@@ -15,4 +15,4 @@ mkdir -p "$out"
 ./target/release/pointshade export-mitsuba "$scene" --sampler grid --spp 1024 --per-light -o "$out/reference.xml" 2>/dev/null
 validation/.venv/bin/python validation/render.py --out "$out/reference-32x32.exr" "$out"/reference.light*.xml
 ./target/release/pointshade convergence "$scene" --reference "$out/reference-32x32.exr" \
-  --spp 1,4,16,64,256 --sampler sobol,adaptive,grid --adaptive-threshold 0.04,0.02,0.01,0.005,0.0025 --mitsuba --repeats 3 --out "$out"
+  --spp 1,4,16,64,256 --sampler sobol,adaptive,grid --adaptive-threshold 0.04,0.02,0.01,0.0075,0.005,0.0025 --mitsuba --repeats 3 --out "$out"

@@ -125,5 +125,29 @@ fn group_by_splits_the_squared_error_by_label_and_refuses_bad_label_images() {
         assert_eq!(lines.len(), 1, "{stderr}");
         assert!(lines[0].starts_with("error:") && lines[0].contains(expect), "{stderr}");
     }
+    // The 160 values of the ramp in two intervals, [0, 100) and [100, ∞).
+    let edges = |text: &str| {
+        let args = [
+            ours.as_os_str(),
+            reference.as_os_str(),
+            "--group-by".as_ref(),
+            ramp.as_os_str(),
+        ];
+        run(&[&args[..], &["--group-edges".as_ref(), text.as_ref()]].concat())
+    };
+    let (code, stdout, stderr) = edges("0,100");
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(
+        stdout.contains("  0        100") && stdout.contains("  100         60"),
+        "{stdout}"
+    );
+    for bad in ["100,0", "0,x", "0,inf"] {
+        let (code, _, stderr) = edges(bad);
+        assert_eq!(code, Some(2), "{stderr}");
+        assert!(
+            stderr.starts_with("error: --group-edges") && stderr.lines().count() == 1,
+            "{stderr}"
+        );
+    }
     std::fs::remove_dir_all(d).unwrap();
 }

@@ -2,11 +2,11 @@
 
 use std::path::PathBuf;
 
-use crate::cli::option_error;
+use crate::cli::{comma_list, option_error};
 use crate::error::InputError;
 use crate::film::Image;
 use crate::output::{encode, read_linear, write_all_or_nothing, Format};
-use crate::validation::compare::{compare, error_by_group, group_table};
+use crate::validation::compare::{bin_labels, compare, error_by_group, group_table};
 
 /// Arguments of `pointshade compare`.
 #[derive(clap::Args)]
@@ -28,6 +28,11 @@ pub struct CompareArgs {
     /// size with a few distinct values, such as `render --aov samples`): where the error sits.
     #[arg(long)]
     group_by: Option<PathBuf>,
+    /// With --group-by: group its values into intervals starting at these increasing edges
+    /// (comma-separated; a value joins the largest edge at or below it), e.g. 1,16,17,64,256
+    /// for the adaptive sampler's counts.
+    #[arg(long, requires = "group_by")]
+    group_edges: Option<String>,
 }
 
 /// Runs `pointshade compare`; prints the metrics on stdout.
@@ -57,9 +62,25 @@ pub fn run(args: CompareArgs) -> Result<(), InputError> {
         Ok(image)
     };
     let reference = same_size(&args.reference)?;
+    let edges = match &args.group_edges {
+        Some(text) => {
+            let expected = "increasing finite numbers like 1,16,17,64";
+            let edges = comma_list("--group-edges", text, expected, |s| {
+                s.parse::<f32>().ok().filter(|e| e.is_finite())
+            })?;
+            if !edges.windows(2).all(|w| w[0] < w[1]) {
+                return Err(option_error(
+                    "--group-edges",
+                    format!("expected {expected}, got '{text}'"),
+                ));
+            }
+            edges
+        }
+        None => Vec::new(),
+    };
     let groups = match &args.group_by {
         Some(path) => {
-            let labels = same_size(path)?;
+            let labels = bin_labels(&same_size(path)?, &edges);
             Some(error_by_group(&ours, &reference, &labels).map_err(|e| InputError::new(path, e))?)
         }
         None => None,

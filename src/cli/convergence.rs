@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use crate::cli::option_error;
+use crate::cli::{comma_list, option_error};
 use crate::error::InputError;
 use crate::film::SamplerKind;
 use crate::output::read_linear;
@@ -136,18 +136,4 @@ pub fn run_command(args: ConvergenceArgs) -> Result<(), InputError> {
     }
     eprintln!("wrote {}/convergence.{{csv,svg,png}}", args.out.display());
     Ok(())
-}
-
-/// The comma-separated values of `option` (`text`), each read by `parse`; an error naming the
-/// option and what it expects (`expected`) if any is not one.
-fn comma_list<T>(
-    option: &str,
-    text: &str,
-    expected: &str,
-    parse: impl Fn(&str) -> Option<T>,
-) -> Result<Vec<T>, InputError> {
-    text.split(',')
-        .map(|s| parse(s.trim()))
-        .collect::<Option<Vec<T>>>()
-        .ok_or_else(|| option_error(option, format!("expected {expected}, got '{text}'")))
 }

@@ -82,3 +82,17 @@ fn finish(result: Result<ExitCode, InputError>) -> ExitCode {
 pub(crate) fn option_error(option: &str, problem: impl std::fmt::Display) -> InputError {
     InputError::new(option, problem)
 }
+
+/// The comma-separated values of `option` (`text`), each read by `parse`; an error naming the
+/// option and what it expects (`expected`) if any is not one.
+pub(crate) fn comma_list<T>(
+    option: &str,
+    text: &str,
+    expected: &str,
+    parse: impl Fn(&str) -> Option<T>,
+) -> Result<Vec<T>, InputError> {
+    text.split(',')
+        .map(|s| parse(s.trim()))
+        .collect::<Option<Vec<T>>>()
+        .ok_or_else(|| option_error(option, format!("expected {expected}, got '{text}'")))
+}

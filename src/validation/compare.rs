@@ -179,6 +179,21 @@ pub fn error_by_group(ours: &Image, reference: &Image, groups: &Image) -> Result
     Ok(groups)
 }
 
+/// `labels` with each value replaced by the largest of `edges` at or below it (values below the
+/// first edge stay as they are): a few groups for labels with many values, such as the adaptive
+/// sampler's sample counts. `edges` increase strictly (the caller checks).
+pub fn bin_labels(labels: &Image, edges: &[f32]) -> Image {
+    let bin = |v: f32| match edges.partition_point(|&e| e <= v) {
+        0 => v,
+        i => edges[i - 1],
+    };
+    Image {
+        width: labels.width,
+        height: labels.height,
+        pixels: labels.pixels.iter().map(|p| Vec3::splat(bin(p.x))).collect(),
+    }
+}
+
 /// `groups` as a table, one line per group.
 pub fn group_table(groups: &[ErrorGroup]) -> String {
     let mut s = String::from("squared error by group:\n        value     pixels         RMSE  share\n");
@@ -320,6 +335,14 @@ mod tests {
         // No error at all: every share is 0, not NaN.
         let groups = error_by_group(&a, &a, &image(&[1.0; 100])).unwrap();
         assert_eq!(groups[0].share, 0.0);
+    }
+
+    #[test]
+    fn binned_labels_take_the_largest_edge_at_or_below_them() {
+        let counts = image(&[1.0, 16.0, 20.0, 63.0, 64.0, 300.0, 0.5]);
+        let binned = bin_labels(&counts, &[1.0, 16.0, 17.0, 64.0]);
+        let values: Vec<f32> = binned.pixels.iter().map(|p| p.x).collect();
+        assert_eq!(values, [1.0, 16.0, 17.0, 17.0, 64.0, 64.0, 0.5]);
     }
 
     #[test]
