@@ -34,7 +34,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-use super::subdivision::{self, ActivePixel, Budget, Scratch};
+use super::subdivision::{self, ActivePixel, Scratch, Settings};
 use super::tile::{block_order, Context, PixelSums, SampleJob};
 use super::{assemble, par_tiles, tiles};
 use crate::film::{FilmSettings, PixelRect};
@@ -77,7 +77,7 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
     };
     let naovs = ctx.plan.aovs.len();
     let white = display_white(film);
-    let budget = Budget {
+    let settings = Settings {
         spp: film.spp,
         threshold: film.adaptive_threshold,
         aovs: naovs,
@@ -121,7 +121,7 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
             }
             let (scratch, surfaces) = scratch;
             let mut trace = |jobs: &[SampleJob], sums: &mut PixelSums| ctx.trace(jobs, sums, surfaces);
-            subdivision::refine(budget, &active, &mut sums, &mut counts, scratch, &mut trace);
+            subdivision::refine(settings, &active, &mut sums, &mut counts, scratch, &mut trace);
             on_tile(done.fetch_add(1, Ordering::Relaxed) + 1);
             (sums, counts)
         })
@@ -169,7 +169,7 @@ struct Neighbourhood {
 
 /// Whether the centre values bend at (x, y) by more than `threshold` of the neighbourhood's
 /// level (or of display white, if that is brighter), or a neighbour's centre hit another surface;
-/// and the neighbourhood's range.
+/// and the neighbourhood's level.
 fn neighbourhood(centre: &impl Fn(u32, u32) -> (Vec3, u32), film: &FilmSettings, x: u32, y: u32) -> Neighbourhood {
     let (width, height) = (film.width, film.height);
     let (c, surface) = centre(x, y);

@@ -32,8 +32,9 @@ const LEVELS: usize = 4;
 
 /// An active pixel: where it is, where its sums go, and what its neighbourhood says.
 pub struct ActivePixel {
-    /// Film coordinates.
+    /// Film column.
     pub x: u32,
+    /// Film row.
     pub y: u32,
     /// Its slot in the tile's sums.
     pub slot: u32,
@@ -59,6 +60,8 @@ struct Cells {
 /// A tile's cells and work lists; reused between tiles by one thread.
 #[derive(Default)]
 pub struct Scratch {
+    /// Side of the first grid (4, or less when the film's spp is below 16).
+    first: u32,
     /// Each cell's sample, and whether it has one, in the order `Cells::start` indexes.
     radiance: Vec<Vec3>,
     sampled: Vec<bool>,
@@ -69,24 +72,23 @@ pub struct Scratch {
     queue: Vec<(u32, u16, u16)>,
     next: Vec<(u32, u16, u16)>,
     jobs: Vec<SampleJob>,
-    sums: Option<PixelSums>,
     /// A level's cells of one pixel with their split scores.
     candidates: Vec<(f32, u16, u16)>,
 }
 
 impl Scratch {
     /// Arena index of cell (cx, cy) at `level` of pixel `k`, if that level has cells.
-    fn index(&self, k: usize, level: usize, cx: u32, cy: u32, first: u32) -> Option<usize> {
+    fn index(&self, k: usize, level: usize, cx: u32, cy: u32) -> Option<usize> {
         let start = self.pixels[k].start[level]?;
-        Some((start + cy * (first << level) + cx) as usize)
+        Some((start + cy * (self.first << level) + cx) as usize)
     }
 
     /// The sample of cell (cx, cy) at `level` of pixel `k`, or of the sampled cell that covers
     /// it (every first-level cell is sampled).
-    fn value(&self, k: usize, level: usize, cx: u32, cy: u32, first: u32) -> Vec3 {
+    fn value(&self, k: usize, level: usize, cx: u32, cy: u32) -> Vec3 {
         for l in (0..=level).rev() {
             let shift = level - l;
-            match self.index(k, l, cx >> shift, cy >> shift, first) {
+            match self.index(k, l, cx >> shift, cy >> shift) {
                 Some(i) if self.sampled[i] => return self.radiance[i],
                 _ => {}
             }
@@ -95,28 +97,25 @@ impl Scratch {
     }
 
     /// Whether cell (cx, cy) at `level` of pixel `k` was split (its children were sampled).
-    fn split(&self, k: usize, level: usize, cx: u32, cy: u32, first: u32) -> bool {
+    fn split(&self, k: usize, level: usize, cx: u32, cy: u32) -> bool {
         level + 1 < LEVELS
             && self
-                .index(k, level + 1, 2 * cx, 2 * cy, first)
+                .index(k, level + 1, 2 * cx, 2 * cy)
                 .is_some_and(|i| self.sampled[i])
     }
 
     /// The area-weighted mean of `values` (the radiance arena or an AOV's) over the leaf cells
     /// of pixel `k`: the pixel's estimate.
-    fn leaf_mean(&self, k: usize, values: &[Vec3], first: u32) -> Vec3 {
+    fn leaf_mean(&self, k: usize, values: &[Vec3]) -> Vec3 {
         let mut sum = Vec3::ZERO;
-        for level in 0..LEVELS {
-            // Levels are made in order: none here, none deeper.
-            if self.pixels[k].start[level].is_none() {
-                break;
-            }
-            let g = first << level;
+        // Levels are made in order: the first without cells has none deeper.
+        for (level, start) in self.pixels[k].start.iter().map_while(|s| *s).enumerate() {
+            let g = self.first << level;
             let area = 1.0 / (g * g) as f32;
             for cy in 0..g {
                 for cx in 0..g {
-                    let i = self.index(k, level, cx, cy, first).unwrap_or_default();
-                    if self.sampled[i] && !self.split(k, level, cx, cy, first) {
+                    let i = (start + cy * g + cx) as usize;
+                    if self.sampled[i] && !self.split(k, level, cx, cy) {
                         sum += values[i] * area;
                     }
                 }
@@ -124,11 +123,71 @@ impl Scratch {
         }
         sum
     }
+
+    /// The largest jump (largest channel) from cell (cx, cy) at `level` of pixel `k` to its four
+    /// neighbours — at the first level, across the pixel's border, to the neighbouring pixel's
+    /// centre — and to the sample of the cell it was split from.
+    fn jump(&self, k: usize, p: &ActivePixel, level: usize, cx: u32, cy: u32) -> f32 {
+        let g = (self.first << level) as i32;
+        let v = self.value(k, level, cx, cy);
+        let mut jump = 0.0f32;
+        for (side, (dx, dy)) in [(-1, 0), (1, 0), (0, -1), (0, 1)].into_iter().enumerate() {
+            let (nx, ny) = (cx as i32 + dx, cy as i32 + dy);
+            let neighbour = if nx >= 0 && ny >= 0 && nx < g && ny < g {
+                Some(self.value(k, level, nx as u32, ny as u32))
+            } else if level == 0 {
+                p.beside[side]
+            } else {
+                None
+            };
+            if let Some(n) = neighbour {
+                jump = jump.max((v - n).abs().max_element());
+            }
+        }
+        // The parent's sample lies at this cell's corner: a feature it saw that all four
+        // children missed lies between them.
+        if level > 0 {
+            jump = jump.max((v - self.value(k, level - 1, cx / 2, cy / 2)).abs().max_element());
+        }
+        jump
+    }
+
+    /// Queues (in `next`) the children of the cells of pixel `k` just sampled at `level`
+    /// (`cells`) that split, within the film's spp.
+    fn split_cells(&mut self, settings: Settings, p: &ActivePixel, k: usize, level: usize, cells: &[(u32, u16, u16)]) {
+        let tolerance = settings.threshold * p.scale;
+        let weight = ((self.first << level) as f32).powf(-1.5);
+        self.candidates.clear();
+        let mut blind = true;
+        for &(_, cx, cy) in cells {
+            let (cx, cy) = (u32::from(cx), u32::from(cy));
+            let v = self.value(k, level, cx, cy);
+            blind &= (v - p.centre).abs().max_element() <= 1e-6 * v.max_element();
+            let score = self.jump(k, p, level, cx, cy) * weight;
+            self.candidates.push((score, cx as u16, cy as u16));
+        }
+        // A first grid that only repeats the centre beside a brighter neighbourhood may have
+        // missed a sliver of light between its points: split all of it.
+        let suspect = level == 0 && blind && p.level - p.centre.max_element() > tolerance;
+        if !suspect {
+            self.candidates.retain(|&(score, _, _)| score > tolerance);
+        }
+        let budget = (settings.spp.saturating_sub(self.pixels[k].taken) / 4) as usize;
+        if self.candidates.len() > budget {
+            self.candidates.sort_by(|a, b| b.0.total_cmp(&a.0));
+            self.candidates.truncate(budget);
+        }
+        for &(_, cx, cy) in &self.candidates {
+            for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                self.next.push((k as u32, 2 * cx + dx, 2 * cy + dy));
+            }
+        }
+    }
 }
 
 /// What refinement needs of the film and the plan.
 #[derive(Clone, Copy, Debug)]
-pub struct Budget {
+pub struct Settings {
     /// Most samples per pixel.
     pub spp: u32,
     /// The film's adaptive threshold (tolerance relative to a pixel's scale).
@@ -141,39 +200,33 @@ pub struct Budget {
 /// count) and sample count into `sums` and `counts`. `trace` adds each job's sample to its slot
 /// (a context's `trace` in a render, an analytic image in the tests).
 pub fn refine(
-    film: Budget,
+    settings: Settings,
     active: &[ActivePixel],
     sums: &mut PixelSums,
     counts: &mut [u32],
     scratch: &mut Scratch,
     trace: &mut dyn FnMut(&[SampleJob], &mut PixelSums),
 ) {
-    let naovs = film.aovs;
-    // Largest side whose square the film's spp allows.
-    let first = if film.spp >= FIRST_SIDE * FIRST_SIDE {
-        FIRST_SIDE
-    } else {
-        (1..FIRST_SIDE).rev().find(|n| n * n <= film.spp).unwrap_or(1)
-    };
     let s = scratch;
+    // The largest side whose square the film's spp allows.
+    s.first = (1..=FIRST_SIDE).rev().find(|n| n * n <= settings.spp).unwrap_or(1);
+    let first = s.first;
     s.radiance.clear();
     s.sampled.clear();
-    s.aovs.resize_with(naovs, Vec::new);
+    s.aovs.resize_with(settings.aovs, Vec::new);
     s.aovs.iter_mut().for_each(Vec::clear);
     s.pixels.clear();
-    s.pixels.resize(
-        active.len(),
-        Cells {
-            start: [None; LEVELS],
-            taken: 0,
-        },
-    );
+    let empty = Cells {
+        start: [None; LEVELS],
+        taken: 0,
+    };
+    s.pixels.resize(active.len(), empty);
     s.queue.clear();
     for k in 0..active.len() as u32 {
         s.queue
             .extend((0..first * first).map(|i| (k, (i % first) as u16, (i / first) as u16)));
     }
-    let mut sums_round = s.sums.take().unwrap_or_else(|| PixelSums::new(0, naovs));
+    let mut samples = PixelSums::new(0, settings.aovs);
     for level in 0..LEVELS {
         if s.queue.is_empty() {
             break;
@@ -189,8 +242,8 @@ pub fn refine(
                 film: Vec2::new(p.x as f32, p.y as f32) + cell,
             });
         }
-        sums_round.reset(s.jobs.len());
-        trace(&s.jobs, &mut sums_round);
+        samples.reset(s.jobs.len());
+        trace(&s.jobs, &mut samples);
         for (i, &(k, cx, cy)) in s.queue.iter().enumerate() {
             let cells = &mut s.pixels[k as usize];
             let start = *cells.start[level].get_or_insert_with(|| {
@@ -204,67 +257,20 @@ pub fn refine(
             });
             cells.taken += 1;
             let at = (start + u32::from(cy) * g + u32::from(cx)) as usize;
-            s.radiance[at] = sums_round.radiance[i];
+            s.radiance[at] = samples.radiance[i];
             s.sampled[at] = true;
-            for (aov, round) in s.aovs.iter_mut().zip(&sums_round.aovs) {
-                aov[at] = round[i];
+            for (aov, sample) in s.aovs.iter_mut().zip(&samples.aovs) {
+                aov[at] = sample[i];
             }
         }
         if level + 1 == LEVELS {
             break;
         }
-        // Decide which of the cells just sampled to split.
         s.next.clear();
         let mut queue = std::mem::take(&mut s.queue);
-        for group in queue.chunk_by(|a, b| a.0 == b.0) {
-            let k = group[0].0 as usize;
-            let p = &active[k];
-            let tolerance = film.threshold * p.scale;
-            let weight = (g as f32).powf(-1.5);
-            s.candidates.clear();
-            let mut blind = true;
-            for &(_, cx, cy) in group {
-                let (cx, cy) = (u32::from(cx), u32::from(cy));
-                let v = s.value(k, level, cx, cy, first);
-                blind &= (v - p.centre).abs().max_element() <= 1e-6 * v.max_element();
-                let mut range = 0.0f32;
-                for (side, (dx, dy)) in [(-1i32, 0i32), (1, 0), (0, -1), (0, 1)].into_iter().enumerate() {
-                    let (nx, ny) = (cx as i32 + dx, cy as i32 + dy);
-                    let inside = nx >= 0 && ny >= 0 && nx < g as i32 && ny < g as i32;
-                    let neighbour = if inside {
-                        Some(s.value(k, level, nx as u32, ny as u32, first))
-                    } else if level == 0 {
-                        p.beside[side]
-                    } else {
-                        None
-                    };
-                    if let Some(n) = neighbour {
-                        range = range.max((v - n).abs().max_element());
-                    }
-                }
-                // The split cell's own sample lies at this cell's corner: a feature it saw that
-                // its children all missed lies between them.
-                if level > 0 {
-                    range = range.max((v - s.value(k, level - 1, cx / 2, cy / 2, first)).abs().max_element());
-                }
-                s.candidates.push((range * weight, cx as u16, cy as u16));
-            }
-            // A first grid that only repeats the centre beside a brighter neighbourhood may have
-            // missed a sliver of light between its points: split all of it.
-            let suspect = level == 0 && blind && p.level - p.centre.max_element() > tolerance;
-            if !suspect {
-                s.candidates.retain(|&(score, _, _)| score > tolerance);
-            }
-            let budget = (film.spp.saturating_sub(s.pixels[k].taken) / 4) as usize;
-            if s.candidates.len() > budget {
-                s.candidates.sort_by(|a, b| b.0.total_cmp(&a.0));
-                s.candidates.truncate(budget);
-            }
-            for &(_, cx, cy) in &s.candidates {
-                for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                    s.next.push((k as u32, 2 * cx + dx, 2 * cy + dy));
-                }
-            }
+        for cells in queue.chunk_by(|a, b| a.0 == b.0) {
+            let k = cells[0].0 as usize;
+            s.split_cells(settings, &active[k], k, level, cells);
         }
         queue.clear();
         s.queue = std::mem::replace(&mut s.next, queue);
@@ -272,12 +278,11 @@ pub fn refine(
     for (k, p) in active.iter().enumerate() {
         let (slot, taken) = (p.slot as usize, s.pixels[k].taken);
         counts[slot] = taken;
-        sums.radiance[slot] = s.leaf_mean(k, &s.radiance, first) * taken as f32;
+        sums.radiance[slot] = s.leaf_mean(k, &s.radiance) * taken as f32;
         for (a, aov) in s.aovs.iter().enumerate() {
-            sums.aovs[a][slot] = s.leaf_mean(k, aov, first) * taken as f32;
+            sums.aovs[a][slot] = s.leaf_mean(k, aov) * taken as f32;
         }
     }
-    s.sums = Some(sums_round);
 }
 
 #[cfg(test)]
@@ -305,13 +310,13 @@ mod tests {
                 sums.aovs[0][job.slot as usize] += Vec3::splat(2.0 * f(job.film));
             }
         };
-        let budget = Budget {
+        let settings = Settings {
             spp,
             threshold,
             aovs: 1,
         };
         refine(
-            budget,
+            settings,
             &[pixel],
             &mut sums,
             &mut counts,
