@@ -75,7 +75,7 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
         let (y0, y1) = (y.saturating_sub(1).max(bent_area.y0), (y + 2).min(bent_area.y1));
         (y0..y1).any(|ny| (x0..x1).any(|nx| bent_at(nx, ny).bends))
     };
-    let naovs = ctx.plan.aovs.len();
+    let naovs = ctx.sampled_aovs;
     let white = display_white(film);
     let settings = Settings {
         spp: film.spp,
@@ -140,7 +140,7 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
 
 /// One sample at the centre of every pixel of `rect`.
 fn centre_pass(ctx: &Context, rect: PixelRect) -> PixelSums {
-    let naovs = ctx.plan.aovs.len();
+    let naovs = ctx.sampled_aovs;
     let rect_tiles = tiles(rect);
     let parts: Vec<PixelSums> = par_tiles(&rect_tiles)
         .map(|t| {

@@ -94,11 +94,15 @@ pub fn render(
         pixels: (0..image.pixels.len()).map(|i| Vec3::splat(count(i))).collect(),
         ..image
     };
+    // The per-sample AOVs' buffers, in the plan's order; the samples AOV is the counts.
+    let mut buffers = sums.aovs.iter();
     let aovs = plan
         .aovs
         .iter()
-        .zip(&sums.aovs)
-        .map(|(&a, s)| (a, if a.per_sample() { average(s) } else { sample_counts() }))
+        .map(|&a| {
+            let buffer = a.per_sample().then(|| buffers.next()).flatten();
+            (a, buffer.map_or_else(sample_counts, |s| average(s)))
+        })
         .collect();
     let c = &ctx.counters;
     let stats = RenderStats {
@@ -165,7 +169,7 @@ fn fixed(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) -> Pi
     let film = &ctx.scene.film;
     let tiles = tiles(region);
     let done = AtomicU64::new(0);
-    let naovs = ctx.plan.aovs.len();
+    let naovs = ctx.sampled_aovs;
     let parts: Vec<PixelSums> = par_tiles(&tiles)
         .map(|t| {
             let mut sums = PixelSums::new((t.width() * t.height()) as usize, naovs);

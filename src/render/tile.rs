@@ -35,7 +35,8 @@ pub struct SampleJob {
 pub struct PixelSums {
     /// Radiance.
     pub radiance: Vec<Vec3>,
-    /// One buffer per requested AOV, in the plan's order.
+    /// One buffer per requested per-sample AOV ([`Aov::per_sample`]), in the plan's order
+    /// (the samples AOV is written from the counts and has none).
     pub aovs: Vec<Vec<Vec3>>,
     /// What the last sample of each slot hit: 0 = nothing, m + 1 = a surface of material m
     /// (the adaptive sampler compares neighbours' centre samples with it).
@@ -130,6 +131,8 @@ pub struct Context<'a> {
     depth_aov: bool,
     /// The adaptive sampler reads what each centre sample hit.
     record_surface: bool,
+    /// How many of the plan's AOVs are per-sample means: the AOV buffers of [`PixelSums`].
+    pub sampled_aovs: usize,
     /// Counters and stage times.
     pub counters: Counters,
 }
@@ -156,6 +159,7 @@ impl<'a> Context<'a> {
             size: Vec2::new(film.width as f32, film.height as f32),
             depth_aov: plan.aovs.contains(&Aov::Depth),
             record_surface: film.sampler == SamplerKind::Adaptive,
+            sampled_aovs: plan.aovs.iter().filter(|a| a.per_sample()).count(),
             counters: Counters::default(),
         })
     }
@@ -222,7 +226,7 @@ impl<'a> Context<'a> {
                 sums.surface[s.slot as usize] = s.point.material + 1;
             }
         }
-        for (k, aov) in plan.aovs.iter().enumerate().filter(|(_, a)| a.per_sample()) {
+        for (k, aov) in plan.aovs.iter().filter(|a| a.per_sample()).enumerate() {
             for SurfaceSample(s) in scratch.iter() {
                 sums.aovs[k][s.slot as usize] += aov_value(*aov, scene, s);
             }
