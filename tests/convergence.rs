@@ -24,14 +24,14 @@ fn small_scene(test: &str, width: u32, height: u32) -> (PathBuf, PathBuf) {
 
 /// One test's sweep: its folder, the small scene in it, a reference and the output folder.
 /// Dropping it removes the folder.
-struct Sweep {
+struct SweepFolder {
     dir: PathBuf,
     scene: PathBuf,
     reference: PathBuf,
     out: PathBuf,
 }
 
-impl Sweep {
+impl SweepFolder {
     /// A fresh folder for `test` with the Lambert scene at `width`×`height` and its reference.
     fn new(test: &str, width: u32, height: u32) -> Self {
         let (dir, scene) = small_scene(test, width, height);
@@ -83,7 +83,7 @@ impl Sweep {
     }
 }
 
-impl Drop for Sweep {
+impl Drop for SweepFolder {
     fn drop(&mut self) {
         let _ = std::fs::remove_dir_all(&self.dir);
     }
@@ -130,8 +130,8 @@ fn reference(d: &Path, scene: &Path) -> PathBuf {
 
 #[test]
 fn a_reference_of_another_size_fails_before_anything_is_written() {
-    let mut sweep = Sweep::new("size", 48, 36);
-    let other = Sweep::new("size-ref", 40, 30);
+    let mut sweep = SweepFolder::new("size", 48, 36);
+    let other = SweepFolder::new("size-ref", 40, 30);
     sweep.reference = other.reference.clone();
     let why = "a 40×30 reference for a 48×36 scene";
     sweep.fails_before_writing(&["--spp", "1"], why, &["--reference", "40×30", "48×36"]);
@@ -139,7 +139,7 @@ fn a_reference_of_another_size_fails_before_anything_is_written() {
 
 #[test]
 fn convergence_writes_csv_and_plots_with_falling_error() {
-    let sweep = Sweep::new("sweep", 96, 72);
+    let sweep = SweepFolder::new("sweep", 96, 72);
     let options = ["--spp", "1,4,16", "--sampler", "sobol,adaptive,grid", "--repeats", "2"];
     let table = sweep.rows(&options);
     // sobol and adaptive at 1, 4, 16; grid at the squares 1, 4, 16.
@@ -167,7 +167,7 @@ fn convergence_writes_csv_and_plots_with_falling_error() {
 
 #[test]
 fn several_thresholds_trace_the_adaptive_sampler_at_its_largest_sample_count() {
-    let sweep = Sweep::new("thresholds", 96, 72);
+    let sweep = SweepFolder::new("thresholds", 96, 72);
     let options = ["--spp", "1,4,16", "--sampler", "adaptive", "--repeats", "1"];
     let options = [&options[..], &["--adaptive-threshold", "0.2,0.05,0.01"]].concat();
     let table = sweep.rows(&options);
@@ -187,7 +187,7 @@ fn several_thresholds_trace_the_adaptive_sampler_at_its_largest_sample_count() {
 
 #[test]
 fn a_threshold_list_with_a_bad_entry_fails_with_one_line_before_anything_is_written() {
-    let sweep = Sweep::new("bad-threshold", 48, 36);
+    let sweep = SweepFolder::new("bad-threshold", 48, 36);
     for (list, says) in [
         ("0.01,x", "--adaptive-threshold"),
         ("0.01,NaN", "adaptive_threshold"),
@@ -200,7 +200,7 @@ fn a_threshold_list_with_a_bad_entry_fails_with_one_line_before_anything_is_writ
 
 #[test]
 fn the_grid_takes_the_square_counts_and_fails_with_none() {
-    let sweep = Sweep::new("grid-counts", 48, 36);
+    let sweep = SweepFolder::new("grid-counts", 48, 36);
     // 2 is not square: the grid runs at 4 only, the other sampler at both.
     let table = sweep.rows(&["--spp", "2,4", "--sampler", "sobol,grid", "--repeats", "1"]);
     let runs: Vec<(&str, &str)> = table
