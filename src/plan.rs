@@ -245,7 +245,7 @@ impl RenderPlan {
             aovs: if trace_rays { aovs.to_vec() } else { Vec::new() },
             stages,
             primary_rays,
-            adaptive: scene.film.sampler == crate::film::SamplerKind::Adaptive,
+            adaptive: scene.film.sampler.is_adaptive(),
             max_shadow_rays,
             convention: ShadingConvention::Physical,
         }
@@ -399,7 +399,7 @@ fn texture_summary(used: &[&Material], scene: &Scene) -> String {
 fn primary_ray_bound(film: &crate::film::FilmSettings) -> u64 {
     let r = film.region();
     let pixels = r.width() as u64 * r.height() as u64;
-    if film.sampler != crate::film::SamplerKind::Adaptive {
+    if !film.sampler.is_adaptive() {
         return pixels * film.spp as u64;
     }
     let apron = (r.x1.saturating_add(2).min(film.width) - r.x0.saturating_sub(2)) as u64

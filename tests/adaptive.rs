@@ -1,5 +1,6 @@
-//! The adaptive sampler: one sample where the image is smooth, more at edges, a lower error than
-//! uniform Sobol sampling at the same number of samples, and the same image on any thread count.
+//! The adaptive samplers (`adaptive`: Sobol rounds; `cells`: subdivided cells): one sample where
+//! the image is smooth, more at edges, a lower error than uniform Sobol sampling at the same
+//! number of samples, and the same image on any thread count.
 
 use std::path::Path;
 
@@ -33,17 +34,26 @@ fn lit_scene(sampler: SamplerKind, spp: u32, dim: f32, exposure: f32) -> Scene {
     s
 }
 
+/// Both adaptive samplers.
+const ADAPTIVE: [SamplerKind; 2] = [SamplerKind::Adaptive, SamplerKind::Cells];
+
 fn rmse(a: &Image, reference: &Image) -> f64 {
     compare(a, reference, 1e-3, 0).rmse
 }
 
 #[test]
 fn smooth_pixels_take_one_sample_and_edges_take_more() {
-    let r = render(SamplerKind::Adaptive, 64);
+    for sampler in ADAPTIVE {
+        smooth_pixels_take_one_sample_and_edges_take_more_with(sampler);
+    }
+}
+
+fn smooth_pixels_take_one_sample_and_edges_take_more_with(sampler: SamplerKind) {
+    let r = render(sampler, 64);
     let counts = r.sample_counts.as_ref().expect("adaptive renders report their counts");
     let mean = counts.iter().map(|&c| c as f64).sum::<f64>() / counts.len() as f64;
     let ones = counts.iter().filter(|&&c| c == 1).count() as f64 / counts.len() as f64;
-    let maxed = counts.iter().filter(|&&c| c == 64).count();
+    let maxed = counts.iter().filter(|&&c| c >= 48).count();
     // Edges refine with their neighbours (a three-pixel band at this small size); the rest keeps
     // its centre sample.
     assert!(
@@ -52,11 +62,11 @@ fn smooth_pixels_take_one_sample_and_edges_take_more() {
     );
     assert!(
         maxed > 20,
-        "silhouette and shadow-edge pixels take the most samples: {maxed}"
+        "{sampler:?}: silhouette and shadow-edge pixels take the most samples: {maxed}"
     );
     // A refined pixel takes at least 16 samples; at this small size the edge bands are a large
     // share of the image, so the mean is far below 64 but not below 4.
-    assert!(mean < 8.0, "mean spp {mean}");
+    assert!(mean < 8.0, "{sampler:?}: mean spp {mean}");
     // The sphere's lit interior (smooth Lambert shading) keeps one sample; a row across its
     // silhouette reaches many.
     let at = |x: u32, y: u32| counts[(y * 128 + x) as usize];
@@ -81,32 +91,35 @@ fn refined_centres(counts: &[u32]) -> u64 {
 #[test]
 fn adaptive_error_is_lower_than_uniform_sobol_at_the_same_sample_count() {
     let reference = render(SamplerKind::Grid, 256).image;
-    let adaptive = render(SamplerKind::Adaptive, 64);
+    for sampler in ADAPTIVE {
+        error_is_lower_than_uniform_sobol_with(sampler, &reference);
+    }
+}
+
+fn error_is_lower_than_uniform_sobol_with(sampler: SamplerKind, reference: &Image) {
+    let adaptive = render(sampler, 64);
     let counts = adaptive.sample_counts.as_ref().unwrap();
     let mean = adaptive.stats.primary_rays as f64 / counts.len() as f64;
     let uniform_spp = mean.ceil() as u32;
     let uniform = render(SamplerKind::Sobol, uniform_spp).image;
-    let (a, u) = (rmse(&adaptive.image, &reference), rmse(&uniform, &reference));
+    let (a, u) = (rmse(&adaptive.image, reference), rmse(&uniform, reference));
     assert!(
         a < 0.6 * u,
-        "adaptive ({mean:.2} spp) RMSE {a:.3e} vs sobol {uniform_spp} spp RMSE {u:.3e}"
+        "{sampler:?} ({mean:.2} spp) RMSE {a:.3e} vs sobol {uniform_spp} spp RMSE {u:.3e}"
     );
 }
 
 #[test]
 fn adaptive_image_does_not_depend_on_the_thread_count() {
-    let one = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap()
-        .install(|| render(SamplerKind::Adaptive, 16));
-    let three = rayon::ThreadPoolBuilder::new()
-        .num_threads(3)
-        .build()
-        .unwrap()
-        .install(|| render(SamplerKind::Adaptive, 16));
-    assert_eq!(one.image, three.image);
-    assert_eq!(one.sample_counts, three.sample_counts);
+    for sampler in ADAPTIVE {
+        let on = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| render(sampler, 16))
+        };
+        let (one, three) = (on(1), on(3));
+        assert_eq!(one.image, three.image, "{sampler:?}");
+        assert_eq!(one.sample_counts, three.sample_counts, "{sampler:?}");
+    }
 }
 
 #[test]
@@ -114,22 +127,28 @@ fn a_dim_scene_exposed_up_is_sampled_like_the_bright_one() {
     // Tolerances are absolute below display white (2^-exposure): a scene 16× dimmer, shown 4
     // stops brighter, must refine exactly the same pixels as the original — and without the
     // exposure it would refine fewer (its contrasts fall below the absolute tolerance).
-    let bright = render_lit(SamplerKind::Adaptive, 64, 1.0, 0.0);
-    let dim_exposed = render_lit(SamplerKind::Adaptive, 64, 1.0 / 16.0, 4.0);
-    let dim = render_lit(SamplerKind::Adaptive, 64, 1.0 / 16.0, 0.0);
-    let total = |r: &Rendered| r.sample_counts.as_ref().unwrap().iter().map(|&c| c as u64).sum::<u64>();
-    assert_eq!(bright.sample_counts, dim_exposed.sample_counts);
-    assert!(
-        total(&dim) < total(&bright) * 3 / 4,
-        "dim at exposure 0: {} samples, bright: {}",
-        total(&dim),
-        total(&bright)
-    );
+    for sampler in ADAPTIVE {
+        let bright = render_lit(sampler, 64, 1.0, 0.0);
+        let dim_exposed = render_lit(sampler, 64, 1.0 / 16.0, 4.0);
+        let dim = render_lit(sampler, 64, 1.0 / 16.0, 0.0);
+        let total = |r: &Rendered| r.sample_counts.as_ref().unwrap().iter().map(|&c| c as u64).sum::<u64>();
+        assert_eq!(bright.sample_counts, dim_exposed.sample_counts, "{sampler:?}");
+        assert!(
+            total(&dim) < total(&bright) * 3 / 4,
+            "{sampler:?}: dim at exposure 0: {} samples, bright: {}",
+            total(&dim),
+            total(&bright)
+        );
+    }
 }
 
 #[test]
 fn the_samples_aov_is_the_count_each_pixel_took() {
-    for (sampler, spp) in [(SamplerKind::Adaptive, 64), (SamplerKind::Sobol, 4)] {
+    for (sampler, spp) in [
+        (SamplerKind::Adaptive, 64),
+        (SamplerKind::Cells, 64),
+        (SamplerKind::Sobol, 4),
+    ] {
         let s = lit_scene(sampler, spp, 1.0, 0.0);
         let r = render_scene(&s, &RenderPlan::new(&s, &[Aov::Samples]), &|_| {}).unwrap();
         let [(Aov::Samples, image)] = &r.aovs[..] else {
@@ -143,7 +162,7 @@ fn the_samples_aov_is_the_count_each_pixel_took() {
         for (i, (&pixel, &count)) in image.pixels.iter().zip(&counts).enumerate() {
             assert_eq!(pixel, Vec3::splat(count as f32), "{sampler:?}, pixel {i}");
         }
-        if sampler == SamplerKind::Adaptive {
+        if sampler.is_adaptive() {
             let distinct = counts.iter().collect::<std::collections::BTreeSet<_>>().len();
             assert!(distinct >= 3, "{distinct} distinct counts");
         }

@@ -84,6 +84,7 @@ fn crops_of_a_one_sample_render_merge_byte_identically() {
 fn crops_of_an_adaptive_render_merge_byte_identically() {
     // Adaptive decisions read neighbouring pixels: the crops' aprons must make them identical.
     four_crops_merge_to_the_full_render(&["--sampler", "adaptive", "--spp", "16"], "adaptive");
+    four_crops_merge_to_the_full_render(&["--sampler", "cells", "--spp", "64"], "cells");
 }
 
 fn fails(args: &[&std::ffi::OsStr], expect: &str, no_file: &Path) {

@@ -21,12 +21,13 @@ pub struct ConvergenceArgs {
     /// Sample counts (comma-separated; the grid sampler uses the square ones).
     #[arg(long, default_value = "1,4,16,64")]
     spp: String,
-    /// pointshade samplers (comma-separated): sobol, adaptive, grid, independent.
+    /// pointshade samplers (comma-separated): sobol, adaptive, cells, grid, independent.
     #[arg(long, default_value = "sobol,adaptive")]
     sampler: String,
-    /// Thresholds of the adaptive sampler (comma-separated; default: the scene's, 0.01 unless it
-    /// sets one). With several, the adaptive sampler runs each at the largest --spp (its cap)
-    /// instead of running each sample count: its error against time is traced by the threshold.
+    /// Thresholds of the adaptive samplers, adaptive and cells (comma-separated; default: the
+    /// scene's, 0.01 unless it sets one). With several, each adaptive sampler runs each at the
+    /// largest --spp (its cap) instead of running each sample count: its error against time is
+    /// traced by the threshold.
     #[arg(long)]
     adaptive_threshold: Option<String>,
     /// Repeats per point; the median time is kept.

@@ -25,7 +25,8 @@ pub struct RenderArgs {
     #[arg(long)]
     spp: Option<u32>,
     /// Sampler: grid (spp = N², sub-pixel centres), sobol (default), independent, adaptive
-    /// (sub-pixel cells subdivided where a pixel needs them, spp at most).
+    /// (Sobol rounds where a pixel needs them, spp at most), cells (sub-pixel cells subdivided
+    /// where a pixel needs them, spp at most).
     #[arg(long)]
     sampler: Option<String>,
     /// Adaptive sampler: relative tolerance of a pixel's refinement (default 0.01; smaller takes

@@ -32,9 +32,9 @@ pub struct FilmSettings {
     /// Exposure in stops applied to 8-bit output (EXR stays linear and unscaled). The adaptive
     /// sampler's tolerances are absolute below the radiance it shows as white (2^−exposure).
     pub exposure: f32,
-    /// Adaptive sampler: the relative contrast in a pixel's neighbourhood above which it takes
+    /// Adaptive samplers: the relative contrast in a pixel's neighbourhood above which it takes
     /// more than its centre sample, and the tolerance, relative to the pixel's value or display
-    /// white (whichever is larger), to which its cells are subdivided.
+    /// white (whichever is larger), to which it is refined.
     pub adaptive_threshold: f32,
     /// The part of the film to render (`--crop`); `None` = all of it.
     pub crop: Option<PixelRect>,

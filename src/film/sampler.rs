@@ -23,8 +23,10 @@ pub enum SamplerKind {
     Sobol,
     /// Independent uniform random offsets.
     Independent,
-    /// Sobol points, as many as each pixel needs, up to spp.
+    /// Sobol points, as many as each pixel needs, up to spp (rounds of 16, 64, 256, …).
     Adaptive,
+    /// Sub-pixel cells, subdivided where a pixel's value still jumps, up to spp.
+    Cells,
 }
 
 impl SamplerKind {
@@ -35,6 +37,7 @@ impl SamplerKind {
             Self::Sobol => "sobol",
             Self::Independent => "independent",
             Self::Adaptive => "adaptive",
+            Self::Cells => "cells",
         }
     }
 
@@ -45,10 +48,17 @@ impl SamplerKind {
             "sobol" => Ok(Self::Sobol),
             "independent" => Ok(Self::Independent),
             "adaptive" => Ok(Self::Adaptive),
+            "cells" => Ok(Self::Cells),
             other => Err(format!(
-                "unknown sampler '{other}' (expected grid, sobol, independent or adaptive)"
+                "unknown sampler '{other}' (expected grid, sobol, independent, adaptive or cells)"
             )),
         }
+    }
+
+    /// Whether the sampler decides each pixel's sample count (`adaptive`, `cells`): a centre pass,
+    /// then refinement where the image needs it, with the film's spp as the cap.
+    pub fn is_adaptive(self) -> bool {
+        matches!(self, Self::Adaptive | Self::Cells)
     }
 
     /// Checks that `spp` suits this sampler (grid needs a perfect square).
@@ -84,7 +94,8 @@ pub fn pixel_offsets(kind: SamplerKind, seed: u64, x: u32, y: u32, first: u32, o
                 *o = Vec2::new((k as f32 + 0.5) * inv, (l as f32 + 0.5) * inv);
             }
         }
-        SamplerKind::Sobol | SamplerKind::Adaptive => {
+        // `cells` places its samples itself; its arm is never asked.
+        SamplerKind::Sobol | SamplerKind::Adaptive | SamplerKind::Cells => {
             let pixel_seed = hash3(seed, x, y);
             let (seed_index, seed_x, seed_y) = (
                 pixel_seed as u32,

@@ -11,20 +11,18 @@
 //!    centre sample of a neighbour hit another material, or nothing (a silhouette between two
 //!    black areas shows no contrast). A pixel refines if the values bend at it or at a
 //!    neighbour: an edge that crosses a pixel between sample centres bends the values beside it.
-//! 3. **Refinement** (`subdivision`). An active pixel is cut into a centred 4×4 grid of cells,
-//!    one sample each; a cell whose value jumps against a neighbour's (or, for the first grid's
-//!    border cells, against the neighbouring pixel's centre) by more than the tolerance allows at
-//!    its size is split into 2×2 cells, down to 32×32 (the film's spp at most). The pixel's value
-//!    is the area-weighted mean of its leaf cells (the centre sample is not mixed in). The
-//!    tolerance is t times the pixel's scale: the largest of its centre value, a twentieth of its
-//!    neighbourhood's level and display white (the radiance 8-bit output shows as white,
-//!    2^−exposure): below white it is absolute, as the error a viewer and RMSE see is. A first
-//!    grid whose samples all repeat the centre value while a neighbour is brighter by more than
-//!    the tolerance is split whole (sixteen points in shadow can miss a lit sliver the
-//!    neighbours show).
+//! 3. **Refinement**, by the sampler's own rule, to a tolerance of t times the pixel's scale:
+//!    the largest of its centre value, a twentieth of its neighbourhood's level and display white
+//!    (the radiance 8-bit output shows as white, 2^−exposure): below white the tolerance is
+//!    absolute, as the error a viewer and RMSE see is.
+//!    - `adaptive` (`rounds`): Owen-scrambled Sobol samples in rounds of 16, 64, 256, … until the
+//!      pixel's estimate stops moving and the two halves of its samples agree.
+//!    - `cells` (`subdivision`): a centred 4×4 grid of cells, split 2×2 where a cell's value still
+//!      jumps against its neighbours', down to 32×32.
 //!
-//!    On the glossy dragon this reaches the 8×8 grid's error with about 7 samples per pixel on
-//!    average (README, "Error against run time").
+//!    On the glossy dragon `cells` reaches the 8×8 grid's error with 6.6 samples per pixel and
+//!    `adaptive` with 8.7; on the Cornell box, whose edges run along the pixel grid, `adaptive`
+//!    is the better one below about 6 samples per pixel (README, "Error against run time").
 //!
 //! Each decision reads only the pixel's own samples and its neighbours' centre samples, which the
 //! apron provides for crops: the image is independent of threads, tiles and crops.
@@ -34,13 +32,35 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-use super::subdivision::{self, ActivePixel, Scratch, Settings};
+use super::rounds;
+use super::subdivision::{self, Scratch, Settings};
 use super::tile::{block_order, Context, PixelSums, SampleJob};
 use super::{assemble, par_tiles, tiles};
-use crate::film::{FilmSettings, PixelRect};
+use crate::film::{FilmSettings, PixelRect, SamplerKind};
 
 /// Floor of a pixel's scale in the convergence test, as a share of its neighbourhood's level.
-const DARK_FLOOR: f32 = 0.05;
+pub(super) const DARK_FLOOR: f32 = 0.05;
+
+/// An active pixel: where it is, where its sums go, and what its neighbourhood says.
+pub struct ActivePixel {
+    /// Film column.
+    pub x: u32,
+    /// Film row.
+    pub y: u32,
+    /// Its slot in the tile's sums.
+    pub slot: u32,
+    /// Its centre sample.
+    pub centre: Vec3,
+    /// Centre samples of its four neighbours (left, right, above, below), where on the film.
+    pub beside: [Option<Vec3>; 4],
+    /// Scale of the tolerance: the largest of display white, the centre, and a floor relative to
+    /// the neighbourhood's level (see `adaptive`).
+    pub scale: f32,
+    /// Largest channel of the neighbourhood's centre samples.
+    pub level: f32,
+    /// Smallest of the neighbourhood's centre samples' largest channels.
+    pub low: f32,
+}
 
 /// Renders `region` adaptively; returns the per-pixel sums and sample counts (row-major).
 pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) -> (PixelSums, Vec<u32>) {
@@ -101,7 +121,7 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
                     sums.aovs[k][slot] = centre.aovs[k][a];
                 }
                 if film.spp > 1 && active_at(x, y) {
-                    let Neighbourhood { level, .. } = bent_at(x, y);
+                    let Neighbourhood { level, low, .. } = bent_at(x, y);
                     let c = centre.radiance[a];
                     let beside = [(-1, 0), (1, 0), (0, -1), (0, 1)].map(|(dx, dy): (i64, i64)| {
                         let (nx, ny) = (x as i64 + dx, y as i64 + dy);
@@ -116,12 +136,17 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
                         beside,
                         scale: c.max_element().max(DARK_FLOOR * level).max(white),
                         level,
+                        low,
                     });
                 }
             }
             let (scratch, surfaces) = scratch;
-            let mut trace = |jobs: &[SampleJob], sums: &mut PixelSums| ctx.trace(jobs, sums, surfaces);
-            subdivision::refine(settings, &active, &mut sums, &mut counts, scratch, &mut trace);
+            if film.sampler == SamplerKind::Cells {
+                let mut trace = |jobs: &[SampleJob], sums: &mut PixelSums| ctx.trace(jobs, sums, surfaces);
+                subdivision::refine(settings, &active, &mut sums, &mut counts, scratch, &mut trace);
+            } else {
+                rounds::refine(ctx, &active, &mut sums, &mut counts, white);
+            }
             on_tile(done.fetch_add(1, Ordering::Relaxed) + 1);
             (sums, counts)
         })
@@ -165,6 +190,8 @@ struct Neighbourhood {
     bends: bool,
     /// Largest channel of the centre values in the 3×3 neighbourhood (inside the film).
     level: f32,
+    /// Smallest of the centre values' largest channels in that neighbourhood.
+    low: f32,
 }
 
 /// Whether the centre values bend at (x, y) by more than `threshold` of the neighbourhood's
@@ -177,13 +204,14 @@ fn neighbourhood(centre: &impl Fn(u32, u32) -> (Vec3, u32), film: &FilmSettings,
         let (nx, ny) = (x as i64 + dx as i64, y as i64 + dy as i64);
         (nx >= 0 && ny >= 0 && nx < width as i64 && ny < height as i64).then(|| centre(nx as u32, ny as u32))
     };
-    let mut level = c.max_element();
+    let (mut level, mut low) = (c.max_element(), c.max_element());
     let mut bend = 0.0f32;
     let mut other_surface = false;
     for (dx, dy) in [(1, 0), (0, 1), (1, 1), (1, -1)] {
         let (a, b) = (at(dx, dy), at(-dx, -dy));
         for (v, s) in [a, b].into_iter().flatten() {
             level = level.max(v.max_element());
+            low = low.min(v.max_element());
             other_surface |= s != surface;
         }
         match (a, b) {
@@ -196,6 +224,7 @@ fn neighbourhood(centre: &impl Fn(u32, u32) -> (Vec3, u32), film: &FilmSettings,
     Neighbourhood {
         bends: other_surface || bend > film.adaptive_threshold * level.max(display_white(film)),
         level,
+        low,
     }
 }
 

@@ -8,6 +8,7 @@
 //! nor on the tiling, and crops merge bit-identically into the full frame.
 
 mod adaptive;
+mod rounds;
 mod subdivision;
 pub mod tile;
 
@@ -18,7 +19,7 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 use crate::accel::{Bvh, BvhPreset};
-use crate::film::{sampler::pixel_offsets, Image, PixelRect, SamplerKind};
+use crate::film::{sampler::pixel_offsets, Image, PixelRect};
 use crate::plan::{Aov, RenderPlan};
 use crate::scene::Scene;
 use tile::{block_order, Context, PixelSums, SampleJob};
@@ -76,7 +77,7 @@ pub fn render(
     let start = Instant::now();
     let ctx = Context::new(scene, plan, bvh)?;
     let region = scene.film.region();
-    let (sums, counts) = if scene.film.sampler == SamplerKind::Adaptive {
+    let (sums, counts) = if scene.film.sampler.is_adaptive() {
         let (sums, counts) = adaptive::render(&ctx, region, on_tile);
         (sums, Some(counts))
     } else {

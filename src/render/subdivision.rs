@@ -1,4 +1,4 @@
-//! Refinement of an active pixel by subdividing it: a centred 4×4 grid of cells first, then each
+//! The `cells` sampler's refinement of an active pixel, by subdividing it: a centred 4×4 grid of cells first, then each
 //! cell whose value still jumps against a neighbour's is split into 2×2 cells, each sampled at
 //! its centre, down to 32×32 cells (the film's spp caps the samples). The pixel's value is the
 //! area-weighted mean of its leaf cells.
@@ -19,35 +19,20 @@
 //! at equal error, was no faster (the samples it saves are the cheap ones; README).
 //!
 //! Every position is a cell centre, fixed by the pixel and the decisions: no seed, and the image
-//! does not depend on threads, tiles or crops.
+//! does not depend on threads, tiles or crops. The price of a regular grid: an edge that runs
+//! along the pixel grid puts the same error in every cell it crosses (no cancelling), and a
+//! sliver thinner than a cell can pass between the centres. On the Cornell box, whose edges all
+//! run so, the Sobol rounds of `adaptive` do better at low sample counts (README).
 
 use glam::{Vec2, Vec3};
 
+use super::adaptive::ActivePixel;
 use super::tile::{PixelSums, SampleJob};
 
 /// Side of the first grid (16 cells, one packet of rays) when the film allows 16 samples.
 const FIRST_SIDE: u32 = 4;
 /// Levels of the hierarchy: 4×4, 8×8, 16×16, 32×32 cells.
 const LEVELS: usize = 4;
-
-/// An active pixel: where it is, where its sums go, and what its neighbourhood says.
-pub struct ActivePixel {
-    /// Film column.
-    pub x: u32,
-    /// Film row.
-    pub y: u32,
-    /// Its slot in the tile's sums.
-    pub slot: u32,
-    /// Its centre sample.
-    pub centre: Vec3,
-    /// Centre samples of its four neighbours (left, right, above, below), where on the film.
-    pub beside: [Option<Vec3>; 4],
-    /// Scale of the tolerance: the largest of display white, the centre, and a floor relative to
-    /// the neighbourhood's level (see `adaptive`).
-    pub scale: f32,
-    /// Largest channel of the neighbourhood's centre samples.
-    pub level: f32,
-}
 
 /// One pixel's cells, level by level: `start[l]` indexes the first of the level's g² cells in
 /// the tile's arena (`None` until a cell at that level is sampled).
@@ -302,6 +287,7 @@ mod tests {
             beside,
             scale: 1.0,
             level,
+            low: 0.0,
         };
         let (mut sums, mut counts) = (PixelSums::new(1, 1), [0u32]);
         let mut trace = |jobs: &[SampleJob], sums: &mut PixelSums| {

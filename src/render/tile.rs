@@ -12,7 +12,7 @@ use glam::{Vec2, Vec3};
 
 use crate::accel::packet::PACKET;
 use crate::accel::Bvh;
-use crate::film::{PixelRect, SamplerKind};
+use crate::film::PixelRect;
 use crate::plan::{Aov, RenderPlan};
 use crate::scene::Scene;
 use crate::shading::shader::Shader;
@@ -158,7 +158,7 @@ impl<'a> Context<'a> {
             },
             size: Vec2::new(film.width as f32, film.height as f32),
             depth_aov: plan.aovs.contains(&Aov::Depth),
-            record_surface: film.sampler == SamplerKind::Adaptive,
+            record_surface: film.sampler.is_adaptive(),
             sampled_aovs: plan.aovs.iter().filter(|a| a.per_sample()).count(),
             counters: Counters::default(),
         })

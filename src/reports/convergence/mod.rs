@@ -112,11 +112,11 @@ impl Sweep {
         for &sampler in &self.samplers {
             let counts = self.counts(sampler);
             match (sampler, self.adaptive_thresholds.as_slice()) {
-                (SamplerKind::Adaptive, thresholds) if thresholds.len() > 1 => {
+                (sampler, thresholds) if sampler.is_adaptive() && thresholds.len() > 1 => {
                     let cap = counts.max().unwrap_or(1);
                     renders.extend(thresholds.iter().map(|&t| (sampler, cap, Some(t))));
                 }
-                (SamplerKind::Adaptive, thresholds) => {
+                (sampler, thresholds) if sampler.is_adaptive() => {
                     renders.extend(counts.map(|spp| (sampler, spp, thresholds.first().copied())));
                 }
                 _ => renders.extend(counts.map(|spp| (sampler, spp, None))),
@@ -191,7 +191,7 @@ fn render_once(sweep: &Sweep, sampler: SamplerKind, spp: u32, threshold: Option<
     Ok(OurRender {
         image: rendered.image,
         mean_spp: rendered.stats.primary_rays as f64 / pixels,
-        threshold: (sampler == SamplerKind::Adaptive).then_some(scene.film.adaptive_threshold),
+        threshold: sampler.is_adaptive().then_some(scene.film.adaptive_threshold),
         time,
     })
 }

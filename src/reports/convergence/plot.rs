@@ -45,6 +45,7 @@ fn font_available() -> bool {
 fn colour(renderer: &str, sampler: &str) -> RGBColor {
     match (renderer, sampler) {
         ("pointshade", "adaptive") => RGBColor(0, 140, 60),
+        ("pointshade", "cells") => RGBColor(150, 190, 0),
         ("pointshade", "sobol") => RGBColor(30, 90, 220),
         ("pointshade", "grid") => RGBColor(120, 60, 200),
         ("pointshade", _) => RGBColor(0, 170, 200),
