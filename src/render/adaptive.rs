@@ -65,6 +65,7 @@ pub struct ActivePixel {
 /// Renders `region` adaptively; returns the per-pixel sums and sample counts (row-major).
 pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) -> (PixelSums, Vec<u32>) {
     let film = &ctx.scene.film;
+    let white = display_white(film);
     let grow = |r: PixelRect, by: u32| PixelRect {
         x0: r.x0.saturating_sub(by),
         y0: r.y0.saturating_sub(by),
@@ -86,7 +87,7 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
                 bent_area.x0 + i % bent_area.width(),
                 bent_area.y0 + i / bent_area.width(),
             );
-            neighbourhood(&centre_at, film, x, y)
+            neighbourhood(&centre_at, film, white, x, y)
         })
         .collect();
     let bent_at = |x: u32, y: u32| bent[((y - bent_area.y0) * bent_area.width() + (x - bent_area.x0)) as usize];
@@ -96,7 +97,6 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
         (y0..y1).any(|ny| (x0..x1).any(|nx| bent_at(nx, ny).bends))
     };
     let naovs = ctx.sampled_aovs;
-    let white = display_white(film);
     let settings = Settings {
         spp: film.spp,
         threshold: film.adaptive_threshold,
@@ -123,11 +123,8 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
                 if film.spp > 1 && active_at(x, y) {
                     let Neighbourhood { level, low, .. } = bent_at(x, y);
                     let c = centre.radiance[a];
-                    let beside = [(-1, 0), (1, 0), (0, -1), (0, 1)].map(|(dx, dy): (i64, i64)| {
-                        let (nx, ny) = (x as i64 + dx, y as i64 + dy);
-                        let on_film = nx >= 0 && ny >= 0 && nx < film.width as i64 && ny < film.height as i64;
-                        on_film.then(|| centre.radiance[at(nx as u32, ny as u32)])
-                    });
+                    let beside = [(-1, 0), (1, 0), (0, -1), (0, 1)]
+                        .map(|(dx, dy)| neighbour(film, x, y, dx, dy).map(|(nx, ny)| centre_at(nx, ny).0));
                     active.push(ActivePixel {
                         x,
                         y,
@@ -197,13 +194,15 @@ struct Neighbourhood {
 /// Whether the centre values bend at (x, y) by more than `threshold` of the neighbourhood's
 /// level (or of display white, if that is brighter), or a neighbour's centre hit another surface;
 /// and the neighbourhood's level.
-fn neighbourhood(centre: &impl Fn(u32, u32) -> (Vec3, u32), film: &FilmSettings, x: u32, y: u32) -> Neighbourhood {
-    let (width, height) = (film.width, film.height);
+fn neighbourhood(
+    centre: &impl Fn(u32, u32) -> (Vec3, u32),
+    film: &FilmSettings,
+    white: f32,
+    x: u32,
+    y: u32,
+) -> Neighbourhood {
     let (c, surface) = centre(x, y);
-    let at = |dx: i32, dy: i32| -> Option<(Vec3, u32)> {
-        let (nx, ny) = (x as i64 + dx as i64, y as i64 + dy as i64);
-        (nx >= 0 && ny >= 0 && nx < width as i64 && ny < height as i64).then(|| centre(nx as u32, ny as u32))
-    };
+    let at = |dx: i32, dy: i32| neighbour(film, x, y, dx, dy).map(|(nx, ny)| centre(nx, ny));
     let (mut level, mut low) = (c.max_element(), c.max_element());
     let mut bend = 0.0f32;
     let mut other_surface = false;
@@ -222,10 +221,16 @@ fn neighbourhood(centre: &impl Fn(u32, u32) -> (Vec3, u32), film: &FilmSettings,
         }
     }
     Neighbourhood {
-        bends: other_surface || bend > film.adaptive_threshold * level.max(display_white(film)),
+        bends: other_surface || bend > film.adaptive_threshold * level.max(white),
         level,
         low,
     }
+}
+
+/// Pixel (x + dx, y + dy), if it lies on the film.
+fn neighbour(film: &FilmSettings, x: u32, y: u32, dx: i32, dy: i32) -> Option<(u32, u32)> {
+    let (nx, ny) = (x.checked_add_signed(dx)?, y.checked_add_signed(dy)?);
+    (nx < film.width && ny < film.height).then_some((nx, ny))
 }
 
 /// The radiance shown as white on 8-bit output (2^−exposure): below it the adaptive tolerances are
