@@ -326,8 +326,9 @@ pub struct LaneMask<const N: usize>(pub [u32; N]);
 pub type Mask8 = LaneMask<LANES>;
 
 impl<const N: usize> LaneMask<N> {
+    /// Lane `i` is `f(i)`.
     #[inline(always)]
-    fn from_fn(f: impl Fn(usize) -> bool) -> Self {
+    pub fn from_fn(f: impl Fn(usize) -> bool) -> Self {
         let mut m = [0; N];
         for (i, m) in m.iter_mut().enumerate() {
             *m = if f(i) { u32::MAX } else { 0 };

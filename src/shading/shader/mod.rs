@@ -14,13 +14,15 @@ use std::borrow::Borrow;
 
 use glam::Vec3;
 
-use crate::shading::brdf::{dot3, map3, F32x8, LocalDots, Mask, Real, LANES};
+use crate::shading::brdf::{map3, LocalDots, Mask, Real};
 use crate::shading::convention::{assignment_dots, ShadingConvention};
 use crate::shading::light::{Light, LightSample};
 use crate::shading::material::{Material, PbrPoint, Specular};
 use crate::shading::shadow::{Occluder, ShadowOffset, ShadowRay};
 use crate::shading::texture::TextureImage;
-use crate::surface::{SurfaceLanes, SurfacePoint};
+use crate::surface::SurfacePoint;
+
+mod lanes;
 
 /// Most points of a [`Shader::shade_batch`] whose shadow rays go to the occluder at once (the
 /// samples of a pixel: as many as a BVH packet holds).
@@ -98,57 +100,79 @@ impl<O: Occluder> Shader<'_, O> {
         radiance.min(Vec3::splat(f32::MAX))
     }
 
-    /// [`Shader::shade`] of the points of one batch — the samples of one pixel — into `out` (one
-    /// entry per point), bit for bit what `shade` gives each point: the same terms, added in the
-    /// same (light) order. What differs is that each light's shadow rays from all the points go
-    /// to the occluder together ([`Occluder::occluded_batch`]: the BVH walks them as a packet).
+    /// [`Shader::shade`] of the points of one batch — the samples of one pixel or of a pixel
+    /// block — into `out` (one entry per point): what `shade` gives each point, the same terms
+    /// added in the same (light) order. What differs is that each light's shadow rays from up to
+    /// [`BATCH`] points go to the occluder together ([`Occluder::occluded_batch`]: the BVH walks
+    /// them as a packet), and that the points are shaded on lanes where they can be
+    /// (`lanes.rs`), eight of one material at a time.
     pub fn shade_batch<P: Borrow<SurfacePoint>>(&self, points: &[P], out: &mut [Vec3], shadow_rays: &mut u64) {
         assert_eq!(points.len(), out.len(), "one radiance per point");
-        let occluder = match (self.convention, self.occluder) {
-            (ShadingConvention::Physical, Some(occluder)) if points.len() > 1 => occluder,
-            _ => {
-                for (sp, out) in points.iter().zip(out) {
-                    *out = self.shade(sp.borrow(), shadow_rays);
-                }
-                return;
-            }
-        };
         for (points, out) in points.chunks(BATCH).zip(out.chunks_mut(BATCH)) {
-            let mut facing: [Option<Facing>; BATCH] = [None; BATCH];
-            for (k, sp) in points.iter().enumerate() {
-                (out[k], facing[k]) = self.facing(sp.borrow());
+            let physical = self.convention == ShadingConvention::Physical && points.len() > 1;
+            if physical && self.shade_batch_lanes(points, out, shadow_rays) {
+                continue;
             }
-            for light in self.lights {
-                let mut lit = [None; BATCH];
-                // Only rays[..n] are read; the rest are placeholders.
-                let mut rays = [ShadowRay {
-                    origin: Vec3::ZERO,
-                    direction: Vec3::Z,
-                    t_max: 0.0,
-                }; BATCH];
-                let mut n = 0;
-                for (k, (sp, facing)) in points.iter().zip(&facing).enumerate() {
-                    let Some(facing) = facing else { continue };
-                    let sp = sp.borrow();
-                    let Some(l) = self.lit(facing, sp, light) else { continue };
-                    rays[n] = self.shadow_ray(facing, sp, &l);
-                    lit[n] = Some((k, l));
-                    n += 1;
-                }
-                let mut blocked = [false; BATCH];
-                occluder.occluded_batch(&rays[..n], &mut blocked[..n]);
-                *shadow_rays += n as u64;
-                for (lit, _) in lit[..n].iter().zip(blocked).filter(|(_, blocked)| !blocked) {
-                    let Some((k, l)) = lit else { continue };
-                    if let Some(facing) = &facing[*k] {
-                        out[*k] += self.reflected(facing, l);
+            match self.occluder {
+                Some(occluder) if physical => self.shade_batch_points(points, out, occluder, shadow_rays),
+                _ => {
+                    for (sp, out) in points.iter().zip(out) {
+                        *out = self.shade(sp.borrow(), shadow_rays);
                     }
                 }
             }
-            for out in out.iter_mut() {
-                *out = out.min(Vec3::splat(f32::MAX));
+        }
+    }
+
+    /// [`Shader::shade_batch`] of at most [`BATCH`] points, one point at a time but each
+    /// light's shadow rays together: bit for bit what `shade` gives each point.
+    fn shade_batch_points<P: Borrow<SurfacePoint>>(
+        &self,
+        points: &[P],
+        out: &mut [Vec3],
+        occluder: &O,
+        shadow_rays: &mut u64,
+    ) {
+        let mut facing: [Option<Facing>; BATCH] = [None; BATCH];
+        for (k, sp) in points.iter().enumerate() {
+            (out[k], facing[k]) = self.facing(sp.borrow());
+        }
+        for light in self.lights {
+            let mut lit = [None; BATCH];
+            // Only rays[..n] are read; the rest are placeholders.
+            let mut rays = [ShadowRay {
+                origin: Vec3::ZERO,
+                direction: Vec3::Z,
+                t_max: 0.0,
+            }; BATCH];
+            let mut n = 0;
+            for (k, (sp, facing)) in points.iter().zip(&facing).enumerate() {
+                let Some(facing) = facing else { continue };
+                let sp = sp.borrow();
+                let Some(l) = self.lit(facing, sp, light) else { continue };
+                rays[n] = self.shadow_ray(facing, sp, &l);
+                lit[n] = Some((k, l));
+                n += 1;
+            }
+            let mut blocked = [false; BATCH];
+            occluder.occluded_batch(&rays[..n], &mut blocked[..n]);
+            *shadow_rays += n as u64;
+            for (lit, _) in lit[..n].iter().zip(blocked).filter(|(_, blocked)| !blocked) {
+                let Some((k, l)) = lit else { continue };
+                if let Some(facing) = &facing[*k] {
+                    out[*k] += self.reflected(facing, l);
+                }
             }
         }
+        for out in out.iter_mut() {
+            *out = out.min(Vec3::splat(f32::MAX));
+        }
+    }
+
+    /// Whether `material`'s BRDF parameters vary with its textures here (then each point
+    /// looks them up: see `facing`).
+    fn textured_brdf(&self, material: &Material) -> bool {
+        self.textures.is_some() && matches!(&material.specular, Specular::GltfPbr(p) if p.textures.varies_brdf())
     }
 
     /// Emitted radiance of `sp`, and what shading under the lights needs of it — `None` when
@@ -252,111 +276,6 @@ impl<O: Occluder> Shader<'_, O> {
         }
         radiance.min(Vec3::splat(f32::MAX))
     }
-
-    /// [`Shader::shade`] of [`LANES`] points at once: through [`Shader::shade_surface_lanes`]
-    /// when they share a material and the shader has lanes for them, otherwise one by one.
-    #[inline]
-    pub fn shade_lanes(&self, points: &[SurfacePoint; LANES], shadow_rays: &mut u64) -> [Vec3; LANES] {
-        match SurfaceLanes::from_points(points) {
-            Some(lanes) if self.has_lanes() => {
-                let radiance = self.shade_surface_lanes(&lanes);
-                std::array::from_fn(|i| Vec3::new(radiance[0].0[i], radiance[1].0[i], radiance[2].0[i]))
-            }
-            _ => points.map(|p| self.shade(&p, shadow_rays)),
-        }
-    }
-
-    /// Whether [`Shader::shade_surface_lanes`] serves this shader: always under the assignment
-    /// convention; under the physical one when there is nothing the lanes do not carry — no
-    /// shadow rays, no textures, no emission (the normal-map mode).
-    pub fn has_lanes(&self) -> bool {
-        match self.convention {
-            ShadingConvention::Assignment => true,
-            ShadingConvention::Physical => self.occluder.is_none() && self.textures.is_none() && !self.emission,
-        }
-    }
-
-    /// [`Shader::shade`] of eight points of one material, per channel, on [`F32x8`] lanes — the
-    /// same functions, in eight lanes, giving what the scalar path gives. Only for a shader that
-    /// [`Shader::has_lanes`].
-    #[inline(always)]
-    pub fn shade_surface_lanes(&self, points: &SurfaceLanes) -> [F32x8; 3] {
-        debug_assert!(self.has_lanes());
-        match self.convention {
-            ShadingConvention::Assignment => self.shade_assignment_lanes(points),
-            ShadingConvention::Physical => self.shade_physical_lanes(points),
-        }
-    }
-
-    /// The physical convention of [`Shader::shade`] without shadow rays, textures or emission,
-    /// on lanes: a two-sided material turns the normal towards the viewer, and a light adds
-    /// f·E·cos θ_i where n·ω_o > 0, n·ω_i > 0 and a shading frame exists (elsewhere the lane
-    /// adds 0, which the scalar path skips).
-    #[inline(always)]
-    fn shade_physical_lanes(&self, points: &SurfaceLanes) -> [F32x8; 3] {
-        let material = &self.materials[points.material as usize];
-        let wo = points.to_viewer;
-        let mut ns = points.shading_normal;
-        if material.two_sided {
-            let flip = dot3(ns, wo).lt(F32x8::splat(0.0));
-            ns = map3(ns, |c| F32x8::select(flip, -c, c));
-        }
-        let cos_o = dot3(ns, wo);
-        let visible = cos_o.gt(F32x8::splat(0.0));
-        let mut radiance = [F32x8::splat(0.0); 3];
-        if !visible.any() {
-            return radiance;
-        }
-        for light in self.lights {
-            let ls = light.sample_points(points.position);
-            let cos_i = dot3(ns, ls.wi);
-            let mut lit = visible & ls.lit & cos_i.gt(F32x8::splat(0.0));
-            let dots = if material.has_specular() {
-                let (dots, frame) = LocalDots::from_unit_vectors_masked(ns, ls.wi, wo);
-                lit = lit & frame;
-                dots
-            } else {
-                LocalDots::from_cosines(cos_i, cos_o, F32x8::splat(0.0), F32x8::splat(0.0))
-            };
-            if !lit.any() {
-                continue;
-            }
-            let f = material.eval(&dots);
-            for c in 0..3 {
-                let term = f[c] * ls.irradiance[c] * cos_i;
-                radiance[c] = radiance[c] + F32x8::select(lit, term, F32x8::splat(0.0));
-            }
-        }
-        map3(radiance, |c| c.min(F32x8::splat(f32::MAX)))
-    }
-
-    /// The assignment convention's L_o (see [`Shader::shade`]) of eight points, per channel: the
-    /// dot products, lights and BRDF run on [`F32x8`] lanes — the same functions, in eight lanes,
-    /// giving what the scalar path gives. Only for a shader whose convention is
-    /// [`ShadingConvention::Assignment`] (the caller's plan decides; the result ignores sides).
-    #[inline(always)]
-    pub fn shade_assignment_lanes(&self, points: &SurfaceLanes) -> [F32x8; 3] {
-        debug_assert_eq!(self.convention, ShadingConvention::Assignment);
-        let material = &self.materials[points.material as usize];
-        let mut radiance = [F32x8::splat(0.0); 3];
-        for light in self.lights {
-            // Where the light sends nothing (a light at the point), its irradiance is 0 and its
-            // direction the zero vector: the term is 0 and finite.
-            let ls = light.sample_points(points.position);
-            let wi_from_light = map3(ls.wi, |c| -c);
-            let term = assignment_term(
-                material,
-                points.shading_normal,
-                wi_from_light,
-                points.to_viewer,
-                ls.irradiance,
-            );
-            for c in 0..3 {
-                radiance[c] = radiance[c] + term[c];
-            }
-        }
-        map3(radiance, |c| c.min(F32x8::splat(f32::MAX)))
-    }
 }
 
 /// One light's L_i · f(ω_i, ω_o) · (n·ω_i) under the assignment convention, per channel, in any
@@ -383,10 +302,12 @@ fn assignment_term<R: Real>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::shading::brdf::LANES;
     use crate::shading::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
     use crate::shading::light::{Falloff, LightKind};
     use crate::shading::material::{BlinnPhong, CookTorrance};
     use crate::shading::shadow::NoOcclusion;
+    use crate::shading::texture::{Filter, TextureRef, Wrap};
     use glam::Vec2;
 
     /// Every model and term combination the shader can meet.
@@ -540,9 +461,8 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_batch_shades_exactly_as_one_point_at_a_time() {
-        let lights = lights();
+    /// Every third material of [`materials`], each one-sided and two-sided.
+    fn batch_materials() -> Vec<Material> {
         let mut materials: Vec<Material> = materials().into_iter().step_by(3).collect();
         let n = materials.len();
         for k in 0..n {
@@ -550,36 +470,61 @@ mod tests {
             other.two_sided = !other.two_sided;
             materials.push(other);
         }
-        let occluder = HalfOccluder(Default::default());
-        let shader = Shader {
-            materials: &materials,
-            lights: &lights,
-            occluder: Some(&occluder),
+        materials
+    }
+
+    /// The physical shader of `materials` under `lights`, with `occluder`.
+    fn physical<'a, O: Occluder>(materials: &'a [Material], lights: &'a [Light], occluder: &'a O) -> Shader<'a, O> {
+        Shader {
+            materials,
+            lights,
+            occluder: Some(occluder),
             scene_unit: 1.0,
             convention: ShadingConvention::Physical,
             textures: None,
             emission: false,
             shadow_offset: Default::default(),
-        };
-        // Every point with every material, in batches of every size up to past two packets.
-        let points: Vec<SurfacePoint> = (0..materials.len() as u32)
-            .flat_map(|m| points().into_iter().map(move |p| SurfacePoint { material: m, ..p }))
+        }
+    }
+
+    /// Asserts that `got[k]` is, bit for bit, what `shade` gives `batch[k]`.
+    fn assert_shaded_as_one_by_one(shader: &Shader<HalfOccluder>, batch: &[SurfacePoint], got: &[Vec3]) {
+        for (p, got) in batch.iter().zip(got) {
+            let one = shader.shade(p, &mut 0);
+            let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+            assert_eq!(bits(*got), bits(one), "{p:?}");
+        }
+    }
+
+    #[test]
+    fn a_batch_shades_exactly_as_one_point_at_a_time() {
+        let (lights, materials) = (lights(), batch_materials());
+        let occluder = HalfOccluder(Default::default());
+        let shader = physical(&materials, &lights, &occluder);
+        // Every point with every material, material by material (batches of one or two
+        // materials: lanes) and point by point (a material per point: point by point).
+        let nm = materials.len() as u32;
+        let with = |m: u32, p: SurfacePoint| SurfacePoint { material: m, ..p };
+        let by_material: Vec<_> = (0..nm)
+            .flat_map(|m| points().into_iter().map(move |p| with(m, p)))
+            .collect();
+        let interleaved: Vec<_> = points()
+            .into_iter()
+            .flat_map(|p| (0..nm).map(move |m| with(m, p)))
             .collect();
         let (mut blocked, mut open) = (0, 0);
-        for size in 1..=2 * BATCH + 1 {
+        // Batches of every size up to past two packets.
+        for (points, size) in [by_material, interleaved]
+            .iter()
+            .flat_map(|p| (1..=2 * BATCH + 1).map(move |s| (p, s)))
+        {
             for batch in points.chunks(size) {
                 let mut got = vec![Vec3::NAN; batch.len()];
                 let (mut batch_rays, mut one_rays) = (0, 0);
                 shader.shade_batch(batch, &mut got, &mut batch_rays);
                 let asked = occluder.0.swap(0, std::sync::atomic::Ordering::Relaxed);
-                for (p, got) in batch.iter().zip(&got) {
-                    let one = shader.shade(p, &mut one_rays);
-                    assert_eq!(
-                        got.to_array().map(f32::to_bits),
-                        one.to_array().map(f32::to_bits),
-                        "{p:?}"
-                    );
-                }
+                assert_shaded_as_one_by_one(&shader, batch, &got);
+                batch.iter().for_each(|p| _ = shader.shade(p, &mut one_rays));
                 assert_eq!(batch_rays, one_rays, "shadow rays counted");
                 assert_eq!(asked as u64, batch_rays, "the occluder answered each ray once");
                 occluder.0.store(0, std::sync::atomic::Ordering::Relaxed);
@@ -588,5 +533,63 @@ mod tests {
             }
         }
         assert!(open > 1000 && blocked > 1000, "{open} lit, {blocked} dark");
+    }
+
+    #[test]
+    fn batches_go_on_lanes_where_they_can_and_point_by_point_where_not() {
+        let (lights, materials) = (lights(), batch_materials());
+        let occluder = HalfOccluder(Default::default());
+        let batch = |materials: u32| -> Vec<SurfacePoint> {
+            let points = points();
+            (0..BATCH)
+                .map(|i| SurfacePoint {
+                    material: i as u32 % materials,
+                    ..points[i]
+                })
+                .collect()
+        };
+        let shader = physical(&materials, &lights, &occluder);
+        // Up to four groups of one material: lanes, both compilations (`shade_batch_lanes`
+        // picks AVX2 where the CPU has it; `batch_lanes` is the portable code).
+        for m in [1, 3, 4] {
+            let (mut got, mut portable) = (vec![Vec3::NAN; BATCH], vec![Vec3::NAN; BATCH]);
+            assert!(shader.shade_batch_lanes(&batch(m), &mut got, &mut 0), "{m} materials");
+            assert!(shader.batch_lanes(&batch(m), &mut portable, &mut 0));
+            assert_shaded_as_one_by_one(&shader, &batch(m), &got);
+            assert_shaded_as_one_by_one(&shader, &batch(m), &portable);
+        }
+        // Five groups, emission, or BRDF textures: refused, nothing written.
+        let untouched = |shader: &Shader<HalfOccluder>, batch: &[SurfacePoint]| {
+            let mut out = vec![Vec3::NAN; batch.len()];
+            !shader.shade_batch_lanes(batch, &mut out, &mut 0) && out.iter().all(|v| v.is_nan())
+        };
+        assert!(untouched(&shader, &batch(5)), "five materials");
+        assert!(untouched(
+            &Shader {
+                emission: true,
+                ..physical(&materials, &lights, &occluder)
+            },
+            &batch(1)
+        ));
+        let mut pbr = Material::gltf_pbr("textured", [0.8, 0.5, 0.2], 0.6, 0.4);
+        let Specular::GltfPbr(p) = &mut pbr.specular else {
+            unreachable!("made as glTF PBR")
+        };
+        p.textures.base_color = Some(TextureRef {
+            image: 0,
+            tex_coord: 0,
+            wrap_u: Wrap::Repeat,
+            wrap_v: Wrap::Repeat,
+            filter: Filter::Bilinear,
+        });
+        let pbr = [pbr];
+        let textured = Shader {
+            textures: Some(&[]),
+            ..physical(&pbr, &lights, &occluder)
+        };
+        assert!(
+            untouched(&textured, &batch(1)),
+            "a material whose BRDF varies with a texture"
+        );
     }
 }
