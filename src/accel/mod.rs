@@ -192,7 +192,8 @@ impl Bvh {
     }
 
     /// Runs `trace(packet, rays, t_max)` on `rays` prepared as one packet in BVH space (one
-    /// prepared ray and one `t_max` per ray), or returns `None` when they are too few for a
+    /// prepared ray per ray; `t_max` per ray, then 0 up to [`PACKET`], so that the leaf tests
+    /// load it four rays at a time), or returns `None` when they are too few for a
     /// packet walk, cannot share one ([`packet::may_share_walk`], asked before preparing
     /// anything) or the tree is too deep for the packet's fixed stack.
     ///
@@ -202,7 +203,7 @@ impl Bvh {
     fn with_packet<R>(
         &self,
         rays: &[(Vec3, Vec3, f32)],
-        trace: impl FnOnce(&RayPacket, &[WideRay], &mut [f32]) -> R,
+        trace: impl FnOnce(&RayPacket, &[WideRay], &mut [f32; PACKET]) -> R,
     ) -> Option<R> {
         let n = rays.len();
         assert!(n <= PACKET, "a packet holds at most {PACKET} rays");
@@ -224,7 +225,7 @@ impl Bvh {
         // SAFETY: entries 0..n were written just above, and `MaybeUninit<WideRay>` has the
         // layout of `WideRay`.
         let wide = unsafe { std::slice::from_raw_parts(wide.as_ptr().cast::<WideRay>(), n) };
-        Some(trace(&RayPacket::new(wide), wide, &mut t_max[..n]))
+        Some(trace(&RayPacket::new(wide), wide, &mut t_max))
     }
 
     /// The [`Hit`] of lane `hit.lane` of quad `quad`, in world units.

@@ -93,10 +93,10 @@ impl<'a> RayPacket<'a> {
     }
 
     /// Each ray's closest hit with 0 < t < `t_max[k]` in [`Nearest`]'s order, written to
-    /// `best[k]` (the slices have one entry per ray). The tree must be traversable with the
-    /// fixed stack ([`WideBvh::stack`]).
-    pub fn closest_hits(&self, bvh: &WideBvh, t_max: &mut [f32], best: &mut [Option<(u32, QuadHit)>]) {
-        debug_assert!(t_max.len() == self.rays.len() && best.len() == self.rays.len());
+    /// `best[k]` (one entry per ray; `t_max` past the rays must be 0). The tree must be
+    /// traversable with the fixed stack ([`WideBvh::stack`]).
+    pub fn closest_hits(&self, bvh: &WideBvh, t_max: &mut [f32; PACKET], best: &mut [Option<(u32, QuadHit)>]) {
+        debug_assert!(best.len() == self.rays.len() && t_max[self.rays.len()..].iter().all(|&t| t == 0.0));
         let mut nearest = [Nearest::before(0.0); PACKET];
         for (nearest, &t) in nearest.iter_mut().zip(&*t_max) {
             *nearest = Nearest::before(t);
@@ -120,12 +120,12 @@ impl<'a> RayPacket<'a> {
         });
     }
 
-    /// Whether each ray hits anything with 0 < t < `t_max[k]`, written to `occluded[k]` (the
-    /// slices have one entry per ray): exactly the answer of the ray's own any-hit walk, since
+    /// Whether each ray hits anything with 0 < t < `t_max[k]`, written to `occluded[k]` (one
+    /// entry per ray; `t_max` past the rays must be 0): exactly the answer of the ray's own any-hit walk, since
     /// the packet reaches every leaf the ray's walk reaches. The walk ends when every ray is
     /// occluded. The tree must be traversable with the fixed stack ([`WideBvh::stack`]).
-    pub fn any_hits(&self, bvh: &WideBvh, t_max: &[f32], occluded: &mut [bool]) {
-        debug_assert!(t_max.len() == self.rays.len() && occluded.len() == self.rays.len());
+    pub fn any_hits(&self, bvh: &WideBvh, t_max: &[f32; PACKET], occluded: &mut [bool]) {
+        debug_assert!(occluded.len() == self.rays.len() && t_max[self.rays.len()..].iter().all(|&t| t == 0.0));
         occluded.fill(false);
         let packet_t_max = t_max.iter().copied().fold(0.0, f32::max);
         bvh.walk_until(self, packet_t_max, &mut FixedStack::new(), |quad, packet_t_max| {
@@ -178,11 +178,12 @@ impl RayPacket<'_> {
     /// so a ray skipped here is one its own walk would not have tested this leaf with. (The
     /// packet reaches every leaf some ray may enter; most rays of a packet enter few of them.)
     #[inline(always)]
-    fn rays_entering(&self, bounds: &[[f32; 3]; 2], t_max: &[f32]) -> impl Iterator<Item = usize> {
+    fn rays_entering(&self, bounds: &[[f32; 3]; 2], t_max: &[f32; PACKET]) -> impl Iterator<Item = usize> {
         let n = self.rays.len();
         let mut mask = 0u32;
         for group in 0..n.div_ceil(4) {
-            let t_max = Vec4::from_array([0, 1, 2, 3].map(|k| t_max[(4 * group + k).min(n - 1)]));
+            // Lanes past the rays (t_max 0) are masked off below.
+            let t_max = Vec4::from_slice(&t_max[4 * group..]);
             let (origin, inv_dir) = (&self.lane_origin[group], &self.lane_inv_dir[group]);
             let mut t_near = Vec4::ZERO;
             let mut t_far = t_max;
