@@ -210,22 +210,30 @@ impl Bvh {
         if n < MIN_PACKET || self.wide.stack() != TraversalStack::Fixed {
             return None;
         }
-        let origin = |k: usize| Vec3A::from(rays[k].0 * self.scale);
-        let direction = |k: usize| without_negative_zeros(rays[k].1);
-        if !packet::may_share_walk((0..n).map(|k| (origin(k), direction(k).recip()))) {
+        // Origins, directions and 1/d in BVH space; past the rays, copies of the last one.
+        let mut origin = [Vec3A::ZERO; PACKET];
+        let mut direction = [Vec3A::ZERO; PACKET];
+        let mut inv_dir = [Vec3A::ZERO; PACKET];
+        for k in 0..PACKET {
+            let ray = &rays[k.min(n - 1)];
+            origin[k] = Vec3A::from(ray.0 * self.scale);
+            direction[k] = without_negative_zeros(ray.1);
+            inv_dir[k] = direction[k].recip();
+        }
+        if !packet::may_share_walk(origin[..n].iter().copied().zip(inv_dir[..n].iter().copied())) {
             return None;
         }
         let mut wide = [const { MaybeUninit::<WideRay>::uninit() }; PACKET];
         let mut t_max = [0.0f32; PACKET];
         for k in 0..n {
-            let (o, d) = (origin(k), direction(k));
+            let (o, d) = (origin[k], direction[k]);
             wide[k].write(WideRay::new(o, d, &WatertightRay::new(o, d)));
             t_max[k] = rays[k].2 * self.scale;
         }
         // SAFETY: entries 0..n were written just above, and `MaybeUninit<WideRay>` has the
         // layout of `WideRay`.
         let wide = unsafe { std::slice::from_raw_parts(wide.as_ptr().cast::<WideRay>(), n) };
-        Some(trace(&RayPacket::new(wide), wide, &mut t_max))
+        Some(trace(&RayPacket::new(wide, &origin, &inv_dir), wide, &mut t_max))
     }
 
     /// The [`Hit`] of lane `hit.lane` of quad `quad`, in world units.

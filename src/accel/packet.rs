@@ -47,49 +47,44 @@ pub struct RayPacket<'a> {
 
 impl<'a> RayPacket<'a> {
     /// The packet of 1..=[`PACKET`] `rays` that [`may_share_walk`] accepted: the caller asks
-    /// once, before preparing the rays, with the same origins and `1/d`.
-    pub(super) fn new(rays: &'a [WideRay]) -> Self {
+    /// once, before preparing the rays, with the same origins and `1/d`, which it passes here
+    /// too (`origin[k]`, `inv_dir[k]` for ray k, then copies of the last ray's up to [`PACKET`]:
+    /// the copies change no bound and fill the last group's lanes).
+    #[inline(always)]
+    pub(super) fn new(rays: &'a [WideRay], origin: &[Vec3A; PACKET], inv_dir: &[Vec3A; PACKET]) -> Self {
         debug_assert!(
             rays.len() <= PACKET && may_share_walk(rays.iter().map(origin_and_inverse)),
             "rays that cannot share a walk"
         );
-        let first = &rays[0];
-        let mut packet = Self {
-            rays,
-            origin_near: [Vec4::ZERO; 3],
-            origin_far: [Vec4::ZERO; 3],
-            inv_lo: [Vec4::ZERO; 3],
-            inv_hi: [Vec4::ZERO; 3],
-            near: first.near,
-            lane_origin: [[Vec4::ZERO; 3]; PACKET / 4],
-            lane_inv_dir: [[Vec4::ZERO; 3]; PACKET / 4],
+        let (mut o_lo, mut o_hi, mut i_lo, mut i_hi) = (origin[0], origin[0], inv_dir[0], inv_dir[0]);
+        for (&o, &i) in origin.iter().zip(inv_dir) {
+            (o_lo, o_hi) = (o_lo.min(o), o_hi.max(o));
+            (i_lo, i_hi) = (i_lo.min(i), i_hi.max(i));
+        }
+        let near = rays[0].near;
+        // Positive direction: the near plane is the minimum and the earliest entry comes from
+        // the largest origin; negative: the other way round.
+        let extreme = |axis: usize, nearest: bool| {
+            let positive = near[axis] == 0;
+            Vec4::splat(if positive == nearest { o_hi[axis] } else { o_lo[axis] })
         };
-        for axis in 0..3 {
-            let (mut o_lo, mut o_hi) = (f32::INFINITY, f32::NEG_INFINITY);
-            let (mut i_lo, mut i_hi) = (f32::INFINITY, f32::NEG_INFINITY);
-            for ray in rays {
-                let (o, inv) = (ray.origin[axis].x, ray.inv_dir[axis].x);
-                (o_lo, o_hi) = (o_lo.min(o), o_hi.max(o));
-                (i_lo, i_hi) = (i_lo.min(inv), i_hi.max(inv));
-            }
-            // Positive direction: the near plane is the minimum and the earliest entry comes
-            // from the largest origin; negative: the other way round.
-            let positive = first.near[axis] == 0;
-            let (near, far) = if positive { (o_hi, o_lo) } else { (o_lo, o_hi) };
-            packet.origin_near[axis] = Vec4::splat(near);
-            packet.origin_far[axis] = Vec4::splat(far);
-            packet.inv_lo[axis] = Vec4::splat(i_lo);
-            packet.inv_hi[axis] = Vec4::splat(i_hi);
+        let axes = |f: &dyn Fn(usize) -> Vec4| [f(0), f(1), f(2)];
+        // The rays four to a group, per axis.
+        let lanes = |v: &[Vec3A; PACKET], group: usize| {
+            let ray = |k: usize| v[4 * group + k];
+            let (a, b, c, d) = (ray(0), ray(1), ray(2), ray(3));
+            [0, 1, 2].map(|axis| Vec4::new(a[axis], b[axis], c[axis], d[axis]))
+        };
+        Self {
+            rays,
+            origin_near: axes(&|axis| extreme(axis, true)),
+            origin_far: axes(&|axis| extreme(axis, false)),
+            inv_lo: axes(&|axis| Vec4::splat(i_lo[axis])),
+            inv_hi: axes(&|axis| Vec4::splat(i_hi[axis])),
+            near,
+            lane_origin: [0, 1, 2, 3].map(|group| lanes(origin, group)),
+            lane_inv_dir: [0, 1, 2, 3].map(|group| lanes(inv_dir, group)),
         }
-        let lane = |group: usize, k: usize| &rays[(4 * group + k).min(rays.len() - 1)];
-        for group in 0..rays.len().div_ceil(4) {
-            for axis in 0..3 {
-                packet.lane_origin[group][axis] = Vec4::from_array([0, 1, 2, 3].map(|k| lane(group, k).origin[axis].x));
-                packet.lane_inv_dir[group][axis] =
-                    Vec4::from_array([0, 1, 2, 3].map(|k| lane(group, k).inv_dir[axis].x));
-            }
-        }
-        packet
     }
 
     /// Each ray's closest hit with 0 < t < `t_max[k]` in [`Nearest`]'s order, written to
