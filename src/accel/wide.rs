@@ -225,8 +225,10 @@ impl TriangleQuad {
         let [kx, ky, kz] = ray.axes;
         let [sx, sy, sz] = ray.shear;
         let sheared = |vertex: usize| -> [Vec4; 3] {
-            let d = [0, 1, 2].map(|axis| self.v[vertex][axis] - ray.origin[axis]);
-            [d[kx] - sx * d[kz], d[ky] - sy * d[kz], sz * d[kz]]
+            // The vertex relative to the origin, on the permuted axes only.
+            let d = |axis: usize| self.v[vertex][axis] - ray.origin[axis];
+            let (dx, dy, dz) = (d(kx), d(ky), d(kz));
+            [dx - sx * dz, dy - sy * dz, sz * dz]
         };
         let (a, b, c) = (sheared(0), sheared(1), sheared(2));
         let mut u = c[0] * b[1] - c[1] * b[0];
