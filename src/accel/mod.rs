@@ -21,6 +21,7 @@ use std::time::{Duration, Instant};
 
 use glam::{Vec3, Vec3A};
 use obvhs::BvhBuildParams;
+use rayon::prelude::*;
 
 use crate::scene::mesh::TriangleMesh;
 use crate::shading::shadow::{Occluder, ShadowRay};
@@ -96,28 +97,27 @@ impl Bvh {
     pub fn build(mesh: &TriangleMesh, preset: BvhPreset) -> Bvh {
         let start = Instant::now();
         let scale = world_to_bvh_scale(mesh);
-        // One pass: each kept triangle's vertices in BVH space and its padded box. Triangles
+        // In parallel: each kept triangle's vertices in BVH space, then its padded box. Triangles
         // without area (exactly zero cross product: repeated or collinear vertices) have no normal
         // and nothing to show; rounding in the sheared ray space could still report hits on them,
         // so they are left out of the BVH (unless nothing else is left).
-        let n = mesh.triangle_count();
-        let mut kept = Vec::with_capacity(n);
-        let mut triangles: Vec<[Vec3A; 3]> = Vec::with_capacity(n);
-        let mut boxes = Vec::with_capacity(n);
-        for keep_degenerate in [false, true] {
-            for t in 0..n as u32 {
-                let [a, b, c] = mesh.triangle_positions(t as usize);
-                if keep_degenerate || (b - a).cross(c - a) != Vec3::ZERO {
-                    let tri = [a, b, c].map(|p| Vec3A::from(p * scale));
-                    kept.push(t);
-                    boxes.push(padded_box(&tri));
-                    triangles.push(tri);
-                }
-            }
-            if !kept.is_empty() {
-                break;
-            }
+        let n = mesh.triangle_count() as u32;
+        let prepared = |keep_degenerate: bool| -> Vec<(u32, [Vec3A; 3])> {
+            (0..n)
+                .into_par_iter()
+                .filter_map(|t| {
+                    let [a, b, c] = mesh.triangle_positions(t as usize);
+                    let keep = keep_degenerate || (b - a).cross(c - a) != Vec3::ZERO;
+                    keep.then(|| (t, [a, b, c].map(|p| Vec3A::from(p * scale))))
+                })
+                .collect()
+        };
+        let mut prepared_triangles = prepared(false);
+        if prepared_triangles.is_empty() {
+            prepared_triangles = prepared(true);
         }
+        let (kept, triangles): (Vec<u32>, Vec<[Vec3A; 3]>) = prepared_triangles.into_iter().unzip();
+        let boxes: Vec<_> = triangles.par_iter().map(padded_box).collect();
         let params = BvhBuildParams {
             max_prims_per_leaf: 4,
             ..preset.params()
