@@ -138,14 +138,14 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
                     });
                 }
             }
-            if film.sampler == SamplerKind::Cells {
-                SCRATCH.with_borrow_mut(|(scratch, surfaces)| {
+            SCRATCH.with_borrow_mut(|(scratch, surfaces)| {
+                if film.sampler == SamplerKind::Cells {
                     let mut trace = |jobs: &[SampleJob], sums: &mut PixelSums| ctx.trace(jobs, sums, surfaces);
                     subdivision::refine(settings, &active, &mut sums, &mut counts, scratch, &mut trace);
-                });
-            } else {
-                rounds::refine(ctx, &active, &mut sums, &mut counts, white);
-            }
+                } else {
+                    rounds::refine(ctx, &active, &mut sums, &mut counts, white, surfaces);
+                }
+            });
             on_tile(done.fetch_add(1, Ordering::Relaxed) + 1);
             (sums, counts)
         })
@@ -163,7 +163,8 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
 }
 
 thread_local! {
-    /// Each thread's refinement buffers, kept from tile to tile: `map_init` would make them anew
+    /// Each thread's refinement buffers (the cells', and the traced samples both samplers
+    /// use), kept from tile to tile: `map_init` would make them anew
     /// for nearly every tile (each tile is its own job, see `par_tiles`), and growing them again
     /// each time cost 2–3% of the dragon's render in `realloc`.
     static SCRATCH: RefCell<(Scratch, Vec<SurfaceSample>)> = RefCell::default();

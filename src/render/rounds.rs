@@ -17,7 +17,7 @@
 use glam::{Vec2, Vec3};
 
 use super::adaptive::{ActivePixel, DARK_FLOOR};
-use super::tile::{Context, PixelSums, SampleJob};
+use super::tile::{Context, PixelSums, SampleJob, SurfaceSample};
 use crate::film::{sampler::pixel_offsets, SamplerKind};
 
 /// Samples of an active pixel's first refinement round (a 4×4-stratified Sobol net); each later
@@ -27,8 +27,16 @@ const FIRST_ROUND: u32 = 16;
 const HIGH_CONTRAST: f32 = 30.0;
 
 /// Refines `pixels` (the active pixels of one tile) in rounds; their sums replace the centre
-/// sample in `sums`, and `counts` gets their sample counts.
-pub fn refine(ctx: &Context, pixels: &[ActivePixel], sums: &mut PixelSums, counts: &mut [u32], white: f32) {
+/// sample in `sums`, and `counts` gets their sample counts. `surfaces` is the thread's buffer of
+/// traced samples, kept from tile to tile.
+pub fn refine(
+    ctx: &Context,
+    pixels: &[ActivePixel],
+    sums: &mut PixelSums,
+    counts: &mut [u32],
+    white: f32,
+    surfaces: &mut Vec<SurfaceSample>,
+) {
     let mut active: Vec<Refining> = pixels
         .iter()
         .map(|p| Refining {
@@ -42,7 +50,7 @@ pub fn refine(ctx: &Context, pixels: &[ActivePixel], sums: &mut PixelSums, count
             previous_max: p.centre.max_element(),
         })
         .collect();
-    rounds(ctx, &mut active, sums, counts, white);
+    rounds(ctx, &mut active, sums, counts, white, surfaces);
 }
 
 /// A pixel still taking samples.
@@ -64,7 +72,14 @@ struct Refining {
 
 /// Rounds of 16, 64, 256, … samples for the `active` pixels of a tile until each converges or
 /// reaches the film's spp; their sums replace the centre sample.
-fn rounds(ctx: &Context, active: &mut Vec<Refining>, sums: &mut PixelSums, counts: &mut [u32], white: f32) {
+fn rounds(
+    ctx: &Context,
+    active: &mut Vec<Refining>,
+    sums: &mut PixelSums,
+    counts: &mut [u32],
+    white: f32,
+    surfaces: &mut Vec<SurfaceSample>,
+) {
     let film = &ctx.scene.film;
     let threshold = film.adaptive_threshold;
     let naovs = ctx.sampled_aovs;
@@ -77,7 +92,6 @@ fn rounds(ctx: &Context, active: &mut Vec<Refining>, sums: &mut PixelSums, count
     let mut target = FIRST_ROUND.min(film.spp);
     let mut offsets = Vec::new();
     let mut jobs = Vec::new();
-    let mut scratch = Vec::new();
     // Two slots per active pixel: the round's samples in the first and in the second half of
     // the pixel's samples so far.
     let mut halves = PixelSums::new(0, naovs);
@@ -94,7 +108,7 @@ fn rounds(ctx: &Context, active: &mut Vec<Refining>, sums: &mut PixelSums, count
             }));
         }
         halves.reset(2 * active.len());
-        ctx.trace(&jobs, &mut halves, &mut scratch);
+        ctx.trace(&jobs, &mut halves, surfaces);
         let mut k = 0;
         active.retain_mut(|p| {
             let slot = p.slot as usize;
