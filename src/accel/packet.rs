@@ -68,7 +68,6 @@ impl<'a> RayPacket<'a> {
             let positive = near[axis] == 0;
             Vec4::splat(if positive == nearest { o_hi[axis] } else { o_lo[axis] })
         };
-        let axes = |f: &dyn Fn(usize) -> Vec4| [f(0), f(1), f(2)];
         // The rays four to a group, per axis.
         let lanes = |v: &[Vec3A; PACKET], group: usize| {
             let ray = |k: usize| v[4 * group + k];
@@ -77,10 +76,10 @@ impl<'a> RayPacket<'a> {
         };
         Self {
             rays,
-            origin_near: axes(&|axis| extreme(axis, true)),
-            origin_far: axes(&|axis| extreme(axis, false)),
-            inv_lo: axes(&|axis| Vec4::splat(i_lo[axis])),
-            inv_hi: axes(&|axis| Vec4::splat(i_hi[axis])),
+            origin_near: [0, 1, 2].map(|axis| extreme(axis, true)),
+            origin_far: [0, 1, 2].map(|axis| extreme(axis, false)),
+            inv_lo: [0, 1, 2].map(|axis| Vec4::splat(i_lo[axis])),
+            inv_hi: [0, 1, 2].map(|axis| Vec4::splat(i_hi[axis])),
             near,
             lane_origin: [0, 1, 2, 3].map(|group| lanes(origin, group)),
             lane_inv_dir: [0, 1, 2, 3].map(|group| lanes(inv_dir, group)),
@@ -116,9 +115,9 @@ impl<'a> RayPacket<'a> {
     }
 
     /// Whether each ray hits anything with 0 < t < `t_max[k]`, written to `occluded[k]` (one
-    /// entry per ray; `t_max` past the rays must be 0): exactly the answer of the ray's own any-hit walk, since
-    /// the packet reaches every leaf the ray's walk reaches. The walk ends when every ray is
-    /// occluded. The tree must be traversable with the fixed stack ([`WideBvh::stack`]).
+    /// entry per ray; `t_max` past the rays must be 0): exactly the answer of the ray's own
+    /// any-hit walk, since the packet reaches every leaf the ray's walk reaches. The walk ends
+    /// when every ray is occluded. The tree must be traversable with the fixed stack ([`WideBvh::stack`]).
     pub fn any_hits(&self, bvh: &WideBvh, t_max: &[f32; PACKET], occluded: &mut [bool]) {
         debug_assert!(occluded.len() == self.rays.len() && t_max[self.rays.len()..].iter().all(|&t| t == 0.0));
         occluded.fill(false);

@@ -520,11 +520,15 @@ mod tests {
         {
             for batch in points.chunks(size) {
                 let mut got = vec![Vec3::NAN; batch.len()];
-                let (mut batch_rays, mut one_rays) = (0, 0);
+                let mut batch_rays = 0;
                 shader.shade_batch(batch, &mut got, &mut batch_rays);
                 let asked = occluder.0.swap(0, std::sync::atomic::Ordering::Relaxed);
                 assert_shaded_as_one_by_one(&shader, batch, &got);
-                batch.iter().for_each(|p| _ = shader.shade(p, &mut one_rays));
+                // The shadow rays the points take one by one.
+                let mut one_rays = 0;
+                for p in batch {
+                    shader.shade(p, &mut one_rays);
+                }
                 assert_eq!(batch_rays, one_rays, "shadow rays counted");
                 assert_eq!(asked as u64, batch_rays, "the occluder answered each ray once");
                 occluder.0.store(0, std::sync::atomic::Ordering::Relaxed);
