@@ -562,6 +562,22 @@ mod tests {
             assert_shaded_as_one_by_one(&shader, &batch(m), &got);
             assert_shaded_as_one_by_one(&shader, &batch(m), &portable);
         }
+        // Without shadows (the plan left them out): lanes too, the same values.
+        let unshadowed = Shader {
+            occluder: None,
+            ..physical(&materials, &lights, &occluder)
+        };
+        occluder.0.store(0, std::sync::atomic::Ordering::Relaxed);
+        for m in [1, 4] {
+            let mut got = vec![Vec3::NAN; BATCH];
+            unshadowed.shade_batch(&batch(m), &mut got, &mut 0);
+            assert_shaded_as_one_by_one(&unshadowed, &batch(m), &got);
+        }
+        assert_eq!(
+            occluder.0.load(std::sync::atomic::Ordering::Relaxed),
+            0,
+            "no shadow ray traced"
+        );
         // Five groups, emission, or BRDF textures: refused, nothing written.
         let untouched = |shader: &Shader<HalfOccluder>, batch: &[SurfacePoint]| {
             let mut out = vec![Vec3::NAN; batch.len()];
