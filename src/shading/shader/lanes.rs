@@ -353,3 +353,132 @@ impl<O: Occluder> Shader<'_, O> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::super::tests::{
+        assert_shaded_as_one_by_one, batch_materials, lights, materials, physical, points, HalfOccluder,
+    };
+    use super::super::{Shader, BATCH};
+    use crate::shading::brdf::LANES;
+    use crate::shading::convention::ShadingConvention;
+    use crate::shading::material::{Material, Specular};
+    use crate::shading::shadow::NoOcclusion;
+    use crate::shading::texture::{Filter, TextureRef, Wrap};
+    use crate::surface::SurfacePoint;
+
+    #[test]
+    fn eight_lanes_shade_exactly_as_one_point_at_a_time() {
+        let lights = lights();
+        let points = points();
+        let conventions = [ShadingConvention::Assignment, ShadingConvention::Physical];
+        let sided = materials().into_iter().flat_map(|m| {
+            let mut other = m.clone();
+            other.two_sided = !m.two_sided;
+            [m, other]
+        });
+        for (material, convention) in sided.flat_map(|m| conventions.map(|c| (m.clone(), c))) {
+            let shader = Shader::<NoOcclusion> {
+                materials: std::slice::from_ref(&material),
+                lights: &lights,
+                occluder: None,
+                scene_unit: 1.0,
+                convention,
+                textures: None,
+                emission: false,
+                shadow_offset: Default::default(),
+            };
+            assert!(shader.has_lanes());
+            for start in 0..points.len() - LANES {
+                let group: [SurfacePoint; LANES] = std::array::from_fn(|i| points[start + i]);
+                let lanes = shader.shade_lanes(&group, &mut 0);
+                for (p, lane) in group.iter().zip(lanes) {
+                    let one = shader.shade(p, &mut 0);
+                    // Equal as numbers (the sign of a zero may differ) and never NaN.
+                    assert!(
+                        lane == one && lane.is_finite(),
+                        "{} {convention:?} two-sided {}: {lane} vs {one} at {p:?}",
+                        material.name,
+                        material.two_sided
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn batches_go_on_lanes_where_they_can_and_point_by_point_where_not() {
+        let (lights, materials) = (lights(), batch_materials());
+        let occluder = HalfOccluder(Default::default());
+        let batch = |materials: u32| -> Vec<SurfacePoint> {
+            let points = points();
+            (0..BATCH)
+                .map(|i| SurfacePoint {
+                    material: i as u32 % materials,
+                    ..points[i]
+                })
+                .collect()
+        };
+        let shader = physical(&materials, &lights, &occluder);
+        // Up to four groups of one material: lanes, both compilations (`shade_batch_lanes`
+        // picks AVX2 where the CPU has it; `batch_lanes` is the portable code).
+        for m in [1, 3, 4] {
+            let (mut got, mut portable) = (vec![Vec3::NAN; BATCH], vec![Vec3::NAN; BATCH]);
+            assert!(shader.shade_batch_lanes(&batch(m), &mut got, &mut 0), "{m} materials");
+            assert!(shader.batch_lanes(&batch(m), &mut portable, &mut 0));
+            assert_shaded_as_one_by_one(&shader, &batch(m), &got);
+            assert_shaded_as_one_by_one(&shader, &batch(m), &portable);
+        }
+        // Without shadows (the plan left them out): lanes too, the same values.
+        let unshadowed = Shader {
+            occluder: None,
+            ..physical(&materials, &lights, &occluder)
+        };
+        occluder.0.store(0, std::sync::atomic::Ordering::Relaxed);
+        for m in [1, 4] {
+            let mut got = vec![Vec3::NAN; BATCH];
+            unshadowed.shade_batch(&batch(m), &mut got, &mut 0);
+            assert_shaded_as_one_by_one(&unshadowed, &batch(m), &got);
+        }
+        assert_eq!(
+            occluder.0.load(std::sync::atomic::Ordering::Relaxed),
+            0,
+            "no shadow ray traced"
+        );
+        // Five groups, emission, or BRDF textures: refused, nothing written.
+        let untouched = |shader: &Shader<HalfOccluder>, batch: &[SurfacePoint]| {
+            let mut out = vec![Vec3::NAN; batch.len()];
+            !shader.shade_batch_lanes(batch, &mut out, &mut 0) && out.iter().all(|v| v.is_nan())
+        };
+        assert!(untouched(&shader, &batch(5)), "five materials");
+        assert!(untouched(
+            &Shader {
+                emission: true,
+                ..physical(&materials, &lights, &occluder)
+            },
+            &batch(1)
+        ));
+        let mut pbr = Material::gltf_pbr("textured", [0.8, 0.5, 0.2], 0.6, 0.4);
+        let Specular::GltfPbr(p) = &mut pbr.specular else {
+            unreachable!("made as glTF PBR")
+        };
+        p.textures.base_color = Some(TextureRef {
+            image: 0,
+            tex_coord: 0,
+            wrap_u: Wrap::Repeat,
+            wrap_v: Wrap::Repeat,
+            filter: Filter::Bilinear,
+        });
+        let pbr = [pbr];
+        let textured = Shader {
+            textures: Some(&[]),
+            ..physical(&pbr, &lights, &occluder)
+        };
+        assert!(
+            untouched(&textured, &batch(1)),
+            "a material whose BRDF varies with a texture"
+        );
+    }
+}
