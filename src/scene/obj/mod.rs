@@ -1,9 +1,13 @@
 //! Wavefront OBJ/MTL loading (via tobj) into a [`TriangleMesh`] and [`Material`]s.
 //!
+//! Plain files (positions and triangles only, like the scanned meshes) are parsed on all cores by
+//! [`plain`], which returns exactly what tobj would; everything else goes to tobj.
 //! Polygons are fan-triangulated and vertices are unique (position, uv, normal) tuples, as in
 //! Mitsuba's OBJ loader, so a mesh renders the same in both. MTL materials map to the BRDF models:
 //! `Pr`/`Pm` (the PBR extension) → Cook-Torrance; `Ks` with `Ns` → Blinn-Phong; otherwise `Kd` →
 //! Lambert. A missing MTL file is a warning, not an error (many OBJ files name one they lack).
+
+mod plain;
 
 use std::path::Path;
 
@@ -36,17 +40,9 @@ pub fn load_obj(path: &Path) -> InputResult<ObjContents> {
         return Err(InputError::new(path, "file not found"));
     }
     let bytes = std::fs::read(path).map_err(|e| InputError::new(path, format!("cannot read: {e}")))?;
-    // Vertices are unique (position, uv, normal) index tuples, as in Mitsuba. A file with only
-    // positions needs no tuple matching: its position indices are the vertex indices, and tobj's
-    // per-attribute mode (2–3× faster on the dragon) returns exactly those.
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        single_index: has_vertex_attributes(&bytes),
-        ..Default::default()
-    };
     let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
-    let (models, materials) = tobj::load_obj_buf(&mut bytes.as_slice(), &options, |mtl| tobj::load_mtl(dir.join(mtl)))
-        .map_err(|e| InputError::new(path, format!("malformed OBJ: {e}")))?;
+    let (models, materials) =
+        parse_with_tobj_semantics(&bytes, &dir).map_err(|e| InputError::new(path, format!("malformed OBJ: {e}")))?;
     let mut material_warning = None;
     let materials = match materials {
         Ok(m) => m,
@@ -140,6 +136,31 @@ pub fn load_obj(path: &Path) -> InputResult<ObjContents> {
         materials,
         material_warning,
     })
+}
+
+/// tobj's models and materials for an OBJ file's `bytes`, whose MTL files are looked up in `dir`.
+/// A plain file (positions and faces only) goes to the parallel [`plain`] parser, which gives the
+/// same models; any other file, and every error, to tobj itself.
+fn parse_with_tobj_semantics(bytes: &[u8], dir: &Path) -> tobj::LoadResult {
+    // Vertices are unique (position, uv, normal) index tuples, as in Mitsuba. A file with only
+    // positions needs no tuple matching: its position indices are the vertex indices, and tobj's
+    // per-attribute mode (2–3× faster on the dragon) returns exactly those.
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: false,
+        ..Default::default()
+    };
+    let load_mtl = |mtl: &Path| tobj::load_mtl(dir.join(mtl));
+    if let Some(plain) = plain::parse(bytes) {
+        // The MTL libraries load as tobj loads them: from the file's `mtllib` lines alone.
+        let (_, materials) = tobj::load_obj_buf(&mut plain.material_lines.join("\n").as_bytes(), &options, load_mtl)?;
+        return Ok((vec![plain.model], materials));
+    }
+    let options = tobj::LoadOptions {
+        single_index: has_vertex_attributes(bytes),
+        ..options
+    };
+    tobj::load_obj_buf(&mut &bytes[..], &options, load_mtl)
 }
 
 /// Whether an OBJ file has texture coordinates or normals (`vt` or `vn` lines, maybe indented).
