@@ -303,6 +303,43 @@ mod tests {
     }
 
     #[test]
+    fn plain_files_load_their_material_libraries_as_tobj_does() {
+        let dir = std::env::temp_dir().join(format!("pointshade-obj-plain-mtl-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("a.mtl"), "newmtl red\nKd 1 0 0\n").unwrap();
+        std::fs::write(dir.join("b c.mtl"), "newmtl blue\nKd 0 0 1\nnewmtl red\nKd 1 1 0\n").unwrap();
+        let geometry = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+        for libraries in [
+            "",
+            "mtllib a.mtl\n",
+            "mtllib a.mtl\r\nmtllib b c.mtl\n",
+            "mtllib none.mtl\n",
+            "mtllib\n",
+        ] {
+            let text = format!("{libraries}{geometry}");
+            assert!(
+                plain::parse(text.as_bytes()).is_some(),
+                "{text:?} takes the plain parser"
+            );
+            let (models, got) = parse_with_tobj_semantics(text.as_bytes(), &dir).unwrap();
+            let options = tobj::LoadOptions {
+                triangulate: true,
+                ..Default::default()
+            };
+            let (expected_models, expected) =
+                tobj::load_obj_buf(&mut text.as_bytes(), &options, |m| tobj::load_mtl(dir.join(m))).unwrap();
+            assert_eq!(models.len(), expected_models.len());
+            let names = |r: &Result<Vec<tobj::Material>, tobj::LoadError>| {
+                r.as_ref()
+                    .map(|v| v.iter().map(|m| (m.name.clone(), m.diffuse)).collect::<Vec<_>>())
+                    .map_err(|e| e.to_string())
+            };
+            assert_eq!(names(&got), names(&expected), "{libraries:?}");
+        }
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
     fn missing_normals_become_angle_weighted_and_quads_are_fan_triangulated() {
         let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
         let c = load("quad", obj, "");
