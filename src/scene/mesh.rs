@@ -124,12 +124,13 @@ pub fn angle_weighted_normals(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec
             if face == Vec3::ZERO {
                 return [Vec3::ZERO; 3];
             }
-            [0, 1, 2].map(|k| {
-                let e1 = (p[(k + 1) % 3] - p[k]).normalize_or_zero();
-                let e2 = (p[(k + 2) % 3] - p[k]).normalize_or_zero();
-                // acos of a clamped cosine: e1·e2 can exceed 1 by rounding.
-                face * e1.dot(e2).clamp(-1.0, 1.0).acos()
-            })
+            // The corner at k lies between the unit edges k → k+1 and k → k+2; the second is the
+            // negated edge k+2 → k, and negation is exact in every step (subtraction, the
+            // normalisation, the dot product), so each edge is normalised once and the result
+            // has the bits of normalising all six.
+            let edge = [0, 1, 2].map(|k| (p[(k + 1) % 3] - p[k]).normalize_or_zero());
+            // acos of a clamped cosine: the dot product can exceed 1 by rounding.
+            [0, 1, 2].map(|k| face * (-edge[k].dot(edge[(k + 2) % 3])).clamp(-1.0, 1.0).acos())
         })
         .collect();
     let mut sum = vec![Vec3::ZERO; positions.len()];
@@ -164,6 +165,40 @@ mod tests {
         assert!((n[0] - Vec3::new(0.0, 1.0, 1.0).normalize()).length() < 1e-6);
         // Vertex 2 only touches the xy face.
         assert!((n[2] - Vec3::Z).length() < 1e-6);
+    }
+
+    #[test]
+    fn angle_weighted_normals_have_the_bits_of_normalising_every_corners_edges() {
+        // The textbook form: both edges of each corner normalised from the positions.
+        fn textbook(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<Vec3> {
+            let mut sum = vec![Vec3::ZERO; positions.len()];
+            for tri in triangles {
+                let p = tri.map(|i| positions[i as usize]);
+                let face = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+                for k in 0..3 {
+                    let e1 = (p[(k + 1) % 3] - p[k]).normalize_or_zero();
+                    let e2 = (p[(k + 2) % 3] - p[k]).normalize_or_zero();
+                    sum[tri[k] as usize] += face * e1.dot(e2).clamp(-1.0, 1.0).acos();
+                }
+            }
+            sum.into_iter().map(Vec3::normalize_or_zero).collect()
+        }
+        // Irregular positions (a hashed jitter), with a degenerate and a needle triangle.
+        let unit =
+            |i: u32, salt: u32| (i.wrapping_mul(0x9e37_79b9) ^ salt).wrapping_mul(0x85eb_ca6b) as f32 / u32::MAX as f32;
+        let mut positions: Vec<Vec3> = (0..4000)
+            .map(|i| Vec3::new(unit(i, 1), unit(i, 2), unit(i, 3)) * 7.0 - 3.0)
+            .collect();
+        positions.extend([Vec3::ONE, Vec3::ONE, Vec3::new(0.0, 0.0, 1e-7)]);
+        let mut triangles: Vec<[u32; 3]> = (0..6000)
+            .map(|i| [i % 4000, (i * 7 + 1) % 4000, (i * 13 + 5) % 4000])
+            .collect();
+        triangles.extend([[4000, 4001, 4002], [0, 4002, 4000]]);
+        let bits = |v: Vec<Vec3>| v.iter().map(|n| n.to_array().map(f32::to_bits)).collect::<Vec<_>>();
+        assert_eq!(
+            bits(angle_weighted_normals(&positions, &triangles)),
+            bits(textbook(&positions, &triangles))
+        );
     }
 
     #[test]
