@@ -104,12 +104,42 @@ fn line_blocks(text: &str) -> Vec<&str> {
     blocks
 }
 
-/// The words of one line (without its `\n`), split where tobj's `split_whitespace` splits an
-/// ASCII line: at the ASCII characters `char::is_whitespace` accepts, which unlike
-/// `u8::is_ascii_whitespace` include the vertical tab.
-fn words(line: &str) -> impl Iterator<Item = &str> {
-    line.split([' ', '\t', '\u{b}', '\u{c}', '\r'])
-        .filter(|w| !w.is_empty())
+/// The whitespace-separated words of one line (without its `\n`), split where tobj's
+/// `split_whitespace` splits an ASCII line: at the ASCII characters `char::is_whitespace` accepts,
+/// which unlike `u8::is_ascii_whitespace` include the vertical tab.
+struct Words<'a> {
+    line: &'a str,
+    at: usize,
+}
+
+impl<'a> Words<'a> {
+    fn new(line: &'a str) -> Self {
+        Words { line, at: 0 }
+    }
+}
+
+/// Whether `b` separates words: space, tab, vertical tab, form feed or carriage return.
+fn is_space(b: u8) -> bool {
+    const SPACES: u64 = 1 << b' ' | 1 << b'\t' | 1 << 0x0b | 1 << 0x0c | 1 << b'\r';
+    b <= b' ' && SPACES >> b & 1 == 1
+}
+
+impl<'a> Iterator for Words<'a> {
+    type Item = &'a str;
+
+    fn next(&mut self) -> Option<&'a str> {
+        let bytes = self.line.as_bytes();
+        let mut end = self.at;
+        while end < bytes.len() && is_space(bytes[end]) {
+            end += 1;
+        }
+        let start = end;
+        while end < bytes.len() && !is_space(bytes[end]) {
+            end += 1;
+        }
+        self.at = end;
+        (start < end).then(|| &self.line[start..end])
+    }
 }
 
 /// Parses one block of lines, or `None` if a line is not plain.
@@ -119,8 +149,12 @@ fn parse_block(block: &str) -> Option<Block<'_>> {
         triangles: Vec::with_capacity(block.len() / 32),
         material_lines: Vec::new(),
     };
-    for line in block.split_terminator('\n') {
-        let mut words = words(line);
+    let mut rest = block;
+    while !rest.is_empty() {
+        let end = memchr::memchr(b'\n', rest.as_bytes()).unwrap_or(rest.len());
+        let line = &rest[..end];
+        rest = rest.get(end + 1..).unwrap_or("");
+        let mut words = Words::new(line);
         match words.next() {
             Some("v") => {
                 let mut p = [0.0f32; 3];
@@ -159,10 +193,14 @@ fn parse_block(block: &str) -> Option<Block<'_>> {
 /// A face word made only of decimal digits, as a 0-based index; `None` for anything else (a
 /// `/`, a sign, 0, a value past u32).
 fn vertex_index(word: &str) -> Option<u32> {
-    if !word.bytes().all(|b| b.is_ascii_digit()) {
-        return None;
+    let mut one_based = 0u32;
+    for b in word.bytes() {
+        let digit = b.wrapping_sub(b'0');
+        if digit > 9 {
+            return None;
+        }
+        one_based = one_based.checked_mul(10)?.checked_add(u32::from(digit))?;
     }
-    let one_based: u32 = word.parse().ok()?;
     one_based.checked_sub(1)
 }
 
