@@ -37,6 +37,21 @@ pub enum TraversalStack {
 /// a few cores without splitting small trees into many tiny tasks).
 const PARALLEL_LEVELS: u32 = 2;
 
+/// The number of leaves under `bvh2` node `node`.
+fn leaf_count(bvh2: &Bvh2, node: usize) -> usize {
+    let mut stack = vec![node];
+    let mut leaves = 0;
+    while let Some(n) = stack.pop() {
+        let first = bvh2.nodes[n].first_index as usize;
+        if bvh2.nodes[n].is_leaf() {
+            leaves += 1;
+        } else {
+            stack.extend([first, first + 1]);
+        }
+    }
+    leaves
+}
+
 /// Four child boxes, lane k = child k; `bounds[axis][0]` = minima, `[1]` = maxima.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(16))]
@@ -347,7 +362,9 @@ impl WideBvh {
                 .par_iter()
                 .map(|&slot| {
                     (!bvh2.nodes[slot].is_leaf()).then(|| {
-                        let mut subtree = WideBvh::with_capacity(0);
+                        // Sized up front: growing from empty copied each subtree on every
+                        // doubling, before appending copies it again.
+                        let mut subtree = WideBvh::with_capacity(leaf_count(bvh2, slot));
                         subtree.emit(bvh2, slot, triangles, depth + 1, parallel - 1);
                         subtree
                     })
@@ -418,7 +435,7 @@ impl WideBvh {
         node.child[k] = child;
     }
 
-    /// An empty tree with room for `leaves` leaves.
+    /// An empty tree with room for `leaves` leaves (one quad each, and a node per three).
     fn with_capacity(leaves: usize) -> Self {
         WideBvh {
             nodes: Vec::with_capacity(leaves / 3 + 1),
