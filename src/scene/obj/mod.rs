@@ -1,11 +1,12 @@
 //! Wavefront OBJ/MTL loading (via tobj) into a [`TriangleMesh`] and [`Material`]s.
 //!
-//! Plain files (positions and triangles only, like the scanned meshes) are parsed on all cores by
-//! [`plain`], which returns exactly what tobj would; everything else goes to tobj.
 //! Polygons are fan-triangulated and vertices are unique (position, uv, normal) tuples, as in
 //! Mitsuba's OBJ loader, so a mesh renders the same in both. MTL materials map to the BRDF models:
 //! `Pr`/`Pm` (the PBR extension) → Cook-Torrance; `Ks` with `Ns` → Blinn-Phong; otherwise `Kd` →
 //! Lambert. A missing MTL file is a warning, not an error (many OBJ files name one they lack).
+//!
+//! Plain files (positions and triangles only, like the scanned meshes) are parsed on all cores by
+//! [`plain`], which returns exactly what tobj would; everything else goes to tobj.
 
 mod plain;
 
@@ -142,31 +143,29 @@ pub fn load_obj(path: &Path) -> InputResult<ObjContents> {
 /// A plain file (positions and faces only) goes to the parallel [`plain`] parser, which gives the
 /// same models; any other file, and every error, to tobj itself.
 fn parse_with_tobj_semantics(bytes: &[u8], dir: &Path) -> tobj::LoadResult {
+    let load_mtl = |mtl: &Path| tobj::load_mtl(dir.join(mtl));
+    let options = |single_index| tobj::LoadOptions {
+        triangulate: true,
+        single_index,
+        ..Default::default()
+    };
+    if let Some(plain) = plain::parse(bytes) {
+        // The MTL libraries load as tobj loads them: from the file's `mtllib` lines alone.
+        let mtllib_lines = plain.material_lines.join("\n");
+        let (_, materials) = tobj::load_obj_buf(&mut mtllib_lines.as_bytes(), &options(false), load_mtl)?;
+        return Ok((vec![plain.model], materials));
+    }
     // Vertices are unique (position, uv, normal) index tuples, as in Mitsuba. A file with only
     // positions needs no tuple matching: its position indices are the vertex indices, and tobj's
     // per-attribute mode (2–3× faster on the dragon) returns exactly those.
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        single_index: false,
-        ..Default::default()
-    };
-    let load_mtl = |mtl: &Path| tobj::load_mtl(dir.join(mtl));
-    if let Some(plain) = plain::parse(bytes) {
-        // The MTL libraries load as tobj loads them: from the file's `mtllib` lines alone.
-        let (_, materials) = tobj::load_obj_buf(&mut plain.material_lines.join("\n").as_bytes(), &options, load_mtl)?;
-        return Ok((vec![plain.model], materials));
-    }
-    let options = tobj::LoadOptions {
-        single_index: has_vertex_attributes(bytes),
-        ..options
-    };
-    tobj::load_obj_buf(&mut &bytes[..], &options, load_mtl)
+    tobj::load_obj_buf(&mut &bytes[..], &options(has_vertex_attributes(bytes)), load_mtl)
 }
 
 /// Whether an OBJ file has texture coordinates or normals (`vt` or `vn` lines, maybe indented).
 /// Finds the keywords with memchr's vectorised substring search and only then checks that one
-/// starts its line, instead of walking every line: on the dragon's 3.3 MB (no such lines) the
-/// line walk took 3 ms, a tenth of the load, the search 0.2 ms (an `Instant` around the call in
+/// starts its line, instead of walking every line: on the dragon's 3.3 MB (no such lines, and
+/// since parsed by [`plain`] without asking) the line walk took 3 ms, a tenth of tobj's load, the
+/// search 0.2 ms (an `Instant` around the call in
 /// `render scenes/shared/dragon-copper.toml`, five runs). Each hit looks back only to the
 /// previous one, so the work stays linear however many hits a line holds.
 fn has_vertex_attributes(bytes: &[u8]) -> bool {
