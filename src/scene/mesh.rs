@@ -183,7 +183,7 @@ mod tests {
             }
             sum.into_iter().map(Vec3::normalize_or_zero).collect()
         }
-        // Irregular positions (a hashed jitter), with a degenerate and a needle triangle.
+        // Irregular positions (a hashed jitter), and a triangle with a repeated vertex.
         let unit =
             |i: u32, salt: u32| (i.wrapping_mul(0x9e37_79b9) ^ salt).wrapping_mul(0x85eb_ca6b) as f32 / u32::MAX as f32;
         let mut positions: Vec<Vec3> = (0..4000)
