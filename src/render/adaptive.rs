@@ -34,7 +34,7 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 use super::rounds;
-use super::subdivision::{self, Scratch, Settings};
+use super::subdivision::{self, Scratch};
 use super::tile::{block_order, Context, PixelSums, SampleJob, SurfaceSample};
 use super::{assemble, par_tiles, tiles};
 use crate::film::{FilmSettings, PixelRect, SamplerKind};
@@ -42,7 +42,25 @@ use crate::film::{FilmSettings, PixelRect, SamplerKind};
 /// Floor of a pixel's scale in the convergence test, as a share of its neighbourhood's level.
 pub(super) const DARK_FLOOR: f32 = 0.05;
 
-/// An active pixel: where it is, where its sums go, and what its neighbourhood says.
+/// What refinement needs of the film and the plan: the same for both samplers.
+#[derive(Clone, Copy, Debug)]
+pub struct Settings {
+    /// Most samples per pixel.
+    pub spp: u32,
+    /// The film's adaptive threshold (tolerance relative to a pixel's scale).
+    pub threshold: f32,
+    /// AOVs per sample.
+    pub aovs: usize,
+    /// The film's sampling seed.
+    pub seed: u64,
+    /// Display white (see [`display_white`]), the floor of a pixel's scale.
+    pub white: f32,
+}
+
+/// An active pixel: where it is, where its sums go, and what its neighbourhood says. The cells
+/// read `beside` and `scale` (their tests compare cells with the neighbours' centres and fix the
+/// tolerance once); the Sobol rounds read `low` (their contrast test) and rescale as their
+/// estimate moves; both read `centre` and `level`.
 pub struct ActivePixel {
     /// Film column.
     pub x: u32,
@@ -102,6 +120,8 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
         spp: film.spp,
         threshold: film.adaptive_threshold,
         aovs: naovs,
+        seed: film.seed,
+        white,
     };
     let done = AtomicU64::new(0);
     let region_tiles = tiles(region);
@@ -139,11 +159,11 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
                 }
             }
             SCRATCH.with_borrow_mut(|(scratch, surfaces)| {
+                let mut trace = |jobs: &[SampleJob], sums: &mut PixelSums| ctx.trace(jobs, sums, surfaces);
                 if film.sampler == SamplerKind::Cells {
-                    let mut trace = |jobs: &[SampleJob], sums: &mut PixelSums| ctx.trace(jobs, sums, surfaces);
                     subdivision::refine(settings, &active, &mut sums, &mut counts, scratch, &mut trace);
                 } else {
-                    rounds::refine(ctx, &active, &mut sums, &mut counts, white, surfaces);
+                    rounds::refine(settings, &active, &mut sums, &mut counts, &mut trace);
                 }
             });
             on_tile(done.fetch_add(1, Ordering::Relaxed) + 1);

@@ -16,8 +16,8 @@
 
 use glam::{Vec2, Vec3};
 
-use super::adaptive::{ActivePixel, DARK_FLOOR};
-use super::tile::{Context, PixelSums, SampleJob, SurfaceSample};
+use super::adaptive::{ActivePixel, Settings, DARK_FLOOR};
+use super::tile::{PixelSums, SampleJob};
 use crate::film::{sampler::pixel_offsets, SamplerKind};
 
 /// Samples of an active pixel's first refinement round (a 4×4-stratified Sobol net); each later
@@ -27,15 +27,14 @@ const FIRST_ROUND: u32 = 16;
 const HIGH_CONTRAST: f32 = 30.0;
 
 /// Refines `pixels` (the active pixels of one tile) in rounds; their sums replace the centre
-/// sample in `sums`, and `counts` gets their sample counts. `surfaces` is the thread's buffer of
-/// traced samples, kept from tile to tile.
+/// sample in `sums`, and `counts` gets their sample counts. `trace` adds each job's sample to its
+/// slot (a context's `trace` in a render).
 pub fn refine(
-    ctx: &Context,
+    settings: Settings,
     pixels: &[ActivePixel],
     sums: &mut PixelSums,
     counts: &mut [u32],
-    white: f32,
-    surfaces: &mut Vec<SurfaceSample>,
+    trace: &mut dyn FnMut(&[SampleJob], &mut PixelSums),
 ) {
     let mut active: Vec<Refining> = pixels
         .iter()
@@ -50,7 +49,7 @@ pub fn refine(
             previous_max: p.centre.max_element(),
         })
         .collect();
-    rounds(ctx, &mut active, sums, counts, white, surfaces);
+    rounds(settings, &mut active, sums, counts, trace);
 }
 
 /// A pixel still taking samples.
@@ -73,23 +72,26 @@ struct Refining {
 /// Rounds of 16, 64, 256, … samples for the `active` pixels of a tile until each converges or
 /// reaches the film's spp; their sums replace the centre sample.
 fn rounds(
-    ctx: &Context,
+    settings: Settings,
     active: &mut Vec<Refining>,
     sums: &mut PixelSums,
     counts: &mut [u32],
-    white: f32,
-    surfaces: &mut Vec<SurfaceSample>,
+    trace: &mut dyn FnMut(&[SampleJob], &mut PixelSums),
 ) {
-    let film = &ctx.scene.film;
-    let threshold = film.adaptive_threshold;
-    let naovs = ctx.sampled_aovs;
+    let Settings {
+        spp,
+        threshold,
+        aovs: naovs,
+        seed,
+        white,
+    } = settings;
     for p in active.iter() {
         sums.radiance[p.slot as usize] = Vec3::ZERO;
         for k in 0..naovs {
             sums.aovs[k][p.slot as usize] = Vec3::ZERO;
         }
     }
-    let mut target = FIRST_ROUND.min(film.spp);
+    let mut target = FIRST_ROUND.min(spp);
     let mut offsets = Vec::new();
     let mut jobs = Vec::new();
     // Two slots per active pixel: the round's samples in the first and in the second half of
@@ -100,7 +102,7 @@ fn rounds(
         let half = target / 2;
         for (k, p) in active.iter().enumerate() {
             offsets.resize((target - p.taken) as usize, Vec2::ZERO);
-            pixel_offsets(SamplerKind::Adaptive, film.seed, p.x, p.y, p.taken, &mut offsets);
+            pixel_offsets(SamplerKind::Adaptive, seed, p.x, p.y, p.taken, &mut offsets);
             let corner = Vec2::new(p.x as f32, p.y as f32);
             jobs.extend(offsets.iter().zip(p.taken..).map(|(&o, i)| SampleJob {
                 slot: 2 * k as u32 + u32::from(i >= half),
@@ -108,7 +110,7 @@ fn rounds(
             }));
         }
         halves.reset(2 * active.len());
-        ctx.trace(&jobs, &mut halves, surfaces);
+        trace(&jobs, &mut halves);
         let mut k = 0;
         active.retain_mut(|p| {
             let slot = p.slot as usize;
@@ -134,9 +136,9 @@ fn rounds(
             p.previous_max = verdict.mean;
             let converged = verdict.converged(threshold * scale)
                 && !(is_first_round && verdict.first_round_suspect(p, threshold * scale));
-            !(converged || target == film.spp)
+            !(converged || target == spp)
         });
-        target = (target * 4).min(film.spp);
+        target = (target * 4).min(spp);
     }
 }
 
@@ -181,6 +183,65 @@ mod tests {
             previous: Vec3::ZERO,
             previous_max: 0.0,
         }
+    }
+
+    /// Refines one pixel at (0, 0) of an analytic image `f` (film position → value), whose
+    /// neighbourhood has the given level and low; returns its estimate and sample count.
+    fn refine_pixel(spp: u32, threshold: f32, level: f32, low: f32, f: impl Fn(Vec2) -> f32) -> (f32, u32) {
+        let pixel = ActivePixel {
+            x: 0,
+            y: 0,
+            slot: 0,
+            centre: Vec3::splat(f(Vec2::splat(0.5))),
+            beside: [None; 4],
+            scale: 1.0,
+            level,
+            low,
+        };
+        let (mut sums, mut counts) = (PixelSums::new(1, 0), [0u32]);
+        let mut trace = |jobs: &[SampleJob], sums: &mut PixelSums| {
+            for job in jobs {
+                sums.radiance[job.slot as usize] += Vec3::splat(f(job.film));
+            }
+        };
+        let settings = Settings {
+            spp,
+            threshold,
+            aovs: 0,
+            seed: 7,
+            white: 1.0,
+        };
+        refine(settings, &[pixel], &mut sums, &mut counts, &mut trace);
+        (sums.radiance[0].x / counts[0] as f32, counts[0])
+    }
+
+    /// Light on one side of a slanted line through the pixel: 0.575 of it is lit.
+    fn edge(p: Vec2) -> f32 {
+        f32::from(p.x + 0.37 * p.y > 0.61)
+    }
+
+    #[test]
+    fn a_flat_pixel_stops_after_the_first_round_and_an_edge_refines_toward_its_coverage() {
+        let (value, taken) = refine_pixel(256, 0.01, 0.3, 0.3, |_| 0.3);
+        assert_eq!(taken, FIRST_ROUND);
+        assert!((value - 0.3).abs() < 1e-6, "{value}");
+        let (value, taken) = refine_pixel(4096, 0.002, 1.0, 0.0, edge);
+        assert!(taken > 4 * FIRST_ROUND, "{taken}");
+        assert!((value - 0.575).abs() < 0.01, "{value} after {taken} samples");
+        // The film's spp caps the rounds (the last one is cut to fit).
+        assert_eq!(refine_pixel(100, 1e-6, 1.0, 0.0, edge).1, 100);
+    }
+
+    #[test]
+    fn untrusted_first_rounds_take_a_second_round() {
+        // A dark pixel whose samples all repeat its centre, beside lit neighbours (level 0.1 is
+        // above the tolerance 0.004 but within 30 tolerances, so only blindness counts)…
+        assert_eq!(refine_pixel(256, 0.004, 0.1, 0.0, |_| 0.0).1, 4 * FIRST_ROUND);
+        // …and beside neighbours as dark.
+        assert_eq!(refine_pixel(256, 0.004, 0.002, 0.0, |_| 0.0).1, FIRST_ROUND);
+        // A neighbourhood spanning more than 30 tolerances, whatever the samples say.
+        assert_eq!(refine_pixel(256, 0.004, 0.5, 0.0, |_| 0.5).1, 4 * FIRST_ROUND);
+        assert_eq!(refine_pixel(256, 0.004, 0.5, 0.45, |_| 0.5).1, FIRST_ROUND);
     }
 
     #[test]

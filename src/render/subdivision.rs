@@ -26,7 +26,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::adaptive::ActivePixel;
+use super::adaptive::{ActivePixel, Settings};
 use super::tile::{PixelSums, SampleJob};
 
 /// Side of the first grid (16 cells, one packet of rays) when the film allows 16 samples.
@@ -170,17 +170,6 @@ impl Scratch {
     }
 }
 
-/// What refinement needs of the film and the plan.
-#[derive(Clone, Copy, Debug)]
-pub struct Settings {
-    /// Most samples per pixel.
-    pub spp: u32,
-    /// The film's adaptive threshold (tolerance relative to a pixel's scale).
-    pub threshold: f32,
-    /// AOVs per sample.
-    pub aovs: usize,
-}
-
 /// Refines `active` (pixels of one tile) and writes each one's sums (its value times its sample
 /// count) and sample count into `sums` and `counts`. `trace` adds each job's sample to its slot
 /// (a context's `trace` in a render, an analytic image in the tests).
@@ -300,6 +289,8 @@ mod tests {
             spp,
             threshold,
             aovs: 1,
+            seed: 0,
+            white: 1.0,
         };
         refine(
             settings,
