@@ -79,7 +79,12 @@ pub fn run(args: RenderArgs) -> Result<(), InputError> {
     if args.threads == Some(0) {
         return Err(option_error("--threads", "must be at least 1"));
     }
-    let mut scene = scene::load_with(&args.scene, scene::LoadOptions { camera: args.camera })?;
+    // Loading parses and computes normals in parallel too, so it runs in the same pool.
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| option_error("--threads", e))?;
+    let mut scene = pool.install(|| scene::load_with(&args.scene, scene::LoadOptions { camera: args.camera }))?;
     let f = &mut scene.film;
     f.width = args.width.unwrap_or(f.width);
     f.height = args.height.unwrap_or(f.height);
@@ -112,10 +117,6 @@ pub fn run(args: RenderArgs) -> Result<(), InputError> {
         print!("{}", plan.explain(&scene));
     }
 
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| option_error("--threads", e))?;
     let rendered = pool.install(|| {
         let progress = Progress::new(&scene, args.quiet);
         let rendered = render::render_scene(&scene, &plan, &|n| progress.tick(n));
