@@ -26,9 +26,27 @@ const FIRST_ROUND: u32 = 16;
 /// Neighbourhood contrast, in tolerances, above which a first round alone never converges.
 const HIGH_CONTRAST: f32 = 30.0;
 
-/// Refines `pixels` (the active pixels of one tile) in rounds; their sums replace the centre
-/// sample in `sums`, and `counts` gets their sample counts. `trace` adds each job's sample to its
-/// slot (a context's `trace` in a render).
+/// A pixel still taking samples.
+struct Refining {
+    x: u32,
+    y: u32,
+    slot: u32,
+    /// Sobol samples taken so far.
+    taken: u32,
+    /// The neighbourhood's level (absolute scale of the convergence test).
+    level: f32,
+    /// The neighbourhood's darkest centre value (with `level`, its contrast).
+    low: f32,
+    /// The estimate before the last round.
+    previous: Vec3,
+    /// Its largest channel.
+    previous_max: f32,
+}
+
+/// Refines `pixels` (the active pixels of one tile) in rounds of 16, 64, 256, … samples until
+/// each converges or reaches the film's spp; their sums replace the centre sample in `sums`, and
+/// `counts` gets their sample counts. `trace` adds each job's sample to its slot (a context's
+/// `trace` in a render).
 pub fn refine(
     settings: Settings,
     pixels: &[ActivePixel],
@@ -49,35 +67,6 @@ pub fn refine(
             previous_max: p.centre.max_element(),
         })
         .collect();
-    rounds(settings, &mut active, sums, counts, trace);
-}
-
-/// A pixel still taking samples.
-struct Refining {
-    x: u32,
-    y: u32,
-    slot: u32,
-    /// Sobol samples taken so far.
-    taken: u32,
-    /// The neighbourhood's level (absolute scale of the convergence test).
-    level: f32,
-    /// The neighbourhood's darkest centre value (with `level`, its contrast).
-    low: f32,
-    /// The estimate before the last round.
-    previous: Vec3,
-    /// Its largest channel.
-    previous_max: f32,
-}
-
-/// Rounds of 16, 64, 256, … samples for the `active` pixels of a tile until each converges or
-/// reaches the film's spp; their sums replace the centre sample.
-fn rounds(
-    settings: Settings,
-    active: &mut Vec<Refining>,
-    sums: &mut PixelSums,
-    counts: &mut [u32],
-    trace: &mut dyn FnMut(&[SampleJob], &mut PixelSums),
-) {
     let Settings {
         spp,
         threshold,
