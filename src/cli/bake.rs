@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use crate::accel::{Bvh, BvhPreset};
 use crate::bake::bake_normals;
-use crate::cli::option_error;
+use crate::cli::worker_pool;
 use crate::error::InputError;
 use crate::output::assignment::encode_normal_png;
 use crate::output::{write_all_or_nothing, Format};
@@ -43,10 +43,8 @@ pub fn run(args: BakeArgs) -> Result<(), InputError> {
             "a baked normal image is written as PNG (the assignment's format)",
         ));
     }
-    if args.threads == Some(0) {
-        return Err(option_error("--threads", "must be at least 1"));
-    }
-    let mut scene = scene::load(&args.scene)?;
+    let pool = worker_pool(args.threads)?;
+    let mut scene = pool.install(|| scene::load(&args.scene))?;
     let f = &mut scene.film;
     f.width = args.width.unwrap_or(f.width);
     f.height = args.height.unwrap_or(f.height);
@@ -54,10 +52,6 @@ pub fn run(args: BakeArgs) -> Result<(), InputError> {
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| option_error("--threads", e))?;
     let baked = pool.install(|| {
         let bvh = Bvh::build(&scene.mesh, BvhPreset::DEFAULT);
         bake_normals(&scene, &bvh)

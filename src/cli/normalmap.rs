@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::cli::option_error;
+use crate::cli::{option_error, worker_pool};
 use crate::error::InputError;
 use crate::normal_map::{image_surface, shade_image};
 use crate::output::assignment::encode_min_max_png;
@@ -94,9 +94,7 @@ pub fn run(args: NormalMapArgs) -> Result<(), InputError> {
         .clone()
         .unwrap_or_else(|| default_output(&args.input, &scene, is_scene));
     let format = Format::of_output(&output)?;
-    if args.threads == Some(0) {
-        return Err(option_error("--threads", "must be at least 1"));
-    }
+    let pool = worker_pool(args.threads)?;
     let image = NormalImage::load(&scene.image)?;
     let surface = image_surface(&scene, &image).map_err(|e| InputError::new(&scene.image, e))?;
     let load_time = t_load.elapsed();
@@ -112,10 +110,6 @@ pub fn run(args: NormalMapArgs) -> Result<(), InputError> {
     if args.explain {
         print!("{}", plan.explain_normal_map(&scene, &image));
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| option_error("--threads", e))?;
     let (shaded, stats) = pool.install(|| shade_image(&scene, &plan, &image, &surface));
 
     let t_out = Instant::now();

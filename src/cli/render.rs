@@ -3,8 +3,8 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::cli::option_error;
 use crate::cli::progress::Progress;
+use crate::cli::{option_error, worker_pool};
 use crate::error::InputError;
 use crate::film::{Image, PixelRect, SamplerKind};
 use crate::output::exr::encode_exr;
@@ -76,14 +76,7 @@ pub fn run(args: RenderArgs) -> Result<(), InputError> {
         Some(list) => Aov::parse_list(list).map_err(|e| option_error("--aov", e))?,
         None => Vec::new(),
     };
-    if args.threads == Some(0) {
-        return Err(option_error("--threads", "must be at least 1"));
-    }
-    // Loading parses and computes normals in parallel too, so it runs in the same pool.
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| option_error("--threads", e))?;
+    let pool = worker_pool(args.threads)?;
     let mut scene = pool.install(|| scene::load_with(&args.scene, scene::LoadOptions { camera: args.camera }))?;
     let f = &mut scene.film;
     f.width = args.width.unwrap_or(f.width);
