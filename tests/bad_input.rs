@@ -153,6 +153,15 @@ fn absurd_sizes_and_bad_options() {
     c.fails(&tri, &["--sampler", "grid", "--spp", "8"], &["square"]);
     c.fails(&tri, &["--sampler", "halton"], &["--sampler", "halton"]);
     c.fails(&tri, &["--aov", "normals"], &["--aov"]);
+    c.fails(&tri, &["--time-budget", "nan"], &["time_budget", "NaN"]);
+    c.fails(&tri, &["--time-budget", "0"], &["time_budget"]);
+    c.fails(
+        &tri,
+        &["--time-budget", "1", "--sampler", "cells"],
+        &["progressive sampler", "cells"],
+    );
+    let budget_in_file = c.scene(&format!("{CAMERA}[film]\ntime_budget = -2.0\n"));
+    c.fails(&budget_in_file, &[], &["scene.toml", "time_budget"]);
     let out = c.dir.join("out.png");
     let r = Command::new(env!("CARGO_BIN_EXE_pointshade"))
         .args([

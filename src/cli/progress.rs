@@ -15,17 +15,30 @@ pub struct Progress {
     start: Instant,
     enabled: bool,
     shown: AtomicBool,
+    /// The bar counts milliseconds of a time budget, not tiles.
+    budget: bool,
 }
 
 impl Progress {
-    /// A bar over the tiles of `scene`, hidden until the render has taken a second.
+    /// A bar over the tiles of `scene`, or over its time budget in milliseconds, hidden until
+    /// the render has taken a second.
     pub fn new(scene: &scene::Scene, quiet: bool) -> Self {
-        let tiles = (scene.film.width.div_ceil(16) * scene.film.height.div_ceil(16)) as u64;
-        let bar = ProgressBar::with_draw_target(Some(tiles), ProgressDrawTarget::hidden());
-        if let Ok(style) = ProgressStyle::with_template("{bar:40} {percent:>3}% tiles {pos}/{len} eta {eta}") {
+        let (length, template) = match scene.film.time_budget {
+            Some(budget) => (
+                (budget as f64 * 1e3) as u64,
+                "{bar:40} {percent:>3}% of the time budget",
+            ),
+            None => (
+                (scene.film.width.div_ceil(16) * scene.film.height.div_ceil(16)) as u64,
+                "{bar:40} {percent:>3}% tiles {pos}/{len} eta {eta}",
+            ),
+        };
+        let bar = ProgressBar::with_draw_target(Some(length), ProgressDrawTarget::hidden());
+        if let Ok(style) = ProgressStyle::with_template(template) {
             bar.set_style(style);
         }
         Self {
+            budget: scene.film.time_budget.is_some(),
             bar,
             start: Instant::now(),
             enabled: !quiet && std::io::stderr().is_terminal(),
@@ -42,7 +55,11 @@ impl Progress {
         {
             self.bar.set_draw_target(ProgressDrawTarget::stderr());
         }
-        self.bar.set_position(done);
+        let position = match self.budget {
+            true => self.start.elapsed().as_millis() as u64,
+            false => done,
+        };
+        self.bar.set_position(position);
     }
 
     /// Removes the bar.

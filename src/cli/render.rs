@@ -33,6 +33,12 @@ pub struct RenderArgs {
     /// more samples).
     #[arg(long)]
     adaptive_threshold: Option<f32>,
+    /// Seconds the BVH build and the render may take: sobol or independent samples in passes
+    /// that double the samples per pixel, stopping before a pass that would end later, at --spp
+    /// at most if given (the scene's spp is then ignored; without --spp, up to 65536). The image
+    /// is bit for bit the render at the count reached, which the summary prints.
+    #[arg(long, value_name = "SECONDS")]
+    time_budget: Option<f32>,
     /// Render only pixels [x0, x1) × [y0, y1) of the frame, into an EXR crop that `pointshade
     /// merge` reassembles bit-identically (for splitting a frame over machines).
     #[arg(long, value_name = "x0,y0,x1,y1")]
@@ -84,6 +90,10 @@ pub fn run(args: RenderArgs) -> Result<(), InputError> {
     f.exposure = args.exposure.unwrap_or(f.exposure);
     if let Some(name) = &args.sampler {
         f.sampler = SamplerKind::parse(name).map_err(|e| option_error("--sampler", e))?;
+    }
+    if let Some(budget) = args.time_budget {
+        f.time_budget = Some(budget);
+        f.spp = crate::film::MAX_SPP;
     }
     f.spp = args.spp.unwrap_or(f.spp);
     f.adaptive_threshold = args.adaptive_threshold.unwrap_or(f.adaptive_threshold);
@@ -142,7 +152,13 @@ pub fn run(args: RenderArgs) -> Result<(), InputError> {
                 s.primary_rays as f64 / c.len() as f64,
                 scene.film.spp
             ),
-            None => format!("{} spp", scene.film.spp),
+            None => match scene.film.time_budget {
+                Some(budget) => format!(
+                    "{} spp (reached in a time budget of {budget} s, at most {})",
+                    rendered.spp, scene.film.spp
+                ),
+                None => format!("{} spp", rendered.spp),
+            },
         };
         let what = match scene.film.crop {
             Some(_) => format!(

@@ -38,6 +38,10 @@ pub struct FilmSettings {
     pub adaptive_threshold: f32,
     /// The part of the film to render (`--crop`); `None` = all of it.
     pub crop: Option<PixelRect>,
+    /// Seconds the BVH build and the render may take (`--time-budget`); `None` = no limit. A
+    /// progressive sampler then renders in passes that double the samples per pixel, up to
+    /// `spp`, and stops before a pass that would end past the budget (see `render::progressive`).
+    pub time_budget: Option<f32>,
 }
 
 /// A rectangle of pixels [x0, x1) × [y0, y1), row 0 at the top.
@@ -99,9 +103,13 @@ impl Default for FilmSettings {
             exposure: 0.0,
             adaptive_threshold: DEFAULT_ADAPTIVE_THRESHOLD,
             crop: None,
+            time_budget: None,
         }
     }
 }
+
+/// Largest time budget accepted, in seconds (a week): a guard against absurd values.
+pub const MAX_TIME_BUDGET: f32 = 7.0 * 24.0 * 3600.0;
 
 /// Default of [`FilmSettings::adaptive_threshold`].
 pub const DEFAULT_ADAPTIVE_THRESHOLD: f32 = 0.01;
@@ -145,6 +153,33 @@ impl FilmSettings {
                     c.x0, c.y0, c.x1, c.y1, self.width, self.height
                 ));
             }
+        }
+        if let Some(budget) = self.time_budget {
+            self.check_time_budget(budget)?;
+        }
+        Ok(())
+    }
+
+    /// A time budget needs a positive, finite number of seconds, a sampler whose first n samples
+    /// are those of any render with more (the image is then that of a fixed count), and the whole
+    /// film: crops of one frame must take the same samples to merge, and budgets would give each
+    /// its own count.
+    fn check_time_budget(&self, budget: f32) -> Result<(), String> {
+        if !(budget > 0.0 && budget <= MAX_TIME_BUDGET) {
+            return Err(format!(
+                "time_budget must be a number of seconds in (0, {MAX_TIME_BUDGET}], got {budget}"
+            ));
+        }
+        if !self.sampler.is_progressive() {
+            return Err(format!(
+                "a time budget needs a progressive sampler (sobol or independent), not {}",
+                self.sampler.name()
+            ));
+        }
+        if self.crop.is_some() {
+            return Err(
+                "a time budget cannot render a crop: the crops of a frame must take the same samples to merge".into(),
+            );
         }
         Ok(())
     }

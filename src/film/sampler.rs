@@ -61,6 +61,13 @@ impl SamplerKind {
         matches!(self, Self::Adaptive | Self::Cells)
     }
 
+    /// Whether a pixel's first n samples are the same whatever the count asked for, so that a
+    /// render can add samples in passes (a time budget) and end with the image of a fixed count.
+    /// The grid moves every point when its side changes; the adaptive samplers decide per pixel.
+    pub fn is_progressive(self) -> bool {
+        matches!(self, Self::Sobol | Self::Independent)
+    }
+
     /// Checks that `spp` suits this sampler (grid needs a perfect square).
     pub fn check_spp(self, spp: u32) -> Result<(), String> {
         if spp == 0 {

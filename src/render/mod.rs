@@ -8,6 +8,7 @@
 //! nor on the tiling, and crops merge bit-identically into the full frame.
 
 mod adaptive;
+mod progressive;
 mod rounds;
 mod subdivision;
 pub mod tile;
@@ -52,23 +53,40 @@ pub struct Rendered {
     pub aovs: Vec<(Aov, Image)>,
     /// The part of the film rendered.
     pub region: PixelRect,
-    /// Samples each pixel of the region took (adaptive sampling), row-major; `None` = spp each.
+    /// Samples each pixel of the region took (adaptive sampling), row-major; `None` = `spp` each.
     pub sample_counts: Option<Vec<u32>>,
+    /// Samples per pixel: the film's, or the count a time budget reached; for the adaptive
+    /// samplers, the most a pixel may take.
+    pub spp: u32,
     /// Counters and times.
     pub stats: RenderStats,
 }
 
 /// The pipeline after loading: builds the BVH the plan asks for (default preset) and renders.
+/// A film's time budget counts from here: BVH build and render.
 pub fn render_scene(scene: &Scene, plan: &RenderPlan, on_tile: &(dyn Fn(u64) + Sync)) -> Result<Rendered, String> {
+    let start = Instant::now();
     let bvh = plan.trace_rays.then(|| Bvh::build(&scene.mesh, BvhPreset::DEFAULT));
-    let mut rendered = render(scene, plan, bvh.as_ref(), on_tile)?;
+    let mut rendered = render_from(start, scene, plan, bvh.as_ref(), on_tile)?;
     rendered.stats.bvh_time = bvh.map_or(Duration::ZERO, |b| b.build_time);
     Ok(rendered)
 }
 
 /// Renders `scene` following `plan`. `bvh` must be present when `plan.trace_rays` is set.
 /// `on_tile` is called after each finished tile with the number of tiles (for progress bars).
+/// A film's time budget counts from this call.
 pub fn render(
+    scene: &Scene,
+    plan: &RenderPlan,
+    bvh: Option<&Bvh>,
+    on_tile: &(dyn Fn(u64) + Sync),
+) -> Result<Rendered, String> {
+    render_from(Instant::now(), scene, plan, bvh, on_tile)
+}
+
+/// [`render`], with a time budget counted from `budget_start`.
+fn render_from(
+    budget_start: Instant,
     scene: &Scene,
     plan: &RenderPlan,
     bvh: Option<&Bvh>,
@@ -76,14 +94,20 @@ pub fn render(
 ) -> Result<Rendered, String> {
     let start = Instant::now();
     let ctx = Context::new(scene, plan, bvh)?;
-    let region = scene.film.region();
-    let (sums, counts) = if scene.film.sampler.is_adaptive() {
-        let (sums, counts) = adaptive::render(&ctx, region, on_tile);
-        (sums, Some(counts))
-    } else {
-        (fixed(&ctx, region, on_tile), None)
+    let film = &scene.film;
+    let region = film.region();
+    let (sums, counts, spp) = match film.time_budget {
+        _ if film.sampler.is_adaptive() => {
+            let (sums, counts) = adaptive::render(&ctx, region, on_tile);
+            (sums, Some(counts), film.spp)
+        }
+        Some(budget) => {
+            let deadline = budget_start + Duration::from_secs_f32(budget);
+            let (sums, spp) = progressive::render(&ctx, region, deadline, on_tile);
+            (sums, None, spp)
+        }
+        None => (fixed(&ctx, region, on_tile), None, film.spp),
     };
-    let spp = scene.film.spp;
     let count = |i: usize| counts.as_ref().map_or(spp, |c| c[i]) as f32;
     let average = |sums: &[Vec3]| Image {
         width: region.width(),
@@ -119,6 +143,7 @@ pub fn render(
         aovs,
         region,
         sample_counts: counts,
+        spp,
         stats,
     })
 }
@@ -167,25 +192,43 @@ fn assemble(region: PixelRect, tiles: &[PixelRect], parts: Vec<PixelSums>, aovs:
 
 /// Fixed sampling: every pixel takes the film's spp samples from its sampler.
 fn fixed(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) -> PixelSums {
-    let film = &ctx.scene.film;
     let tiles = tiles(region);
     let done = AtomicU64::new(0);
     let naovs = ctx.sampled_aovs;
     let parts: Vec<PixelSums> = par_tiles(&tiles)
         .map(|t| {
             let mut sums = PixelSums::new((t.width() * t.height()) as usize, naovs);
-            let mut offsets = vec![Vec2::ZERO; film.spp as usize];
-            let mut jobs = Vec::with_capacity((t.width() * t.height() * film.spp) as usize);
-            for (x, y) in block_order(*t) {
-                pixel_offsets(film.sampler, film.seed, x, y, 0, &mut offsets);
-                let slot = (y - t.y0) * t.width() + (x - t.x0);
-                let corner = Vec2::new(x as f32, y as f32);
-                jobs.extend(offsets.iter().map(|&o| SampleJob { slot, film: corner + o }));
-            }
-            ctx.trace(&jobs, &mut sums, &mut Vec::new());
+            tile_samples(ctx, *t, 0, ctx.scene.film.spp, &mut sums);
             on_tile(done.fetch_add(1, Ordering::Relaxed) + 1);
             sums
         })
         .collect();
     assemble(region, &tiles, parts, naovs)
+}
+
+/// Most samples traced in one call of [`Context::trace`]: bounds the job list (12 bytes a job)
+/// when a pixel takes thousands of samples. Flushes fall between pixels, so each pixel still adds
+/// its samples in order.
+const JOBS_PER_TRACE: usize = 4096;
+
+/// Traces samples `first` to `first + count − 1` of every pixel of tile `t` from the film's
+/// sampler (pixel by pixel, 4×4 blocks in order) and adds them to `sums`.
+fn tile_samples(ctx: &Context, t: PixelRect, first: u32, count: u32, sums: &mut PixelSums) {
+    let film = &ctx.scene.film;
+    let mut offsets = vec![Vec2::ZERO; count as usize];
+    let mut jobs = Vec::with_capacity(((t.width() * t.height() * count) as usize).min(2 * JOBS_PER_TRACE));
+    let mut scratch = Vec::new();
+    for (x, y) in block_order(t) {
+        pixel_offsets(film.sampler, film.seed, x, y, first, &mut offsets);
+        let slot = (y - t.y0) * t.width() + (x - t.x0);
+        let corner = Vec2::new(x as f32, y as f32);
+        jobs.extend(offsets.iter().map(|&o| SampleJob { slot, film: corner + o }));
+        if jobs.len() >= JOBS_PER_TRACE {
+            ctx.trace(&jobs, sums, &mut scratch);
+            jobs.clear();
+        }
+    }
+    if !jobs.is_empty() {
+        ctx.trace(&jobs, sums, &mut scratch);
+    }
 }

@@ -53,6 +53,7 @@ struct FilmSection {
     exposure: Option<f32>,
     seed: Option<u64>,
     adaptive_threshold: Option<f32>,
+    time_budget: Option<f32>,
 }
 
 #[derive(Deserialize)]
@@ -509,12 +510,18 @@ fn film_settings(f: &FilmSection) -> Result<FilmSettings, String> {
     let s = FilmSettings {
         width: f.width.unwrap_or(d.width),
         height: f.height.unwrap_or(d.height),
-        spp: f.spp.unwrap_or(if sampler == SamplerKind::Grid { 1 } else { d.spp }),
+        // A time budget without a count renders until the budget, not until the default count.
+        spp: f.spp.unwrap_or(match (f.time_budget, sampler) {
+            (Some(_), _) => crate::film::MAX_SPP,
+            (None, SamplerKind::Grid) => 1,
+            (None, _) => d.spp,
+        }),
         sampler,
         seed: f.seed.unwrap_or(d.seed),
         exposure: f.exposure.unwrap_or(d.exposure),
         adaptive_threshold: f.adaptive_threshold.unwrap_or(d.adaptive_threshold),
         crop: None,
+        time_budget: f.time_budget,
     };
     s.validate()?;
     Ok(s)

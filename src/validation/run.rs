@@ -224,6 +224,8 @@ pub fn load_sampled(path: &Path, sampler: SamplerKind, spp: u32) -> InputResult<
     let mut scene = scene::load(path)?;
     scene.film.sampler = sampler;
     scene.film.spp = spp;
+    // The count is the caller's: a time budget in the file would make it the machine's.
+    scene.film.time_budget = None;
     scene.film.validate().map_err(|e| InputError::new(path, e))?;
     Ok(scene)
 }

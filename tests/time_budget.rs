@@ -1,0 +1,86 @@
+//! Rendering to a time budget (`--time-budget`, the film's `time_budget`): the image is bit for
+//! bit the fixed render at the sample count the budget reached, whatever that count is.
+
+use std::path::Path;
+
+use pointshade::film::{Image, SamplerKind};
+use pointshade::plan::{Aov, RenderPlan};
+use pointshade::render::{render_scene, Rendered};
+use pointshade::scene::{self, Scene};
+
+fn scene(sampler: SamplerKind, spp: u32, budget: Option<f32>) -> Scene {
+    let mut s = scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cook-torrance.toml")).unwrap();
+    s.film.width = 96;
+    s.film.height = 64;
+    s.film.sampler = sampler;
+    s.film.spp = spp;
+    s.film.time_budget = budget;
+    s.film.validate().unwrap();
+    s
+}
+
+fn render(s: &Scene) -> Rendered {
+    // A per-sample AOV goes through the passes as the radiance does.
+    render_scene(s, &RenderPlan::new(s, &[Aov::Normal]), &|_| {}).unwrap()
+}
+
+fn bits(image: &Image) -> Vec<[u32; 3]> {
+    image.pixels.iter().map(|p| p.to_array().map(f32::to_bits)).collect()
+}
+
+/// The budgeted render of `sampler` equals the fixed render at the count it reached; returns it.
+fn equals_the_fixed_render(sampler: SamplerKind, cap: u32, budget: f32) -> u32 {
+    let budgeted = render(&scene(sampler, cap, Some(budget)));
+    let n = budgeted.spp;
+    assert!((1..=cap).contains(&n), "{sampler:?}: {n} samples, cap {cap}");
+    assert!(budgeted.sample_counts.is_none());
+    assert_eq!(budgeted.stats.primary_rays, n as u64 * 96 * 64);
+    let fixed = render(&scene(sampler, n, None));
+    assert_eq!(fixed.spp, n);
+    assert!(bits(&budgeted.image) == bits(&fixed.image), "{sampler:?} at {n} spp");
+    assert!(
+        bits(&budgeted.aovs[0].1) == bits(&fixed.aovs[0].1),
+        "{sampler:?} normals at {n} spp"
+    );
+    n
+}
+
+#[test]
+fn a_budget_render_is_the_fixed_render_at_the_count_it_reached() {
+    for sampler in [SamplerKind::Sobol, SamplerKind::Independent] {
+        // Whatever count this machine reaches in 50 ms.
+        equals_the_fixed_render(sampler, 64, 0.05);
+        // An ample budget stops at the cap, here after passes of 1, 1, 2, 4 and 4 samples.
+        assert_eq!(equals_the_fixed_render(sampler, 12, 3600.0), 12);
+        // A budget spent before the first pass ends leaves that pass alone.
+        assert_eq!(equals_the_fixed_render(sampler, 64, 1e-9), 1);
+    }
+}
+
+#[test]
+fn a_budget_needs_a_progressive_sampler_the_whole_film_and_a_sane_number() {
+    let mut s = scene(SamplerKind::Sobol, 16, Some(1.0));
+    for (sampler, spp) in [
+        (SamplerKind::Grid, 16),
+        (SamplerKind::Adaptive, 16),
+        (SamplerKind::Cells, 16),
+    ] {
+        s.film.sampler = sampler;
+        s.film.spp = spp;
+        let e = s.film.validate().unwrap_err();
+        assert!(e.contains("progressive sampler") && e.contains(sampler.name()), "{e}");
+    }
+    s.film.sampler = SamplerKind::Sobol;
+    s.film.crop = Some(pointshade::film::PixelRect {
+        x0: 0,
+        y0: 0,
+        x1: 8,
+        y1: 8,
+    });
+    assert!(s.film.validate().unwrap_err().contains("crop"));
+    s.film.crop = None;
+    for budget in [0.0, -1.0, f32::NAN, f32::INFINITY, 1e9] {
+        s.film.time_budget = Some(budget);
+        assert!(s.film.validate().unwrap_err().contains("time_budget"), "{budget}");
+    }
+}
