@@ -30,6 +30,11 @@ pub struct ConvergenceArgs {
     /// traced by the threshold.
     #[arg(long)]
     adaptive_threshold: Option<String>,
+    /// Time budgets in seconds (comma-separated), for BVH build and render: the progressive
+    /// samplers (sobol, independent) then run once per budget instead of once per sample count,
+    /// and each point is the run of median time among the repeats (its count and error with it).
+    #[arg(long, value_name = "SECONDS,…")]
+    time_budget: Option<String>,
     /// Repeats per point; the median time is kept.
     #[arg(long, default_value_t = 3)]
     repeats: u32,
@@ -57,6 +62,13 @@ pub fn run_command(args: ConvergenceArgs) -> Result<(), InputError> {
     // The range is the film's to check (with the scene named), as for a threshold in the scene.
     let adaptive_thresholds = match &args.adaptive_threshold {
         Some(text) => comma_list("--adaptive-threshold", text, "thresholds like 0.02,0.01,0.005", |s| {
+            s.parse::<f32>().ok()
+        })?,
+        None => Vec::new(),
+    };
+    // The range is the film's to check, as for the thresholds.
+    let time_budgets = match &args.time_budget {
+        Some(text) => comma_list("--time-budget", text, "seconds like 0.1,0.2,0.5", |s| {
             s.parse::<f32>().ok()
         })?,
         None => Vec::new(),
@@ -90,6 +102,7 @@ pub fn run_command(args: ConvergenceArgs) -> Result<(), InputError> {
         repeats: args.repeats,
         shadow_offset,
         adaptive_thresholds,
+        time_budgets,
         mitsuba,
         out: args.out.clone(),
     };
@@ -111,16 +124,18 @@ pub fn run_command(args: ConvergenceArgs) -> Result<(), InputError> {
         }
     };
     eprintln!(
-        "{:<11} {:<12} {:>5} {:>9} {:>9} {:>10} {:>12} {:>10}",
-        "renderer", "sampler", "spp", "threshold", "mean spp", "seconds", "RMSE", "within"
+        "{:<11} {:<12} {:>5} {:>9} {:>7} {:>9} {:>10} {:>12} {:>10}",
+        "renderer", "sampler", "spp", "threshold", "budget", "mean spp", "seconds", "RMSE", "within"
     );
     let points = run(&sweep, &reference, &mut |p| {
+        let text = |v: Option<f32>| v.map(|t| t.to_string()).unwrap_or_default();
         eprintln!(
-            "{:<11} {:<12} {:>5} {:>9} {:>9.2} {:>10.4} {:>12.4e} {:>9.3}%",
+            "{:<11} {:<12} {:>5} {:>9} {:>7} {:>9.2} {:>10.4} {:>12.4e} {:>9.3}%",
             p.renderer,
             p.sampler,
             p.spp,
-            p.threshold.map(|t| t.to_string()).unwrap_or_default(),
+            text(p.threshold),
+            text(p.time_budget),
             p.mean_spp,
             p.seconds,
             p.rmse,

@@ -1,6 +1,7 @@
-//! Error against run time: renders a scene at increasing sample counts with pointshade (and,
-//! optionally, Mitsuba 3 in the same run), times each render (median of repeats, scene load
-//! included), measures its error against a reference, and writes a CSV and a log-log plot.
+//! Error against run time: renders a scene at increasing sample counts or time budgets with
+//! pointshade (and, optionally, Mitsuba 3 at sample counts in the same run), times each render
+//! (median of repeats, scene load included), measures its error against a reference, and writes
+//! a CSV and a log-log plot.
 //!
 //! Time is what a user waits for: scene loading (files parsed again each repeat), BVH build and
 //! rendering for pointshade; scene loading (with kernel compilation) and rendering for Mitsuba,
@@ -13,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use crate::error::{InputError, InputResult};
-use crate::film::{FilmSettings, Image, SamplerKind};
+use crate::film::{FilmSettings, Image, SamplerKind, MAX_SPP};
 use crate::output::{encode, write_all_or_nothing, Format};
 use crate::scene::Scene;
 use crate::shading::shadow::ShadowOffset;
@@ -31,10 +32,13 @@ pub struct Point {
     pub renderer: &'static str,
     /// The sampler (pointshade's names; Mitsuba's grid is `stratified` without jitter).
     pub sampler: String,
-    /// Samples per pixel asked for (the most, for the adaptive sampler).
+    /// Samples per pixel asked for (the most, for the adaptive sampler; the count reached, for
+    /// a time budget).
     pub spp: u32,
     /// The adaptive sampler's threshold (adaptive points only).
     pub threshold: Option<f32>,
+    /// The time budget in seconds (BVH build and render), for points rendered to one.
+    pub time_budget: Option<f32>,
     /// Samples per pixel actually taken, on average.
     pub mean_spp: f64,
     /// Median time over the repeats, in seconds.
@@ -66,6 +70,10 @@ pub struct Sweep {
     /// sampler is swept over them at the largest sample count (its cap) instead of over the
     /// sample counts: the threshold is what trades its error for time; the cap only bounds it.
     pub adaptive_thresholds: Vec<f32>,
+    /// Time budgets in seconds (empty: none). Given some, the progressive samplers (sobol,
+    /// independent) run once per budget, with no cap but the film's largest count, instead of
+    /// once per sample count.
+    pub time_budgets: Vec<f32>,
     /// Run Mitsuba's grid and independent samplers too.
     pub mitsuba: Option<MitsubaRunner>,
     /// Folder for the outputs (and Mitsuba's scene files).
@@ -86,12 +94,17 @@ fn median(v: &[f64]) -> f64 {
     s[s.len() / 2]
 }
 
-fn load(sweep: &Sweep, sampler: SamplerKind, spp: u32, threshold: Option<f32>) -> InputResult<Scene> {
+/// One pointshade render of the sweep: sampler, sample count (the cap, for the adaptive
+/// samplers and time budgets), the adaptive threshold if not the scene's, and the time budget.
+type OurRun = (SamplerKind, u32, Option<f32>, Option<f32>);
+
+fn load(sweep: &Sweep, (sampler, spp, threshold, budget): OurRun) -> InputResult<Scene> {
     let mut scene = load_sampled(&sweep.scene, sampler, spp)?;
     if let Some(t) = threshold {
         scene.film.adaptive_threshold = t;
-        scene.film.validate().map_err(|e| InputError::new(&sweep.scene, e))?;
     }
+    scene.film.time_budget = budget;
+    scene.film.validate().map_err(|e| InputError::new(&sweep.scene, e))?;
     Ok(scene)
 }
 
@@ -105,21 +118,23 @@ impl Sweep {
     }
 
     /// pointshade's renders: each sampler at each sample count it takes (the grid: the square
-    /// ones), except the adaptive sampler given several thresholds, which takes each threshold
-    /// at the largest count.
-    fn ours(&self) -> Vec<(SamplerKind, u32, Option<f32>)> {
+    /// ones), except the adaptive samplers given several thresholds, which take each threshold
+    /// at the largest count, and the progressive samplers given time budgets, which take each
+    /// budget (up to the largest count a film allows).
+    fn ours(&self) -> Vec<OurRun> {
         let mut renders = Vec::new();
         for &sampler in &self.samplers {
             let counts = self.counts(sampler);
-            match (sampler, self.adaptive_thresholds.as_slice()) {
-                (sampler, thresholds) if sampler.is_adaptive() && thresholds.len() > 1 => {
-                    let cap = counts.max().unwrap_or(1);
-                    renders.extend(thresholds.iter().map(|&t| (sampler, cap, Some(t))));
-                }
-                (sampler, thresholds) if sampler.is_adaptive() => {
-                    renders.extend(counts.map(|spp| (sampler, spp, thresholds.first().copied())));
-                }
-                _ => renders.extend(counts.map(|spp| (sampler, spp, None))),
+            let thresholds = self.adaptive_thresholds.as_slice();
+            if sampler.is_adaptive() && thresholds.len() > 1 {
+                let cap = counts.max().unwrap_or(1);
+                renders.extend(thresholds.iter().map(|&t| (sampler, cap, Some(t), None)));
+            } else if sampler.is_adaptive() {
+                renders.extend(counts.map(|spp| (sampler, spp, thresholds.first().copied(), None)));
+            } else if sampler.is_progressive() && !self.time_budgets.is_empty() {
+                renders.extend(self.time_budgets.iter().map(|&b| (sampler, MAX_SPP, None, Some(b))));
+            } else {
+                renders.extend(counts.map(|spp| (sampler, spp, None, None)));
             }
         }
         renders
@@ -130,6 +145,12 @@ impl Sweep {
 /// the sample counts, the scene loads, its film is valid for every render of the sweep (sampler,
 /// count and threshold), and `reference` has its size.
 pub fn check(sweep: &Sweep, reference: Option<&Reference>) -> InputResult<()> {
+    if !sweep.time_budgets.is_empty() && !sweep.samplers.iter().any(|s| s.is_progressive()) {
+        return Err(InputError::new(
+            "--time-budget",
+            "budgets are for the progressive samplers: add sobol or independent to --sampler",
+        ));
+    }
     for &sampler in &sweep.samplers {
         if sweep.counts(sampler).next().is_none() {
             let why = sampler.check_spp(sweep.spp[0]).unwrap_err();
@@ -140,13 +161,14 @@ pub fn check(sweep: &Sweep, reference: Option<&Reference>) -> InputResult<()> {
         }
     }
     let renders = sweep.ours();
-    let (sampler, spp, _) = renders[0];
-    let film = load(sweep, sampler, spp, None)?.film;
-    for (sampler, spp, threshold) in renders {
+    let (sampler, spp, ..) = renders[0];
+    let film = load(sweep, (sampler, spp, None, None))?.film;
+    for (sampler, spp, threshold, time_budget) in renders {
         let film = FilmSettings {
             sampler,
             spp,
             adaptive_threshold: threshold.unwrap_or(film.adaptive_threshold),
+            time_budget,
             ..film.clone()
         };
         film.validate().map_err(|e| InputError::new(&sweep.scene, e))?;
@@ -172,6 +194,8 @@ fn size_mismatch(reference: &Reference, width: u32, height: u32) -> InputError {
 /// One timed pointshade render.
 struct OurRender {
     image: Image,
+    /// Samples per pixel: the film's, or the count the time budget reached.
+    spp: u32,
     /// Samples per pixel taken, on average.
     mean_spp: f64,
     /// The threshold the adaptive sampler used (adaptive renders only).
@@ -180,16 +204,17 @@ struct OurRender {
     time: Duration,
 }
 
-/// One pointshade render: load + plan + BVH + render, timed (`threshold`: the adaptive
-/// sampler's, if not the scene's).
-fn render_once(sweep: &Sweep, sampler: SamplerKind, spp: u32, threshold: Option<f32>) -> InputResult<OurRender> {
+/// One pointshade render: load + plan + BVH + render, timed.
+fn render_once(sweep: &Sweep, run: OurRun) -> InputResult<OurRender> {
+    let sampler = run.0;
     let start = Instant::now();
-    let scene = load(sweep, sampler, spp, threshold)?;
+    let scene = load(sweep, run)?;
     let (rendered, _) = render_ours(&scene, sweep.shadow_offset)?;
     let time = start.elapsed();
     let pixels = (rendered.image.width * rendered.image.height) as f64;
     Ok(OurRender {
         image: rendered.image,
+        spp: rendered.spp,
         mean_spp: rendered.stats.primary_rays as f64 / pixels,
         threshold: sampler.is_adaptive().then_some(scene.film.adaptive_threshold),
         time,
@@ -198,7 +223,7 @@ fn render_once(sweep: &Sweep, sampler: SamplerKind, spp: u32, threshold: Option<
 
 /// A pointshade reference when none is given: 32×32 grid samples per pixel.
 pub fn own_reference(sweep: &Sweep) -> InputResult<Reference> {
-    let ours = render_once(sweep, SamplerKind::Grid, 1024, None)?;
+    let ours = render_once(sweep, (SamplerKind::Grid, 1024, None, None))?;
     Ok(Reference {
         image: ours.image,
         description: format!(
@@ -212,7 +237,7 @@ pub fn own_reference(sweep: &Sweep) -> InputResult<Reference> {
 /// against the reference.
 fn point(
     renderer: &'static str,
-    (sampler, spp, threshold): (&str, u32, Option<f32>),
+    (sampler, spp, threshold, time_budget): (&str, u32, Option<f32>, Option<f32>),
     mean_spp: f64,
     image: &Image,
     reference: &Reference,
@@ -226,6 +251,7 @@ fn point(
         sampler: sampler.to_string(),
         spp,
         threshold,
+        time_budget,
         mean_spp,
         seconds: 0.0,
         all_seconds: Vec::new(),
@@ -237,18 +263,20 @@ fn point(
 
 /// One configuration of the sweep.
 enum Config<'a> {
-    Ours(SamplerKind, u32, Option<f32>),
+    Ours(OurRun),
     Mitsuba(SamplerKind, u32, &'a MitsubaRunner, MitsubaJob, PathBuf),
 }
 
 impl Config<'_> {
-    /// Renders once; returns the seconds, and on the first repeat the scored point.
+    /// Renders once; returns the seconds, and the scored point on the first repeat, or on every
+    /// repeat for a time budget (whose sample count, and so error, varies from run to run).
     fn measure(&self, sweep: &Sweep, reference: &Reference, first: bool) -> InputResult<(f64, Option<Point>)> {
         match self {
-            &Config::Ours(sampler, spp, threshold) => {
-                let ours = render_once(sweep, sampler, spp, threshold)?;
-                let what = (sampler.name(), spp, ours.threshold);
-                let point = first
+            &Config::Ours(run) => {
+                let ours = render_once(sweep, run)?;
+                let (sampler, _, _, budget) = run;
+                let what = (sampler.name(), ours.spp, ours.threshold, budget);
+                let point = (first || budget.is_some())
                     .then(|| point("pointshade", what, ours.mean_spp, &ours.image, reference))
                     .transpose()?;
                 Ok((ours.time.as_secs_f64(), point))
@@ -259,7 +287,7 @@ impl Config<'_> {
                     let image = crate::output::read_linear(out)?;
                     Some(point(
                         "mitsuba",
-                        (sampler.name(), *spp, None),
+                        (sampler.name(), *spp, None, None),
                         *spp as f64,
                         &image,
                         reference,
@@ -281,15 +309,11 @@ impl Config<'_> {
 /// renderers one after the other put the same two points at 0.85×, 0.91× and 1.13× of each
 /// other).
 pub fn run(sweep: &Sweep, reference: &Reference, progress: &mut dyn FnMut(&Point)) -> InputResult<Vec<Point>> {
-    let mut configs: Vec<Config> = sweep
-        .ours()
-        .into_iter()
-        .map(|(sampler, spp, threshold)| Config::Ours(sampler, spp, threshold))
-        .collect();
+    let mut configs: Vec<Config> = sweep.ours().into_iter().map(Config::Ours).collect();
     if let Some(mitsuba) = &sweep.mitsuba {
         for sampler in [SamplerKind::Grid, SamplerKind::Independent] {
             for spp in sweep.counts(sampler) {
-                let scene = load(sweep, sampler, spp, None)?;
+                let scene = load(sweep, (sampler, spp, None, None))?;
                 let exported = export(&scene, spp, BsdfChoice::NativeWhereExact);
                 let stem = sweep.out.join(format!("mitsuba-{}-{spp}", sampler.name()));
                 let job = MitsubaJob::write(&exported.per_light, &stem, (scene.film.width, scene.film.height))?;
@@ -298,28 +322,42 @@ pub fn run(sweep: &Sweep, reference: &Reference, progress: &mut dyn FnMut(&Point
         }
     }
     let repeats = sweep.repeats.max(1);
-    let mut points: Vec<Option<Point>> = configs.iter().map(|_| None).collect();
+    let mut runs: Vec<Vec<(f64, Option<Point>)>> = configs.iter().map(|_| Vec::new()).collect();
+    let mut points = Vec::new();
     for repeat in 0..repeats {
-        for (config, slot) in configs.iter().zip(&mut points) {
-            let (seconds, scored) = config.measure(sweep, reference, repeat == 0)?;
-            if scored.is_some() {
-                *slot = scored;
-            }
-            let Some(point) = slot.as_mut() else { continue }; // the first repeat scores it
-            point.all_seconds.push(seconds);
+        for (config, runs) in configs.iter().zip(&mut runs) {
+            runs.push(config.measure(sweep, reference, repeat == 0)?);
             if repeat + 1 == repeats {
-                point.seconds = median(&point.all_seconds);
-                progress(point);
+                let point = summary(std::mem::take(runs));
+                progress(&point);
+                points.push(point);
             }
         }
     }
-    Ok(points.into_iter().flatten().collect())
+    Ok(points)
+}
+
+/// One configuration's point from its runs (seconds, and the point if that run was scored):
+/// the median time of all runs, with the scored run of the median time among the scored ones
+/// (the only one, unless every run was scored). The first run is always scored.
+fn summary(runs: Vec<(f64, Option<Point>)>) -> Point {
+    let all_seconds: Vec<f64> = runs.iter().map(|r| r.0).collect();
+    let mut scored: Vec<(f64, Point)> = runs.into_iter().filter_map(|(t, p)| Some((t, p?))).collect();
+    scored.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let (_, point) = scored.swap_remove(scored.len() / 2);
+    Point {
+        seconds: median(&all_seconds),
+        all_seconds,
+        ..point
+    }
 }
 
 /// The points as CSV, with the reference described in a leading comment line.
 pub fn csv(points: &[Point], reference: &Reference) -> String {
     let mut s = format!("# reference: {}\n", reference.description);
-    s.push_str("renderer,sampler,spp,threshold,mean_spp,seconds_median,seconds_all,rmse,rel_mse,within_1e-3\n");
+    s.push_str(
+        "renderer,sampler,spp,threshold,mean_spp,seconds_median,seconds_all,rmse,rel_mse,within_1e-3,time_budget\n",
+    );
     for p in points {
         let all = p
             .all_seconds
@@ -328,9 +366,10 @@ pub fn csv(points: &[Point], reference: &Reference) -> String {
             .collect::<Vec<_>>()
             .join(" ");
         let threshold = p.threshold.map(|t| t.to_string()).unwrap_or_default();
+        let budget = p.time_budget.map(|t| t.to_string()).unwrap_or_default();
         let _ = writeln!(
             s,
-            "{},{},{},{threshold},{:.3},{:.4},{},{:.6e},{:.6e},{:.6}",
+            "{},{},{},{threshold},{:.3},{:.4},{},{:.6e},{:.6e},{:.6},{budget}",
             p.renderer, p.sampler, p.spp, p.mean_spp, p.seconds, all, p.rmse, p.rel_mse, p.within
         );
     }
@@ -374,6 +413,7 @@ mod tests {
             repeats: 1,
             shadow_offset: ShadowOffset::ErrorBound,
             adaptive_thresholds: thresholds.to_vec(),
+            time_budgets: Vec::new(),
             mitsuba: None,
             out: PathBuf::from("out"),
         }
@@ -384,12 +424,57 @@ mod tests {
         use SamplerKind::{Adaptive, Grid};
         // The grid takes the square counts; the adaptive sampler each count, at the scene's
         // threshold or the one given.
-        let grid = [(Grid, 1, None), (Grid, 4, None)];
-        let by_count = |t| [(Adaptive, 1, t), (Adaptive, 2, t), (Adaptive, 4, t)];
+        let grid = [(Grid, 1, None, None), (Grid, 4, None, None)];
+        let by_count = |t| [(Adaptive, 1, t, None), (Adaptive, 2, t, None), (Adaptive, 4, t, None)];
         assert_eq!(sweep(&[]).ours(), [&grid[..], &by_count(None)].concat());
         assert_eq!(sweep(&[0.01]).ours(), [&grid[..], &by_count(Some(0.01))].concat());
         // Several thresholds: each once, at the largest count.
-        let by_threshold = [(Adaptive, 4, Some(0.02)), (Adaptive, 4, Some(0.01))];
+        let by_threshold = [(Adaptive, 4, Some(0.02), None), (Adaptive, 4, Some(0.01), None)];
         assert_eq!(sweep(&[0.02, 0.01]).ours(), [&grid[..], &by_threshold].concat());
+    }
+
+    #[test]
+    fn time_budgets_replace_the_counts_of_the_progressive_samplers_only() {
+        use SamplerKind::{Adaptive, Grid, Independent, Sobol};
+        let mut s = sweep(&[]);
+        s.samplers = vec![Sobol, Grid, Independent, Adaptive];
+        s.time_budgets = vec![0.1, 0.3];
+        let budgets = |k| [(k, MAX_SPP, None, Some(0.1)), (k, MAX_SPP, None, Some(0.3))];
+        let grid = [(Grid, 1, None, None), (Grid, 4, None, None)];
+        let adaptive = [
+            (Adaptive, 1, None, None),
+            (Adaptive, 2, None, None),
+            (Adaptive, 4, None, None),
+        ];
+        assert_eq!(
+            s.ours(),
+            [&budgets(Sobol)[..], &grid, &budgets(Independent), &adaptive].concat()
+        );
+    }
+
+    fn scored(rmse: f64) -> Option<Point> {
+        Some(Point {
+            renderer: "pointshade",
+            sampler: "sobol".into(),
+            spp: 1,
+            threshold: None,
+            time_budget: None,
+            mean_spp: 1.0,
+            seconds: 0.0,
+            all_seconds: Vec::new(),
+            rmse,
+            rel_mse: 0.0,
+            within: 0.0,
+        })
+    }
+
+    #[test]
+    fn a_point_is_its_scored_run_of_median_time() {
+        // Scored once (the first run): that run's error, the median of all times.
+        let p = summary(vec![(3.0, scored(0.5)), (1.0, None), (2.0, None)]);
+        assert_eq!((p.rmse, p.seconds, p.all_seconds), (0.5, 2.0, vec![3.0, 1.0, 2.0]));
+        // Scored every run (time budgets): the error of the run of median time.
+        let p = summary(vec![(3.0, scored(0.1)), (1.0, scored(0.3)), (2.0, scored(0.2))]);
+        assert_eq!((p.rmse, p.seconds), (0.2, 2.0));
     }
 }

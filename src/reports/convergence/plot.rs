@@ -1,6 +1,7 @@
 //! The convergence plot: RMSE against seconds, both axes logarithmic, one line per renderer and
 //! sampler (plotters; SVG and PNG from the same drawing code). The adaptive sampler's line runs
-//! through its sample counts or, when it was swept over several thresholds, through those.
+//! through its sample counts or, when it was swept over several thresholds, through those; a
+//! progressive sampler's, through its sample counts or its time budgets.
 //!
 //! Text needs a font: the first of a few common system fonts (or `POINTSHADE_FONT`) is
 //! registered with plotters. Without one the plot is drawn without text and a note says so.
@@ -114,7 +115,12 @@ where
             .filter(|p| p.renderer == renderer && p.sampler == sampler)
             .collect();
         let mut pts: Vec<(f64, f64)> = members.iter().map(|p| (p.seconds, p.rmse)).collect();
-        let label = label(renderer, sampler, members.iter().filter_map(|p| p.threshold));
+        let label = label(
+            renderer,
+            sampler,
+            members.iter().filter_map(|p| p.threshold),
+            members.iter().filter_map(|p| p.time_budget),
+        );
         pts.sort_by(|a, b| a.0.total_cmp(&b.0));
         let c = colour(renderer, sampler);
         let line = chart
@@ -141,20 +147,27 @@ where
     root.present().map_err(err)
 }
 
-/// A series' legend: renderer and sampler, and the range of thresholds when the adaptive
-/// sampler's points were traced by several.
-fn label(renderer: &str, sampler: &str, thresholds: impl Iterator<Item = f32>) -> String {
-    let thresholds: Vec<f32> = thresholds.collect();
-    let (lo, hi) = thresholds
-        .iter()
-        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &t| {
-            (lo.min(t), hi.max(t))
-        });
+/// A series' legend: renderer and sampler, the range of thresholds when the adaptive sampler's
+/// points were traced by several, and the range of time budgets when the line runs through them.
+fn label(
+    renderer: &str,
+    sampler: &str,
+    thresholds: impl Iterator<Item = f32>,
+    budgets: impl Iterator<Item = f32>,
+) -> String {
+    let range = |values: &mut dyn Iterator<Item = f32>| {
+        values.fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), t| (lo.min(t), hi.max(t)))
+    };
+    let mut label = format!("{renderer} {sampler}");
+    let (lo, hi) = range(&mut { thresholds });
     if lo < hi {
-        format!("{renderer} {sampler}, thresholds {hi}…{lo}")
-    } else {
-        format!("{renderer} {sampler}")
+        label += &format!(", thresholds {hi}…{lo}");
     }
+    let (lo, hi) = range(&mut { budgets });
+    if lo <= hi {
+        label += &format!(", time budgets {lo}…{hi} s");
+    }
+    label
 }
 
 /// The plot as SVG text.
@@ -201,13 +214,23 @@ mod tests {
 
     #[test]
     fn the_legend_names_the_thresholds_only_when_they_trace_the_line() {
-        assert_eq!(label("pointshade", "sobol", [].into_iter()), "pointshade sobol");
+        let none = || [].into_iter();
+        assert_eq!(label("pointshade", "sobol", none(), none()), "pointshade sobol");
         let one = [0.005f32; 3].into_iter();
-        assert_eq!(label("pointshade", "adaptive", one), "pointshade adaptive");
+        assert_eq!(label("pointshade", "adaptive", one, none()), "pointshade adaptive");
         let several = [0.02f32, 0.005, 0.01].into_iter();
         assert_eq!(
-            label("pointshade", "adaptive", several),
+            label("pointshade", "adaptive", several, none()),
             "pointshade adaptive, thresholds 0.02…0.005"
+        );
+    }
+
+    #[test]
+    fn the_legend_names_the_time_budgets_that_trace_the_line() {
+        let budgets = [0.2f32, 0.05, 0.1].into_iter();
+        assert_eq!(
+            label("pointshade", "sobol", [].into_iter(), budgets),
+            "pointshade sobol, time budgets 0.05…0.2 s"
         );
     }
 }
