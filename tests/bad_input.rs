@@ -157,8 +157,8 @@ fn absurd_sizes_and_bad_options() {
     c.fails(&tri, &["--time-budget", "0"], &["time_budget"]);
     c.fails(
         &tri,
-        &["--time-budget", "1", "--sampler", "cells"],
-        &["progressive sampler", "cells"],
+        &["--time-budget", "1", "--sampler", "grid"],
+        &["time budget", "grid"],
     );
     let budget_in_file = c.scene(&format!("{CAMERA}[film]\ntime_budget = -2.0\n"));
     c.fails(&budget_in_file, &[], &["scene.toml", "time_budget"]);

@@ -216,16 +216,18 @@ fn the_grid_takes_the_square_counts_and_fails_with_none() {
 }
 
 #[test]
-fn time_budgets_trace_the_progressive_samplers_and_leave_the_others_at_counts() {
+fn time_budgets_trace_every_sampler_but_the_grid() {
     let sweep = SweepFolder::new("budgets", 96, 72);
-    let options = ["--spp", "1,4", "--sampler", "sobol,grid", "--repeats", "1"];
+    let options = ["--spp", "1,4", "--sampler", "sobol,grid,cells", "--repeats", "1"];
     let table = sweep.rows(&[&options[..], &["--time-budget", "0.01,0.3"]].concat());
-    assert_eq!(
-        table.column(Some("sobol"), "time_budget"),
-        ["0.01", "0.3"],
-        "{}",
-        table.csv
-    );
+    for sampler in ["sobol", "cells"] {
+        assert_eq!(
+            table.column(Some(sampler), "time_budget"),
+            ["0.01", "0.3"],
+            "{}",
+            table.csv
+        );
+    }
     assert_eq!(table.column(Some("grid"), "time_budget"), ["", ""], "{}", table.csv);
     assert_eq!(table.column(Some("grid"), "spp"), ["1", "4"], "{}", table.csv);
     // Each budget's point is the count its run reached, at least the one first pass; thirty
@@ -233,13 +235,23 @@ fn time_budgets_trace_the_progressive_samplers_and_leave_the_others_at_counts() 
     let spp = table.numbers(Some("sobol"), "spp");
     assert!(spp[0] >= 1.0 && spp[1] >= spp[0], "{}", table.csv);
     assert_eq!(spp, table.numbers(Some("sobol"), "mean_spp"), "{}", table.csv);
+    // The cells' points name the threshold reached, a rung of the ladder down to 1/1024, and
+    // the longer budget reaches one at least as fine.
+    let ladder = pointshade::render::threshold_ladder(1.0 / 1024.0);
+    let thresholds = table.numbers(Some("cells"), "threshold");
+    assert!(
+        thresholds.iter().all(|&t| ladder.contains(&(t as f32))),
+        "{}",
+        table.csv
+    );
+    assert!(thresholds[1] <= thresholds[0], "{}", table.csv);
 }
 
 #[test]
-fn time_budgets_without_a_progressive_sampler_or_with_a_bad_entry_fail_before_anything_is_written() {
+fn time_budgets_with_the_grid_alone_or_with_a_bad_entry_fail_before_anything_is_written() {
     let sweep = SweepFolder::new("bad-budget", 48, 36);
     for (sampler, list, says) in [
-        ("grid,cells", "0.1", "--time-budget"),
+        ("grid", "0.1", "--time-budget"),
         ("sobol", "0.1,x", "--time-budget"),
         ("sobol", "0.1,NaN", "time_budget"),
         ("independent", "0", "time_budget"),

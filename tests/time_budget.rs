@@ -1,5 +1,6 @@
 //! Rendering to a time budget (`--time-budget`, the film's `time_budget`): the image is bit for
-//! bit the fixed render at the sample count the budget reached, whatever that count is.
+//! bit the fixed render at the sample count the budget reached, or, for the adaptive samplers,
+//! the render at the threshold it reached, whatever that count or threshold is.
 
 use std::path::Path;
 
@@ -57,19 +58,56 @@ fn a_budget_render_is_the_fixed_render_at_the_count_it_reached() {
     }
 }
 
+/// The budgeted render of adaptive `sampler` (at most `cap` samples per pixel, thresholds down
+/// to `finest`) equals the render at the threshold it reached, sample counts included; returns
+/// that threshold.
+fn equals_the_render_at_its_threshold(sampler: SamplerKind, cap: u32, finest: f32, budget: f32) -> f32 {
+    let mut budgeted = scene(sampler, cap, Some(budget));
+    budgeted.film.adaptive_threshold = finest;
+    let budgeted = render(&budgeted);
+    let threshold = budgeted
+        .adaptive_threshold
+        .expect("adaptive renders say their threshold");
+    let ladder = pointshade::render::threshold_ladder(finest);
+    assert!(
+        ladder.contains(&threshold),
+        "{sampler:?}: {threshold} not in {ladder:?}"
+    );
+    let mut fixed = scene(sampler, cap, None);
+    fixed.film.adaptive_threshold = threshold;
+    let fixed = render(&fixed);
+    assert!(
+        bits(&budgeted.image) == bits(&fixed.image),
+        "{sampler:?} at {threshold}"
+    );
+    assert!(
+        bits(&budgeted.aovs[0].1) == bits(&fixed.aovs[0].1),
+        "{sampler:?} normals at {threshold}"
+    );
+    assert_eq!(
+        budgeted.sample_counts, fixed.sample_counts,
+        "{sampler:?} at {threshold}"
+    );
+    threshold
+}
+
 #[test]
-fn a_budget_needs_a_progressive_sampler_the_whole_film_and_a_sane_number() {
-    let mut s = scene(SamplerKind::Sobol, 16, Some(1.0));
-    for (sampler, spp) in [
-        (SamplerKind::Grid, 16),
-        (SamplerKind::Adaptive, 16),
-        (SamplerKind::Cells, 16),
-    ] {
-        s.film.sampler = sampler;
-        s.film.spp = spp;
-        let e = s.film.validate().unwrap_err();
-        assert!(e.contains("progressive sampler") && e.contains(sampler.name()), "{e}");
+fn an_adaptive_budget_render_is_the_render_at_the_threshold_it_reached() {
+    for sampler in [SamplerKind::Adaptive, SamplerKind::Cells] {
+        // Whatever threshold this machine reaches in 50 ms.
+        equals_the_render_at_its_threshold(sampler, 64, 0.002, 0.05);
+        // An ample budget reaches the finest; one spent at once stops at the coarsest.
+        assert_eq!(equals_the_render_at_its_threshold(sampler, 64, 0.005, 3600.0), 0.005);
+        assert_eq!(equals_the_render_at_its_threshold(sampler, 64, 0.005, 1e-9), 0.04);
     }
+}
+
+#[test]
+fn a_budget_needs_a_sampler_that_adds_samples_the_whole_film_and_a_sane_number() {
+    let mut s = scene(SamplerKind::Sobol, 16, Some(1.0));
+    s.film.sampler = SamplerKind::Grid;
+    let e = s.film.validate().unwrap_err();
+    assert!(e.contains("grid"), "{e}");
     s.film.sampler = SamplerKind::Sobol;
     s.film.crop = Some(pointshade::film::PixelRect {
         x0: 0,

@@ -30,9 +30,10 @@ pub struct ConvergenceArgs {
     /// traced by the threshold.
     #[arg(long)]
     adaptive_threshold: Option<String>,
-    /// Time budgets in seconds (comma-separated), for BVH build and render: the progressive
-    /// samplers (sobol, independent) then run once per budget instead of once per sample count,
-    /// and each point is the run of median time among the repeats (its count and error with it).
+    /// Time budgets in seconds (comma-separated), for BVH build and render: every sampler but
+    /// the grid then runs once per budget instead of once per sample count or threshold (the
+    /// adaptive ones down to the smallest --adaptive-threshold, if given), and each point is the
+    /// run of median time among the repeats (its count, threshold and error with it).
     #[arg(long, value_name = "SECONDS,…")]
     time_budget: Option<String>,
     /// Repeats per point; the median time is kept.

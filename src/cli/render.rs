@@ -33,10 +33,12 @@ pub struct RenderArgs {
     /// more samples).
     #[arg(long)]
     adaptive_threshold: Option<f32>,
-    /// Seconds the BVH build and the render may take: sobol or independent samples in passes
-    /// that double the samples per pixel, stopping before a pass that would end later, at --spp
-    /// at most if given (the scene's spp is then ignored; without --spp, up to 65536). The image
-    /// is bit for bit the render at the count reached, which the summary prints.
+    /// Seconds the BVH build and the render may take. sobol and independent add samples in
+    /// passes (doubling) while they fit, up to --spp if given (else 65536); adaptive and cells
+    /// refine at thresholds halving from 0.04 down to --adaptive-threshold if given (else
+    /// 1/1024), within --spp (else 1024). The scene's spp and threshold are then ignored. The
+    /// image is bit for bit the render at the count or threshold reached, which the summary
+    /// prints.
     #[arg(long, value_name = "SECONDS")]
     time_budget: Option<f32>,
     /// Render only pixels [x0, x1) × [y0, y1) of the frame, into an EXR crop that `pointshade
@@ -93,7 +95,7 @@ pub fn run(args: RenderArgs) -> Result<(), InputError> {
     }
     if let Some(budget) = args.time_budget {
         f.time_budget = Some(budget);
-        f.spp = crate::film::MAX_SPP;
+        (f.spp, f.adaptive_threshold) = crate::film::time_budget_defaults(f.sampler);
     }
     f.spp = args.spp.unwrap_or(f.spp);
     f.adaptive_threshold = args.adaptive_threshold.unwrap_or(f.adaptive_threshold);
@@ -148,8 +150,13 @@ pub fn run(args: RenderArgs) -> Result<(), InputError> {
         let r = rendered.region;
         let spp = match &rendered.sample_counts {
             Some(c) => format!(
-                "{:.2} spp on average (adaptive, at most {})",
+                "{:.2} spp on average (adaptive, threshold {}{}, at most {})",
                 s.primary_rays as f64 / c.len() as f64,
+                rendered.adaptive_threshold.unwrap_or(scene.film.adaptive_threshold),
+                match scene.film.time_budget {
+                    Some(budget) => format!(" reached in a time budget of {budget} s"),
+                    None => String::new(),
+                },
                 scene.film.spp
             ),
             None => match scene.film.time_budget {

@@ -108,6 +108,14 @@ impl Default for FilmSettings {
     }
 }
 
+/// Samples per pixel (the cap) and adaptive threshold (the finest) of a time budget that does not
+/// set them: the budget decides. An adaptive sampler's cap is lower, as a single pass of its
+/// rounds could otherwise spend 65,536 samples on a pixel that never settles.
+pub fn time_budget_defaults(sampler: SamplerKind) -> (u32, f32) {
+    let spp = if sampler.is_adaptive() { 1024 } else { MAX_SPP };
+    (spp, 1.0 / 1024.0)
+}
+
 /// Largest time budget accepted, in seconds (a week): a guard against absurd values.
 pub const MAX_TIME_BUDGET: f32 = 7.0 * 24.0 * 3600.0;
 
@@ -160,21 +168,20 @@ impl FilmSettings {
         Ok(())
     }
 
-    /// A time budget needs a positive, finite number of seconds, a sampler whose first n samples
-    /// are those of any render with more (the image is then that of a fixed count), and the whole
-    /// film: crops of one frame must take the same samples to merge, and budgets would give each
-    /// its own count.
+    /// A time budget needs a positive, finite number of seconds, a sampler that can add samples
+    /// (not the grid, whose points all move when the count changes), and the whole film: crops
+    /// of one frame must take the same samples to merge, and budgets would give each its own.
     fn check_time_budget(&self, budget: f32) -> Result<(), String> {
         if !(budget > 0.0 && budget <= MAX_TIME_BUDGET) {
             return Err(format!(
                 "time_budget must be a number of seconds in (0, {MAX_TIME_BUDGET}], got {budget}"
             ));
         }
-        if !self.sampler.is_progressive() {
-            return Err(format!(
-                "a time budget needs a progressive sampler (sobol or independent), not {}",
-                self.sampler.name()
-            ));
+        if self.sampler == SamplerKind::Grid {
+            return Err(
+                "a time budget needs a sampler that can add samples (sobol, independent, adaptive or cells), not grid"
+                    .into(),
+            );
         }
         if self.crop.is_some() {
             return Err(

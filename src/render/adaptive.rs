@@ -33,6 +33,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
+use super::progressive::SampleCache;
 use super::rounds;
 use super::subdivision::{self, Scratch};
 use super::tile::{block_order, Context, PixelSums, SampleJob, SurfaceSample};
@@ -83,21 +84,64 @@ pub struct ActivePixel {
 
 /// Renders `region` adaptively; returns the per-pixel sums and sample counts (row-major).
 pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) -> (PixelSums, Vec<u32>) {
-    let film = &ctx.scene.film;
-    let white = display_white(film);
-    let grow = |r: PixelRect, by: u32| PixelRect {
+    let centres = Centres::new(ctx, region);
+    let mut caches: Vec<Option<SampleCache>> = tiles(region).iter().map(|_| None).collect();
+    refine(ctx, &centres, ctx.scene.film.adaptive_threshold, &mut caches, on_tile)
+}
+
+/// The centre samples of a region and of the two-pixel apron around it: every threshold's
+/// activation and refinement reads them, and a time budget's passes share them.
+pub struct Centres {
+    region: PixelRect,
+    apron: PixelRect,
+    sums: PixelSums,
+}
+
+impl Centres {
+    /// One sample at the centre of every pixel of `region` and its apron.
+    pub fn new(ctx: &Context, region: PixelRect) -> Self {
+        // Bends are needed one pixel around the region (for the dilation), and each needs the
+        // centres one pixel further out.
+        let apron = grow(&ctx.scene.film, region, 2);
+        Self {
+            region,
+            apron,
+            sums: centre_pass(ctx, apron),
+        }
+    }
+
+    /// Index of pixel (x, y) of the apron in `sums`.
+    fn at(&self, x: u32, y: u32) -> usize {
+        ((y - self.apron.y0) * self.apron.width() + (x - self.apron.x0)) as usize
+    }
+}
+
+/// `r` grown by `by` pixels on every side, within the film.
+fn grow(film: &FilmSettings, r: PixelRect, by: u32) -> PixelRect {
+    PixelRect {
         x0: r.x0.saturating_sub(by),
         y0: r.y0.saturating_sub(by),
         x1: (r.x1 + by).min(film.width),
         y1: (r.y1 + by).min(film.height),
-    };
-    // Bends are needed one pixel around the region (for the dilation), and each needs the
-    // centres one pixel further out.
-    let apron = grow(region, 2);
-    let centre = centre_pass(ctx, apron);
-    let at = |x: u32, y: u32| ((y - apron.y0) * apron.width() + (x - apron.x0)) as usize;
-    let centre_at = |x: u32, y: u32| (centre.radiance[at(x, y)], centre.surface[at(x, y)]);
-    let bent_area = grow(region, 1);
+    }
+}
+
+/// Refines the region of `centres` at `threshold` (the film's, or a time budget's pass's);
+/// returns the per-pixel sums and sample counts (row-major). `caches` holds one entry per tile
+/// of the region: where there is a cache, samples are looked up by film position before they
+/// are traced, and the ones traced are kept (see `progressive::SampleCache`).
+pub fn refine(
+    ctx: &Context,
+    centres: &Centres,
+    threshold: f32,
+    caches: &mut [Option<SampleCache>],
+    on_tile: &(dyn Fn(u64) + Sync),
+) -> (PixelSums, Vec<u32>) {
+    let film = &ctx.scene.film;
+    let white = display_white(film);
+    let (region, centre) = (centres.region, &centres.sums);
+    let centre_at = |x: u32, y: u32| (centre.radiance[centres.at(x, y)], centre.surface[centres.at(x, y)]);
+    let bent_area = grow(film, region, 1);
     // One decision per pixel, in parallel (an indexed collect keeps the row-major order).
     let bent: Vec<Neighbourhood> = (0..bent_area.width() * bent_area.height())
         .into_par_iter()
@@ -106,7 +150,7 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
                 bent_area.x0 + i % bent_area.width(),
                 bent_area.y0 + i / bent_area.width(),
             );
-            neighbourhood(&centre_at, film, white, x, y)
+            neighbourhood(&centre_at, film, threshold, white, x, y)
         })
         .collect();
     let bent_at = |x: u32, y: u32| bent[((y - bent_area.y0) * bent_area.width() + (x - bent_area.x0)) as usize];
@@ -118,15 +162,19 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
     let naovs = ctx.sampled_aovs;
     let settings = Settings {
         spp: film.spp,
-        threshold: film.adaptive_threshold,
+        threshold,
         aovs: naovs,
         seed: film.seed,
         white,
     };
     let done = AtomicU64::new(0);
     let region_tiles = tiles(region);
-    let parts: Vec<(PixelSums, Vec<u32>)> = par_tiles(&region_tiles)
-        .map(|t| {
+    // One tile per job, as `par_tiles`, each with its cache.
+    let parts: Vec<(PixelSums, Vec<u32>)> = region_tiles
+        .par_iter()
+        .zip(caches)
+        .with_max_len(1)
+        .map(|(t, cache)| {
             let n = (t.width() * t.height()) as usize;
             let mut sums = PixelSums::new(n, naovs);
             let mut counts = vec![1u32; n];
@@ -135,7 +183,7 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
             let mut active = Vec::new();
             for (x, y) in block_order(*t) {
                 let slot = ((y - t.y0) * t.width() + (x - t.x0)) as usize;
-                let a = ((y - apron.y0) * apron.width() + (x - apron.x0)) as usize;
+                let a = centres.at(x, y);
                 sums.radiance[slot] = centre.radiance[a];
                 sums.surface[slot] = centre.surface[a];
                 for k in 0..naovs {
@@ -159,11 +207,19 @@ pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) 
                 }
             }
             SCRATCH.with_borrow_mut(|(scratch, surfaces)| {
-                let mut trace = |jobs: &[SampleJob], sums: &mut PixelSums| ctx.trace(jobs, sums, surfaces);
+                let mut traced = |jobs: &[SampleJob], sums: &mut PixelSums| ctx.trace(jobs, sums, surfaces);
+                let mut cached;
+                let trace: &mut dyn FnMut(&[SampleJob], &mut PixelSums) = match cache {
+                    Some(cache) => {
+                        cached = |jobs: &[SampleJob], sums: &mut PixelSums| cache.trace(jobs, sums, &mut traced);
+                        &mut cached
+                    }
+                    None => &mut traced,
+                };
                 if film.sampler == SamplerKind::Cells {
-                    subdivision::refine(settings, &active, &mut sums, &mut counts, scratch, &mut trace);
+                    subdivision::refine(settings, &active, &mut sums, &mut counts, scratch, trace);
                 } else {
-                    rounds::refine(settings, &active, &mut sums, &mut counts, &mut trace);
+                    rounds::refine(settings, &active, &mut sums, &mut counts, trace);
                 }
             });
             on_tile(done.fetch_add(1, Ordering::Relaxed) + 1);
@@ -227,6 +283,7 @@ struct Neighbourhood {
 fn neighbourhood(
     centre: &impl Fn(u32, u32) -> (Vec3, u32),
     film: &FilmSettings,
+    threshold: f32,
     white: f32,
     x: u32,
     y: u32,
@@ -251,7 +308,7 @@ fn neighbourhood(
         }
     }
     Neighbourhood {
-        bends: other_surface || bend > film.adaptive_threshold * level.max(white),
+        bends: other_surface || bend > threshold * level.max(white),
         level,
         low,
     }

@@ -9,6 +9,7 @@
 
 mod adaptive;
 mod progressive;
+pub use progressive::threshold_ladder;
 mod rounds;
 mod subdivision;
 pub mod tile;
@@ -58,6 +59,8 @@ pub struct Rendered {
     /// Samples per pixel: the film's, or the count a time budget reached; for the adaptive
     /// samplers, the most a pixel may take.
     pub spp: u32,
+    /// The adaptive samplers' threshold: the film's, or the finest a time budget reached.
+    pub adaptive_threshold: Option<f32>,
     /// Counters and times.
     pub stats: RenderStats,
 }
@@ -96,17 +99,22 @@ fn render_from(
     let ctx = Context::new(scene, plan, bvh)?;
     let film = &scene.film;
     let region = film.region();
-    let (sums, counts, spp) = match film.time_budget {
-        _ if film.sampler.is_adaptive() => {
+    let deadline = film.time_budget.map(|b| budget_start + Duration::from_secs_f32(b));
+    let adaptive = film.sampler.is_adaptive();
+    let (sums, counts, spp, threshold) = match deadline {
+        Some(deadline) if adaptive => {
+            let (sums, counts, threshold) = progressive::render_adaptive(&ctx, region, deadline, on_tile);
+            (sums, Some(counts), film.spp, Some(threshold))
+        }
+        None if adaptive => {
             let (sums, counts) = adaptive::render(&ctx, region, on_tile);
-            (sums, Some(counts), film.spp)
+            (sums, Some(counts), film.spp, Some(film.adaptive_threshold))
         }
-        Some(budget) => {
-            let deadline = budget_start + Duration::from_secs_f32(budget);
+        Some(deadline) => {
             let (sums, spp) = progressive::render(&ctx, region, deadline, on_tile);
-            (sums, None, spp)
+            (sums, None, spp, None)
         }
-        None => (fixed(&ctx, region, on_tile), None, film.spp),
+        None => (fixed(&ctx, region, on_tile), None, film.spp, None),
     };
     let count = |i: usize| counts.as_ref().map_or(spp, |c| c[i]) as f32;
     let average = |sums: &[Vec3]| Image {
@@ -144,6 +152,7 @@ fn render_from(
         region,
         sample_counts: counts,
         spp,
+        adaptive_threshold: threshold,
         stats,
     })
 }

@@ -507,19 +507,24 @@ fn film_settings(f: &FilmSection) -> Result<FilmSettings, String> {
     };
     // `filter` can only be "box" (parsing rejects anything else), the one filter pointshade has.
     let _ = &f.filter;
+    let budget = crate::film::time_budget_defaults(sampler);
     let s = FilmSettings {
         width: f.width.unwrap_or(d.width),
         height: f.height.unwrap_or(d.height),
-        // A time budget without a count renders until the budget, not until the default count.
+        // A time budget without a count (or threshold) renders until the budget, not until the
+        // default count.
         spp: f.spp.unwrap_or(match (f.time_budget, sampler) {
-            (Some(_), _) => crate::film::MAX_SPP,
+            (Some(_), _) => budget.0,
             (None, SamplerKind::Grid) => 1,
             (None, _) => d.spp,
         }),
         sampler,
         seed: f.seed.unwrap_or(d.seed),
         exposure: f.exposure.unwrap_or(d.exposure),
-        adaptive_threshold: f.adaptive_threshold.unwrap_or(d.adaptive_threshold),
+        adaptive_threshold: f.adaptive_threshold.unwrap_or(match f.time_budget {
+            Some(_) => budget.1,
+            None => d.adaptive_threshold,
+        }),
         crop: None,
         time_budget: f.time_budget,
     };

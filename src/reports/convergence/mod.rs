@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use crate::error::{InputError, InputResult};
-use crate::film::{FilmSettings, Image, SamplerKind, MAX_SPP};
+use crate::film::{time_budget_defaults, FilmSettings, Image, SamplerKind};
 use crate::output::{encode, write_all_or_nothing, Format};
 use crate::scene::Scene;
 use crate::shading::shadow::ShadowOffset;
@@ -70,9 +70,10 @@ pub struct Sweep {
     /// sampler is swept over them at the largest sample count (its cap) instead of over the
     /// sample counts: the threshold is what trades its error for time; the cap only bounds it.
     pub adaptive_thresholds: Vec<f32>,
-    /// Time budgets in seconds (empty: none). Given some, the progressive samplers (sobol,
-    /// independent) run once per budget, with no cap but the film's largest count, instead of
-    /// once per sample count.
+    /// Time budgets in seconds (empty: none). Given some, every sampler but the grid runs once
+    /// per budget instead of once per sample count or threshold, with the caps of a budget
+    /// ([`time_budget_defaults`]); the adaptive samplers' finest threshold is then the smallest
+    /// of `adaptive_thresholds`, if any.
     pub time_budgets: Vec<f32>,
     /// Run Mitsuba's grid and independent samplers too.
     pub mitsuba: Option<MitsubaRunner>,
@@ -119,20 +120,22 @@ impl Sweep {
 
     /// pointshade's renders: each sampler at each sample count it takes (the grid: the square
     /// ones), except the adaptive samplers given several thresholds, which take each threshold
-    /// at the largest count, and the progressive samplers given time budgets, which take each
-    /// budget (up to the largest count a film allows).
+    /// at the largest count; given time budgets, every sampler but the grid takes each budget.
     fn ours(&self) -> Vec<OurRun> {
         let mut renders = Vec::new();
         for &sampler in &self.samplers {
             let counts = self.counts(sampler);
             let thresholds = self.adaptive_thresholds.as_slice();
-            if sampler.is_adaptive() && thresholds.len() > 1 {
+            if sampler != SamplerKind::Grid && !self.time_budgets.is_empty() {
+                let (cap, finest) = time_budget_defaults(sampler);
+                let finest = thresholds.iter().copied().reduce(f32::min).unwrap_or(finest);
+                let finest = sampler.is_adaptive().then_some(finest);
+                renders.extend(self.time_budgets.iter().map(|&b| (sampler, cap, finest, Some(b))));
+            } else if sampler.is_adaptive() && thresholds.len() > 1 {
                 let cap = counts.max().unwrap_or(1);
                 renders.extend(thresholds.iter().map(|&t| (sampler, cap, Some(t), None)));
             } else if sampler.is_adaptive() {
                 renders.extend(counts.map(|spp| (sampler, spp, thresholds.first().copied(), None)));
-            } else if sampler.is_progressive() && !self.time_budgets.is_empty() {
-                renders.extend(self.time_budgets.iter().map(|&b| (sampler, MAX_SPP, None, Some(b))));
             } else {
                 renders.extend(counts.map(|spp| (sampler, spp, None, None)));
             }
@@ -145,10 +148,10 @@ impl Sweep {
 /// the sample counts, the scene loads, its film is valid for every render of the sweep (sampler,
 /// count and threshold), and `reference` has its size.
 pub fn check(sweep: &Sweep, reference: Option<&Reference>) -> InputResult<()> {
-    if !sweep.time_budgets.is_empty() && !sweep.samplers.iter().any(|s| s.is_progressive()) {
+    if !sweep.time_budgets.is_empty() && sweep.samplers.iter().all(|&s| s == SamplerKind::Grid) {
         return Err(InputError::new(
             "--time-budget",
-            "budgets are for the progressive samplers: add sobol or independent to --sampler",
+            "the grid cannot add samples to a budget: add another sampler to --sampler",
         ));
     }
     for &sampler in &sweep.samplers {
@@ -206,7 +209,6 @@ struct OurRender {
 
 /// One pointshade render: load + plan + BVH + render, timed.
 fn render_once(sweep: &Sweep, run: OurRun) -> InputResult<OurRender> {
-    let sampler = run.0;
     let start = Instant::now();
     let scene = load(sweep, run)?;
     let (rendered, _) = render_ours(&scene, sweep.shadow_offset)?;
@@ -216,7 +218,7 @@ fn render_once(sweep: &Sweep, run: OurRun) -> InputResult<OurRender> {
         image: rendered.image,
         spp: rendered.spp,
         mean_spp: rendered.stats.primary_rays as f64 / pixels,
-        threshold: sampler.is_adaptive().then_some(scene.film.adaptive_threshold),
+        threshold: rendered.adaptive_threshold,
         time,
     })
 }
@@ -434,18 +436,23 @@ mod tests {
     }
 
     #[test]
-    fn time_budgets_replace_the_counts_of_the_progressive_samplers_only() {
+    fn time_budgets_replace_the_counts_of_every_sampler_but_the_grid() {
         use SamplerKind::{Adaptive, Grid, Independent, Sobol};
-        let mut s = sweep(&[]);
+        let mut s = sweep(&[0.02, 0.005, 0.01]);
         s.samplers = vec![Sobol, Grid, Independent, Adaptive];
         s.time_budgets = vec![0.1, 0.3];
-        let budgets = |k| [(k, MAX_SPP, None, Some(0.1)), (k, MAX_SPP, None, Some(0.3))];
+        let progressive = |k| {
+            let cap = time_budget_defaults(k).0;
+            [(k, cap, None, Some(0.1)), (k, cap, None, Some(0.3))]
+        };
         let grid = [(Grid, 1, None, None), (Grid, 4, None, None)];
+        // The adaptive sampler refines down to the smallest threshold given.
+        let cap = time_budget_defaults(Adaptive).0;
         let adaptive = [
-            (Adaptive, 1, None, None),
-            (Adaptive, 2, None, None),
-            (Adaptive, 4, None, None),
+            (Adaptive, cap, Some(0.005), Some(0.1)),
+            (Adaptive, cap, Some(0.005), Some(0.3)),
         ];
+        let budgets = progressive;
         assert_eq!(
             s.ours(),
             [&budgets(Sobol)[..], &grid, &budgets(Independent), &adaptive].concat()
