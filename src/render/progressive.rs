@@ -107,16 +107,18 @@ pub fn threshold_ladder(finest: f32) -> Vec<f32> {
 /// Past it, samples are traced without being kept (the image is the same, only slower).
 const MAX_KEPT_SAMPLES: usize = 40 << 20;
 
-/// The predicted time of an adaptive pass after passes that took `previous` (zero if none) and
-/// `last`: the last scaled by their ratio, within 1 to 3 (on the dragon passes grow 1.35–1.5×
-/// from the third on), or 1.5 times the last after the first pass (which traces everything it
-/// needs, so the second took 0.6× of it on the dragon).
-fn next_adaptive_pass(previous: Duration, last: Duration) -> Duration {
-    let growth = match previous.is_zero() {
-        true => 1.5,
-        false => (last.as_secs_f64() / previous.as_secs_f64()).clamp(1.0, 3.0),
-    };
-    last.mul_f64(growth)
+/// The predicted time of the next adaptive pass after passes that took `passes`. The first
+/// pass traces every sample it needs; later ones mostly reuse them and trace what the finer
+/// threshold adds (on the dragon the second took 0.6× the first, and the later ones 1.35–1.5×
+/// the one before). So: the second as long as the first, the third 1.5× the second, then the
+/// last scaled by its growth over the one before, within 1× to 3×.
+fn next_adaptive_pass(passes: &[Duration]) -> Duration {
+    match passes {
+        [] => Duration::ZERO,
+        [first] => *first,
+        [_, second] => second.mul_f64(1.5),
+        [.., previous, last] => last.mul_f64((last.as_secs_f64() / previous.as_secs_f64()).clamp(1.0, 3.0)),
+    }
 }
 
 /// Renders `region` adaptively to `deadline`: a full adaptive render at each threshold of the
@@ -135,14 +137,14 @@ pub(super) fn render_adaptive(
     let mut caches: Vec<Option<SampleCache>> = tiles(region).iter().map(|_| Some(SampleCache::new(&room))).collect();
     let centres = Centres::new(ctx, region);
     let mut finished: Option<((PixelSums, Vec<u32>), f32)> = None;
-    let (mut previous, mut last) = (Duration::ZERO, Duration::ZERO);
+    let mut passes = Vec::new();
     for threshold in threshold_ladder(ctx.scene.film.adaptive_threshold) {
         let now = Instant::now();
-        if finished.is_some() && next_adaptive_pass(previous, last) >= deadline.saturating_duration_since(now) {
+        if finished.is_some() && next_adaptive_pass(&passes) >= deadline.saturating_duration_since(now) {
             break;
         }
         let pass = adaptive::refine(ctx, &centres, threshold, &mut caches, on_tile);
-        (previous, last) = (last, now.elapsed());
+        passes.push(now.elapsed());
         finished = Some((pass, threshold));
     }
     let ((sums, counts), threshold) = finished.expect("the ladder has at least one threshold");
@@ -315,11 +317,16 @@ mod tests {
 
     #[test]
     fn an_adaptive_pass_is_predicted_from_the_growth_of_the_last_two() {
-        assert_eq!(next_adaptive_pass(Duration::ZERO, 100 * MS), 150 * MS);
-        assert_eq!(next_adaptive_pass(50 * MS, 75 * MS), Duration::from_micros(112_500));
-        // Within 1× and 3× of the last pass.
-        assert_eq!(next_adaptive_pass(100 * MS, 60 * MS), 60 * MS);
-        assert_eq!(next_adaptive_pass(10 * MS, 60 * MS), 180 * MS);
+        // The second as long as the first, the third 1.5× the second.
+        assert_eq!(next_adaptive_pass(&[100 * MS]), 100 * MS);
+        assert_eq!(next_adaptive_pass(&[100 * MS, 60 * MS]), 90 * MS);
+        // Then the growth of the last two, within 1× and 3×.
+        assert_eq!(
+            next_adaptive_pass(&[100 * MS, 50 * MS, 75 * MS]),
+            Duration::from_micros(112_500)
+        );
+        assert_eq!(next_adaptive_pass(&[100 * MS, 80 * MS, 60 * MS]), 60 * MS);
+        assert_eq!(next_adaptive_pass(&[100 * MS, 10 * MS, 60 * MS]), 180 * MS);
     }
 
     /// An analytic trace: adds f(position) to each job's slot (hits where x < 3, surface 2),
