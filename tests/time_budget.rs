@@ -122,3 +122,34 @@ fn a_budget_needs_a_sampler_that_adds_samples_the_whole_film_and_a_sane_number()
         assert!(s.film.validate().unwrap_err().contains("time_budget"), "{budget}");
     }
 }
+
+#[test]
+fn a_scene_with_a_budget_exports_to_mitsuba_only_with_a_sample_count() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::temp_dir().join(format!("pointshade-budget-export-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(root.join("scenes/cook-torrance.toml"))
+        .unwrap()
+        .replace("[film]\n", "[film]\ntime_budget = 2.0\n")
+        .replace("../meshes", root.join("meshes").to_str().unwrap());
+    let scene = dir.join("budget.toml");
+    std::fs::write(&scene, text).unwrap();
+    let xml = dir.join("budget.xml");
+    let export = |extra: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_pointshade"))
+            .args(["export-mitsuba", scene.to_str().unwrap(), "-o", xml.to_str().unwrap()])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let refused = export(&[]);
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("--spp") && stderr.contains("time budget"), "{stderr}");
+    assert!(!xml.exists(), "nothing written");
+    let counted = export(&["--spp", "16"]);
+    assert!(counted.status.success(), "{}", String::from_utf8_lossy(&counted.stderr));
+    let written = std::fs::read_to_string(&xml).unwrap();
+    assert!(written.contains(r#"name="sample_count" value="16""#), "{written}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

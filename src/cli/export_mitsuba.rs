@@ -40,6 +40,13 @@ pub fn run(args: ExportArgs) -> Result<(), InputError> {
     if let Some(spp) = args.spp {
         scene.film.spp = spp;
     }
+    // Mitsuba renders a sample count; a budget's count is only known once pointshade has run.
+    if scene.film.time_budget.take().is_some() && args.spp.is_none() {
+        return Err(option_error(
+            "--spp",
+            "the scene renders to a time budget, which the Mitsuba export cannot: give the sample count with --spp",
+        ));
+    }
     scene.film.validate().map_err(|e| option_error("--spp", e))?;
     let choice = if args.plugin_everywhere {
         BsdfChoice::PluginEverywhere
