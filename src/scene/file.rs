@@ -17,8 +17,9 @@ use crate::error::{InputError, InputResult};
 use crate::film::{FilmSettings, SamplerKind};
 use crate::scene::framing::{default_lights, default_material, frame_bounds};
 use crate::scene::gltf::load_gltf;
+use crate::scene::mesh::DerivedNormals;
 use crate::scene::mesh::TriangleMesh;
-use crate::scene::obj::{load_obj, NO_MATERIAL};
+use crate::scene::obj::{load_obj_underived, NO_MATERIAL};
 use crate::scene::textures::{decode_used_images, offset_images, PendingImage};
 use crate::scene::{extension, Scene, SceneObject};
 use crate::shading::light::{Falloff, Light, LightKind};
@@ -364,6 +365,8 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
         if transform != Mat4::IDENTITY {
             part.transform(transform);
         }
+        // From world positions, as Mitsuba does (a non-uniform scale changes the angles).
+        part.derive_normals(&contents.derived_normals);
         let first = mesh.triangle_count();
         mesh.append(part, 0);
         objects.push(SceneObject {
@@ -417,6 +420,8 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
 struct ObjectContents {
     /// Triangles; material indices index `materials`, or are `NO_MATERIAL`.
     mesh: TriangleMesh,
+    /// The parts whose normals are still to be derived, once the object is transformed.
+    derived_normals: Vec<DerivedNormals>,
     /// The file's own materials.
     materials: Vec<Material>,
     /// Images the materials reference, not decoded.
@@ -439,9 +444,10 @@ enum ObjectError {
 fn load_object(path: &Path) -> Result<ObjectContents, ObjectError> {
     match extension(path).as_deref() {
         Some("obj") => {
-            let c = load_obj(path).map_err(ObjectError::Input)?;
+            let (c, derived_normals) = load_obj_underived(path).map_err(ObjectError::Input)?;
             Ok(ObjectContents {
                 mesh: c.mesh,
+                derived_normals,
                 materials: c.materials,
                 images: Vec::new(),
                 material_warning: c.material_warning,
@@ -462,6 +468,7 @@ fn load_object(path: &Path) -> Result<ObjectContents, ObjectError> {
             }
             Ok(ObjectContents {
                 mesh: c.mesh,
+                derived_normals: Vec::new(),
                 materials: c.materials,
                 images: c.images,
                 material_warning: None,

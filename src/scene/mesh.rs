@@ -1,5 +1,7 @@
 //! World-space triangle meshes: the geometry every object of a scene is merged into.
 
+use std::ops::Range;
+
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
 /// Triangles in world space with per-vertex shading normals and a material per triangle.
@@ -90,6 +92,41 @@ impl TriangleMesh {
     }
 }
 
+/// A part of a mesh whose file gave no normals: its vertices and its triangles, which use only
+/// those vertices. Its normals are derived from the positions, after any transform of the
+/// object: Mitsuba derives them from world positions, and a non-uniform scale changes the
+/// angles that weight them.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct DerivedNormals {
+    /// The part's vertices.
+    pub vertices: Range<usize>,
+    /// The part's triangles.
+    pub triangles: Range<usize>,
+}
+
+impl DerivedNormals {
+    /// Appends a part to `parts`, merged with the last one when they are contiguous.
+    pub fn push(parts: &mut Vec<DerivedNormals>, part: DerivedNormals) {
+        match parts.last_mut() {
+            Some(last) if last.vertices.end == part.vertices.start && last.triangles.end == part.triangles.start => {
+                last.vertices.end = part.vertices.end;
+                last.triangles.end = part.triangles.end;
+            }
+            _ => parts.push(part),
+        }
+    }
+}
+
+impl TriangleMesh {
+    /// Gives the vertices of `parts` angle-weighted normals from the current positions.
+    pub fn derive_normals(&mut self, parts: &[DerivedNormals]) {
+        for part in parts {
+            let normals = angle_weighted_normals(&self.positions, &self.triangles[part.triangles.clone()]);
+            self.normals[part.vertices.clone()].copy_from_slice(&normals[part.vertices.clone()]);
+        }
+    }
+}
+
 /// `a` (for `len_a` vertices) followed by `b` (for `len_b`), zero-filling a missing side; `None`
 /// when both are missing.
 fn merge_attribute<T: Clone + Default>(
@@ -145,6 +182,30 @@ pub fn angle_weighted_normals(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn contiguous_parts_merge_and_only_parts_get_derived_normals() {
+        let part = |v: Range<usize>, t: Range<usize>| DerivedNormals {
+            vertices: v,
+            triangles: t,
+        };
+        let mut parts = Vec::new();
+        DerivedNormals::push(&mut parts, part(0..3, 0..1));
+        DerivedNormals::push(&mut parts, part(3..7, 1..3));
+        DerivedNormals::push(&mut parts, part(9..12, 4..5));
+        assert_eq!(parts, [part(0..7, 0..3), part(9..12, 4..5)]);
+        // Two triangles: the first part's normals are derived, the second's stay.
+        let (p, t) = quad_corner();
+        let mut mesh = TriangleMesh {
+            positions: p.clone(),
+            normals: vec![Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, Vec3::X],
+            triangles: vec![t[0], [3, 3, 3]],
+            ..Default::default()
+        };
+        mesh.derive_normals(&[part(0..3, 0..1)]);
+        let alone = angle_weighted_normals(&p[..3], &t[..1]);
+        assert_eq!(mesh.normals, [alone[0], alone[1], alone[2], Vec3::X]);
+    }
 
     fn quad_corner() -> (Vec<Vec3>, Vec<[u32; 3]>) {
         // Two faces meeting at vertex 0 at a right angle: one in the xy plane, one in the xz plane.

@@ -15,7 +15,7 @@ use std::path::Path;
 use glam::{Vec2, Vec3};
 
 use crate::error::{InputError, InputResult};
-use crate::scene::mesh::{angle_weighted_normals, TriangleMesh};
+use crate::scene::mesh::{DerivedNormals, TriangleMesh};
 use crate::shading::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
 use crate::shading::material::{BlinnPhong, CookTorrance, Material, Specular};
 
@@ -35,8 +35,18 @@ pub struct ObjContents {
 /// Material index meaning "no material assigned in the file".
 pub const NO_MATERIAL: u32 = u32::MAX;
 
-/// Loads `path`. Errors name the file and the problem; nothing is partially returned.
+/// Loads `path`, with angle-weighted normals for the models that have none. Errors name the file
+/// and the problem; nothing is partially returned.
 pub fn load_obj(path: &Path) -> InputResult<ObjContents> {
+    let (mut contents, derived) = load_obj_underived(path)?;
+    contents.mesh.derive_normals(&derived);
+    Ok(contents)
+}
+
+/// [`load_obj`], but the models without normals keep zero normals, and the parts they make are
+/// returned: a caller that transforms the mesh derives them afterwards
+/// ([`TriangleMesh::derive_normals`]), from the transformed positions, as Mitsuba does.
+pub fn load_obj_underived(path: &Path) -> InputResult<(ObjContents, Vec<DerivedNormals>)> {
     if !path.is_file() {
         return Err(InputError::new(path, "file not found"));
     }
@@ -57,6 +67,7 @@ pub fn load_obj(path: &Path) -> InputResult<ObjContents> {
     };
 
     let mut mesh = TriangleMesh::default();
+    let mut derived = Vec::new();
     let mut all_have_uvs = true;
     let mut uvs = Vec::new();
     for model in &models {
@@ -102,7 +113,13 @@ pub fn load_obj(path: &Path) -> InputResult<ObjContents> {
             }
             n
         } else {
-            angle_weighted_normals(&positions, &triangles)
+            let (vertices, first) = (mesh.positions.len(), mesh.triangles.len());
+            let part = DerivedNormals {
+                vertices: vertices..vertices + count,
+                triangles: first..first + triangles.len(),
+            };
+            DerivedNormals::push(&mut derived, part);
+            vec![Vec3::ZERO; count]
         };
         if m.texcoords.len() / 2 == count && count > 0 {
             // OBJ's v axis points up; images store row 0 at the top.
@@ -132,11 +149,14 @@ pub fn load_obj(path: &Path) -> InputResult<ObjContents> {
         .iter()
         .map(|m| material_from_mtl(m).map_err(|e| InputError::new(path, format!("material '{}': {e}", m.name))))
         .collect::<InputResult<Vec<_>>>()?;
-    Ok(ObjContents {
-        mesh,
-        materials,
-        material_warning,
-    })
+    Ok((
+        ObjContents {
+            mesh,
+            materials,
+            material_warning,
+        },
+        derived,
+    ))
 }
 
 /// tobj's models and materials for an OBJ file's `bytes`, whose MTL files are looked up in `dir`.
