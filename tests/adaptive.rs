@@ -2,13 +2,13 @@
 //! the image is smooth, more at edges, a lower error than uniform Sobol sampling at the same
 //! number of samples, and the same image on any thread count.
 
-use std::path::Path;
+mod support;
 
 use glam::Vec3;
 use pointshade::film::{Image, SamplerKind};
 use pointshade::plan::{Aov, RenderPlan};
 use pointshade::render::{render_scene, Rendered};
-use pointshade::scene::{self, Scene};
+use pointshade::scene::Scene;
 use pointshade::validation::compare::compare;
 
 fn render(sampler: SamplerKind, spp: u32) -> Rendered {
@@ -22,11 +22,7 @@ fn render_lit(sampler: SamplerKind, spp: u32, dim: f32, exposure: f32) -> Render
 }
 
 fn lit_scene(sampler: SamplerKind, spp: u32, dim: f32, exposure: f32) -> Scene {
-    let mut s = scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/lambert.toml")).unwrap();
-    s.film.width = 128;
-    s.film.height = 96;
-    s.film.sampler = sampler;
-    s.film.spp = spp;
+    let mut s = support::shipped_scene("lambert.toml", (128, 96), sampler, spp);
     s.film.exposure = exposure;
     for light in &mut s.lights {
         light.power *= dim;

@@ -2,19 +2,17 @@
 //! bit the fixed render at the sample count the budget reached, or, for the adaptive samplers,
 //! the render at the threshold it reached, whatever that count or threshold is.
 
+mod support;
+
 use std::path::Path;
 
 use pointshade::film::{Image, SamplerKind};
 use pointshade::plan::{Aov, RenderPlan};
 use pointshade::render::{render_scene, Rendered};
-use pointshade::scene::{self, Scene};
+use pointshade::scene::Scene;
 
 fn scene(sampler: SamplerKind, spp: u32, budget: Option<f32>) -> Scene {
-    let mut s = scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cook-torrance.toml")).unwrap();
-    s.film.width = 96;
-    s.film.height = 64;
-    s.film.sampler = sampler;
-    s.film.spp = spp;
+    let mut s = support::shipped_scene("cook-torrance.toml", (96, 64), sampler, spp);
     s.film.time_budget = budget;
     s.film.validate().unwrap();
     s

@@ -43,3 +43,19 @@ pub fn render_png(scene: &Path, extra: &[&str]) -> image::RgbImage {
     let _ = std::fs::remove_file(out);
     img
 }
+
+/// Shipped scene `scenes/<name>` at `width`×`height` with `sampler` at `spp`.
+pub fn shipped_scene(
+    name: &str,
+    (width, height): (u32, u32),
+    sampler: pointshade::film::SamplerKind,
+    spp: u32,
+) -> pointshade::scene::Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name);
+    let mut s = pointshade::scene::load(&path).unwrap();
+    s.film.width = width;
+    s.film.height = height;
+    s.film.sampler = sampler;
+    s.film.spp = spp;
+    s
+}
