@@ -2,10 +2,12 @@
 //!
 //! The region (the whole film, or a `--crop`) is cut into 16×16 tiles; each tile's samples go
 //! through [`tile::Context::trace`] (surface points, then shading, both timed) and are averaged
-//! with a box filter. With the `adaptive` sampler, `render/adaptive.rs` decides per pixel how many samples
-//! it takes. Every pixel is a pure function of the scene and its coordinates (and, for adaptive
-//! sampling, of its neighbours' centre samples), so the image depends neither on the thread count
-//! nor on the tiling, and crops merge bit-identically into the full frame.
+//! with a box filter. With the `adaptive` and `cells` samplers, `render/adaptive.rs` decides per
+//! pixel how many samples it takes. Every pixel is a pure function of the scene and its
+//! coordinates (and, for adaptive sampling, of its neighbours' centre samples), so the image
+//! depends neither on the thread count nor on the tiling, and crops merge bit-identically into
+//! the full frame. With a time budget, `render/progressive.rs` renders in passes until the budget;
+//! the image is that of the sample count or threshold reached.
 
 mod adaptive;
 mod progressive;
