@@ -38,9 +38,10 @@ pub struct FilmSettings {
     pub adaptive_threshold: f32,
     /// The part of the film to render (`--crop`); `None` = all of it.
     pub crop: Option<PixelRect>,
-    /// Seconds the BVH build and the render may take (`--time-budget`); `None` = no limit. A
-    /// progressive sampler then renders in passes that double the samples per pixel, up to
-    /// `spp`, and stops before a pass that would end past the budget (see `render::progressive`).
+    /// Seconds the BVH build and the render may take (`--time-budget`); `None` = no limit. The
+    /// render then runs in passes, more samples per pixel or a finer adaptive threshold each,
+    /// within `spp` and down to `adaptive_threshold`, while the next pass is predicted to end
+    /// in time (see `render::progressive`).
     pub time_budget: Option<f32>,
 }
 
@@ -177,11 +178,11 @@ impl FilmSettings {
                 "time_budget must be a number of seconds in (0, {MAX_TIME_BUDGET}], got {budget}"
             ));
         }
-        if self.sampler == SamplerKind::Grid {
-            return Err(
-                "a time budget needs a sampler that can add samples (sobol, independent, adaptive or cells), not grid"
-                    .into(),
-            );
+        if !self.sampler.takes_time_budget() {
+            return Err(format!(
+                "a time budget needs a sampler that can add samples (sobol, independent, adaptive or cells), not {}",
+                self.sampler.name()
+            ));
         }
         if self.crop.is_some() {
             return Err(

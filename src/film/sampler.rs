@@ -61,11 +61,13 @@ impl SamplerKind {
         matches!(self, Self::Adaptive | Self::Cells)
     }
 
-    /// Whether a pixel's first n samples are the same whatever the count asked for, so that a
-    /// render can add samples in passes (a time budget) and end with the image of a fixed count.
-    /// The grid moves every point when its side changes; the adaptive samplers decide per pixel.
-    pub fn is_progressive(self) -> bool {
-        matches!(self, Self::Sobol | Self::Independent)
+    /// Whether a render can add samples until a time budget is spent and still end with the
+    /// image of a fixed setting: sobol and independent because a pixel's first n samples are the
+    /// same whatever the count, the adaptive samplers because a finer threshold reuses the
+    /// samples of a coarser one (`render::progressive`). The grid moves every point when its
+    /// side changes.
+    pub fn takes_time_budget(self) -> bool {
+        self != Self::Grid
     }
 
     /// Checks that `spp` suits this sampler (grid needs a perfect square).

@@ -10,7 +10,7 @@
 //! rays share a packet). The first pass always runs, so there is always an image.
 //!
 //! Each pixel adds its samples in index order, and a progressive sampler's first n samples are
-//! the same whatever the count (`SamplerKind::is_progressive`). So the image is, bit for bit,
+//! the same whatever the count (`SamplerKind::takes_time_budget`). So the image is, bit for bit,
 //! the fixed render at the count reached (`--spp n`): the budget decides only the count. The
 //! count depends on the machine; the image for a given count does not.
 //!

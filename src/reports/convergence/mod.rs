@@ -126,7 +126,7 @@ impl Sweep {
         for &sampler in &self.samplers {
             let counts = self.counts(sampler);
             let thresholds = self.adaptive_thresholds.as_slice();
-            if sampler != SamplerKind::Grid && !self.time_budgets.is_empty() {
+            if sampler.takes_time_budget() && !self.time_budgets.is_empty() {
                 let (cap, finest) = time_budget_defaults(sampler);
                 let finest = thresholds.iter().copied().reduce(f32::min).unwrap_or(finest);
                 let finest = sampler.is_adaptive().then_some(finest);
@@ -148,7 +148,7 @@ impl Sweep {
 /// the sample counts, the scene loads, its film is valid for every render of the sweep (sampler,
 /// count and threshold), and `reference` has its size.
 pub fn check(sweep: &Sweep, reference: Option<&Reference>) -> InputResult<()> {
-    if !sweep.time_budgets.is_empty() && sweep.samplers.iter().all(|&s| s == SamplerKind::Grid) {
+    if !sweep.time_budgets.is_empty() && !sweep.samplers.iter().any(|s| s.takes_time_budget()) {
         return Err(InputError::new(
             "--time-budget",
             "the grid cannot add samples to a budget: add another sampler to --sampler",
