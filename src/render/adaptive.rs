@@ -169,11 +169,8 @@ pub fn refine(
     };
     let done = AtomicU64::new(0);
     let region_tiles = tiles(region);
-    // One tile per job, as `par_tiles`, each with its cache.
-    let parts: Vec<(PixelSums, Vec<u32>)> = region_tiles
-        .par_iter()
+    let parts: Vec<(PixelSums, Vec<u32>)> = par_tiles(&region_tiles)
         .zip(caches)
-        .with_max_len(1)
         .map(|(t, cache)| {
             let n = (t.width() * t.height()) as usize;
             let mut sums = PixelSums::new(n, naovs);

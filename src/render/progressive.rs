@@ -30,7 +30,7 @@ use rayon::prelude::*;
 
 use super::adaptive::{self, Centres};
 use super::tile::{Context, PixelSums, SampleJob};
-use super::{tile_samples, tiles};
+use super::{par_tiles, tile_samples, tiles};
 use crate::film::PixelRect;
 
 /// One finished pass: samples per pixel and wall time.
@@ -80,8 +80,7 @@ pub(super) fn render(
     let (mut taken, mut count) = (0, 1);
     loop {
         let start = Instant::now();
-        // One tile per job, as `par_tiles`: an idle thread steals any tile not yet started.
-        tiles.par_iter().zip(&mut parts).with_max_len(1).for_each(|(t, sums)| {
+        par_tiles(&tiles).zip(&mut parts).for_each(|(t, sums)| {
             tile_samples(ctx, *t, taken, count, sums);
             on_tile(done.fetch_add(1, Ordering::Relaxed) + 1);
         });
