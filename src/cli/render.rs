@@ -34,7 +34,8 @@ pub struct RenderArgs {
     #[arg(long)]
     adaptive_threshold: Option<f32>,
     /// Seconds the BVH build and the render may take. sobol and independent add samples in
-    /// passes (doubling) while they fit, up to --spp if given (else 65536); adaptive and cells
+    /// passes (doubling, then smaller: sobol to totals of 2^k or 1.5·2^k only) while they fit,
+    /// up to --spp if given (else 65536); adaptive and cells
     /// refine at thresholds halving from 0.04 down to --adaptive-threshold if given (else
     /// 1/1024), within --spp (else 1024). The scene's spp and threshold are then ignored. The
     /// image is bit for bit the render at the count or threshold reached, which the summary
