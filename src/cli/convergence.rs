@@ -31,9 +31,9 @@ pub struct ConvergenceArgs {
     #[arg(long)]
     adaptive_threshold: Option<String>,
     /// Time budgets in seconds (comma-separated), for BVH build and render: every sampler but
-    /// the grid then runs once per budget instead of once per sample count or threshold (the
-    /// adaptive ones down to the smallest --adaptive-threshold, if given), and each point is the
-    /// run of median time among the repeats (its count, threshold and error with it).
+    /// the grid then also runs once per budget, drawn as a dashed line of its own (the
+    /// adaptive ones down to the smallest --adaptive-threshold, if given), and each budget's
+    /// point is the run of median time among the repeats (its count, threshold and error with it).
     #[arg(long, value_name = "SECONDS,…")]
     time_budget: Option<String>,
     /// Repeats per point; the median time is kept.

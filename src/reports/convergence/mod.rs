@@ -70,8 +70,8 @@ pub struct Sweep {
     /// sampler is swept over them at the largest sample count (its cap) instead of over the
     /// sample counts: the threshold is what trades its error for time; the cap only bounds it.
     pub adaptive_thresholds: Vec<f32>,
-    /// Time budgets in seconds (empty: none). Given some, every sampler but the grid runs once
-    /// per budget instead of once per sample count or threshold, with the caps of a budget
+    /// Time budgets in seconds (empty: none). Given some, every sampler but the grid also runs
+    /// once per budget (a line of its own on the plot), with the caps of a budget
     /// ([`time_budget_defaults`]); the adaptive samplers' finest threshold is then the smallest
     /// of `adaptive_thresholds`, if any.
     pub time_budgets: Vec<f32>,
@@ -120,24 +120,27 @@ impl Sweep {
 
     /// pointshade's renders: each sampler at each sample count it takes (the grid: the square
     /// ones), except the adaptive samplers given several thresholds, which take each threshold
-    /// at the largest count; given time budgets, every sampler but the grid takes each budget.
+    /// at the largest count; then, given time budgets, every sampler but the grid takes each
+    /// budget as well, so that one plot shows what a budget costs against the count or
+    /// threshold it reaches.
     fn ours(&self) -> Vec<OurRun> {
         let mut renders = Vec::new();
         for &sampler in &self.samplers {
             let counts = self.counts(sampler);
             let thresholds = self.adaptive_thresholds.as_slice();
-            if sampler.takes_time_budget() && !self.time_budgets.is_empty() {
-                let (cap, finest) = time_budget_defaults(sampler);
-                let finest = thresholds.iter().copied().reduce(f32::min).unwrap_or(finest);
-                let finest = sampler.is_adaptive().then_some(finest);
-                renders.extend(self.time_budgets.iter().map(|&b| (sampler, cap, finest, Some(b))));
-            } else if sampler.is_adaptive() && thresholds.len() > 1 {
+            if sampler.is_adaptive() && thresholds.len() > 1 {
                 let cap = counts.max().unwrap_or(1);
                 renders.extend(thresholds.iter().map(|&t| (sampler, cap, Some(t), None)));
             } else if sampler.is_adaptive() {
                 renders.extend(counts.map(|spp| (sampler, spp, thresholds.first().copied(), None)));
             } else {
                 renders.extend(counts.map(|spp| (sampler, spp, None, None)));
+            }
+            if sampler.takes_time_budget() {
+                let (cap, finest) = time_budget_defaults(sampler);
+                let finest = thresholds.iter().copied().reduce(f32::min).unwrap_or(finest);
+                let finest = sampler.is_adaptive().then_some(finest);
+                renders.extend(self.time_budgets.iter().map(|&b| (sampler, cap, finest, Some(b))));
             }
         }
         renders
@@ -436,26 +439,32 @@ mod tests {
     }
 
     #[test]
-    fn time_budgets_replace_the_counts_of_every_sampler_but_the_grid() {
+    fn time_budgets_add_a_run_per_budget_to_every_sampler_but_the_grid() {
         use SamplerKind::{Adaptive, Grid, Independent, Sobol};
         let mut s = sweep(&[0.02, 0.005, 0.01]);
         s.samplers = vec![Sobol, Grid, Independent, Adaptive];
         s.time_budgets = vec![0.1, 0.3];
-        let progressive = |k| {
+        let by_count = |k| [(k, 1, None, None), (k, 2, None, None), (k, 4, None, None)];
+        let budgets = |k, finest| {
             let cap = time_budget_defaults(k).0;
-            [(k, cap, None, Some(0.1)), (k, cap, None, Some(0.3))]
+            [(k, cap, finest, Some(0.1)), (k, cap, finest, Some(0.3))]
         };
         let grid = [(Grid, 1, None, None), (Grid, 4, None, None)];
-        // The adaptive sampler refines down to the smallest threshold given.
-        let cap = time_budget_defaults(Adaptive).0;
-        let adaptive = [
-            (Adaptive, cap, Some(0.005), Some(0.1)),
-            (Adaptive, cap, Some(0.005), Some(0.3)),
-        ];
-        let budgets = progressive;
+        // Each sampler's own sweep first; the adaptive one's budgets refine down to the
+        // smallest threshold given.
+        let by_threshold = [0.02, 0.005, 0.01].map(|t| (Adaptive, 4, Some(t), None));
         assert_eq!(
             s.ours(),
-            [&budgets(Sobol)[..], &grid, &budgets(Independent), &adaptive].concat()
+            [
+                &by_count(Sobol)[..],
+                &budgets(Sobol, None),
+                &grid,
+                &by_count(Independent),
+                &budgets(Independent, None),
+                &by_threshold,
+                &budgets(Adaptive, Some(0.005)),
+            ]
+            .concat()
         );
     }
 

@@ -1,7 +1,7 @@
 //! The convergence plot: RMSE against seconds, both axes logarithmic, one line per renderer and
 //! sampler (plotters; SVG and PNG from the same drawing code). The adaptive sampler's line runs
 //! through its sample counts or, when it was swept over several thresholds, through those; a
-//! progressive sampler's, through its sample counts or its time budgets.
+//! sampler rendered to time budgets has a second, dashed line through them.
 //!
 //! Text needs a font: the first of a few common system fonts (or `POINTSHADE_FONT`) is
 //! registered with plotters. Without one the plot is drawn without text and a note says so.
@@ -105,30 +105,43 @@ where
         mesh.disable_x_axis().disable_y_axis();
     }
     mesh.draw().map_err(err)?;
-    let mut series: Vec<(&str, &str)> = finite.iter().map(|p| (p.renderer, p.sampler.as_str())).collect();
-    series.dedup();
+    // A series per renderer and sampler, and apart from it the sampler's time budgets.
+    let key = |p: &Point| (p.renderer, p.sampler.clone(), p.time_budget.is_some());
+    let mut series: Vec<_> = finite.iter().map(|p| key(p)).collect();
     series.sort();
     series.dedup();
-    for (renderer, sampler) in series {
+    for (renderer, sampler, budgets) in series {
         let members: Vec<&&Point> = finite
             .iter()
-            .filter(|p| p.renderer == renderer && p.sampler == sampler)
+            .filter(|p| key(p) == (renderer, sampler.clone(), budgets))
             .collect();
         let mut pts: Vec<(f64, f64)> = members.iter().map(|p| (p.seconds, p.rmse)).collect();
+        // A budget line's thresholds are what its budgets reached, not what traced it.
         let label = label(
             renderer,
-            sampler,
-            members.iter().filter_map(|p| p.threshold),
+            &sampler,
+            members.iter().filter(|_| !budgets).filter_map(|p| p.threshold),
             members.iter().filter_map(|p| p.time_budget),
         );
         pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let c = colour(renderer, sampler);
-        let line = chart
-            .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
-            .map_err(err)?;
+        let c = colour(renderer, &sampler);
+        // The budgets' line is dashed, in the colour of the sampler's own line.
+        let line = if budgets {
+            let dashed = DashedLineSeries::new(pts.clone(), 10, 6, c.stroke_width(2));
+            chart.draw_series(dashed).map_err(err)?
+        } else {
+            chart
+                .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
+                .map_err(err)?
+        };
         if text {
-            line.label(label)
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(2)));
+            line.label(label).legend(move |(x, y)| {
+                // Dashed: two dashes with a gap; solid: the first stroke runs the whole length.
+                let (first, second) = if budgets { (10, 14) } else { (24, 24) };
+                EmptyElement::at((x, y))
+                    + PathElement::new(vec![(0, 0), (first, 0)], c.stroke_width(2))
+                    + PathElement::new(vec![(second, 0), (24, 0)], c.stroke_width(2))
+            });
         }
         chart
             .draw_series(pts.into_iter().map(|p| Circle::new(p, 4, c.filled())))
