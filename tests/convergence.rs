@@ -216,29 +216,31 @@ fn the_grid_takes_the_square_counts_and_fails_with_none() {
 }
 
 #[test]
-fn time_budgets_trace_every_sampler_but_the_grid() {
+fn time_budgets_add_runs_to_every_sampler_but_the_grid() {
     let sweep = SweepFolder::new("budgets", 96, 72);
     let options = ["--spp", "1,4", "--sampler", "sobol,grid,cells", "--repeats", "1"];
     let table = sweep.rows(&[&options[..], &["--time-budget", "0.01,0.3"]].concat());
+    // Each sampler's counts first, then (but for the grid) one run per budget.
     for sampler in ["sobol", "cells"] {
         assert_eq!(
             table.column(Some(sampler), "time_budget"),
-            ["0.01", "0.3"],
+            ["", "", "0.01", "0.3"],
             "{}",
             table.csv
         );
     }
     assert_eq!(table.column(Some("grid"), "time_budget"), ["", ""], "{}", table.csv);
     assert_eq!(table.column(Some("grid"), "spp"), ["1", "4"], "{}", table.csv);
+    assert_eq!(table.column(Some("sobol"), "spp")[..2], ["1", "4"], "{}", table.csv);
     // Each budget's point is the count its run reached, at least the one first pass; thirty
     // times the budget reaches at least as many.
-    let spp = table.numbers(Some("sobol"), "spp");
+    let spp = &table.numbers(Some("sobol"), "spp")[2..];
     assert!(spp[0] >= 1.0 && spp[1] >= spp[0], "{}", table.csv);
-    assert_eq!(spp, table.numbers(Some("sobol"), "mean_spp"), "{}", table.csv);
-    // The cells' points name the threshold reached, a rung of the ladder down to 1/1024, and
-    // the longer budget reaches one at least as fine.
+    assert_eq!(spp, &table.numbers(Some("sobol"), "mean_spp")[2..], "{}", table.csv);
+    // The cells' budget points name the threshold reached, a rung of the ladder down to
+    // 1/1024, and the longer budget reaches one at least as fine.
     let ladder = pointshade::render::threshold_ladder(1.0 / 1024.0);
-    let thresholds = table.numbers(Some("cells"), "threshold");
+    let thresholds = &table.numbers(Some("cells"), "threshold")[2..];
     assert!(
         thresholds.iter().all(|&t| ladder.contains(&(t as f32))),
         "{}",
