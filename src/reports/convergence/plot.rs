@@ -105,26 +105,24 @@ where
         mesh.disable_x_axis().disable_y_axis();
     }
     mesh.draw().map_err(err)?;
-    // A series per renderer and sampler, and apart from it the sampler's time budgets.
-    let key = |p: &Point| (p.renderer, p.sampler.clone(), p.time_budget.is_some());
-    let mut series: Vec<_> = finite.iter().map(|p| key(p)).collect();
+    let mut series: Vec<_> = finite.iter().map(|p| series_of(p)).collect();
     series.sort();
     series.dedup();
     for (renderer, sampler, budgets) in series {
         let members: Vec<&&Point> = finite
             .iter()
-            .filter(|p| key(p) == (renderer, sampler.clone(), budgets))
+            .filter(|p| series_of(p) == (renderer, sampler, budgets))
             .collect();
         let mut pts: Vec<(f64, f64)> = members.iter().map(|p| (p.seconds, p.rmse)).collect();
         // A budget line's thresholds are what its budgets reached, not what traced it.
         let label = label(
             renderer,
-            &sampler,
+            sampler,
             members.iter().filter(|_| !budgets).filter_map(|p| p.threshold),
             members.iter().filter_map(|p| p.time_budget),
         );
         pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let c = colour(renderer, &sampler);
+        let c = colour(renderer, sampler);
         // The budgets' line is dashed, in the colour of the sampler's own line.
         let line = if budgets {
             let dashed = DashedLineSeries::new(pts.clone(), 10, 6, c.stroke_width(2));
@@ -158,6 +156,12 @@ where
             .map_err(err)?;
     }
     root.present().map_err(err)
+}
+
+/// The series a point is drawn in: one per renderer and sampler, and apart from it the
+/// sampler's time budgets.
+fn series_of(p: &Point) -> (&str, &str, bool) {
+    (p.renderer, &p.sampler, p.time_budget.is_some())
 }
 
 /// A series' legend: renderer and sampler, the range of thresholds when the adaptive sampler's
