@@ -90,15 +90,16 @@ where
         builder.x_label_area_size(10).y_label_area_size(10);
     }
     let mut chart = builder
-        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+        .build_cartesian_2d(
+            (x0..x1).log_scale().with_key_points(log_ticks(x0, x1)),
+            (y0..y1).log_scale().with_key_points(log_ticks(y0, y1)),
+        )
         .map_err(err)?;
     let mut mesh = chart.configure_mesh();
     if text {
         mesh.x_desc(format!("seconds, median (scene load + render) — reference: {subtitle}"))
             .y_desc("RMSE")
-            .x_labels(8)
-            .y_labels(8)
-            .x_label_formatter(&|v| format!("{v:.3}"))
+            .x_label_formatter(&|v| tick_label(*v))
             .y_label_formatter(&|v| format!("{v:.1e}"))
             .label_style(("sans-serif", 14));
     } else {
@@ -156,6 +157,59 @@ where
             .map_err(err)?;
     }
     root.present().map_err(err)
+}
+
+/// Mantissas of a logarithmic axis's ticks, sparsest first: the first set that puts at least
+/// [`MIN_TICKS`] ticks on the axis is used.
+const TICK_MANTISSAS: [&[f64]; 4] = [
+    &[1.0],
+    &[1.0, 2.0, 5.0],
+    &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0],
+    &[1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0, 4.5, 5.0, 6.0, 7.0, 8.0, 9.0],
+];
+const MIN_TICKS: usize = 3;
+/// More than this many powers of ten are thinned to every n-th decade.
+const MAX_TICKS: usize = 10;
+
+/// Tick values in `[lo, hi]` (0 < lo < hi) for a logarithmic axis. plotters' own log axis
+/// places ticks from the first power of ten in the range on, so an axis within one decade (all
+/// points between 0.15 and 0.56 s, say) had no tick and no label at all; here an axis gets
+/// powers of ten when it spans enough decades, and 1-2-5 or finer steps when it does not.
+fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let decades = (lo.log10().floor() as i32)..=(hi.log10().ceil() as i32);
+    let ticks = |mantissas: &[f64]| -> Vec<f64> {
+        decades
+            .clone()
+            .flat_map(|e| mantissas.iter().map(move |m| m * 10f64.powi(e)))
+            .filter(|v| (lo..=hi).contains(v))
+            .collect()
+    };
+    let mut chosen = TICK_MANTISSAS.map(ticks);
+    let at = chosen
+        .iter()
+        .position(|t| t.len() >= MIN_TICKS)
+        .unwrap_or(chosen.len() - 1);
+    let mut ticks = std::mem::take(&mut chosen[at]);
+    if ticks.len() > MAX_TICKS {
+        let every = ticks.len().div_ceil(MAX_TICKS);
+        ticks = ticks.into_iter().step_by(every).collect();
+    }
+    ticks
+}
+
+/// A tick's label: plain decimals with up to three significant digits between 0.001 and
+/// 10000 (trailing zeros dropped), scientific notation outside.
+fn tick_label(v: f64) -> String {
+    if !(1e-3..1e4).contains(&v) {
+        return format!("{v:.1e}");
+    }
+    let decimals = (2 - v.log10().floor() as i32).max(0) as usize;
+    let text = format!("{v:.decimals$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
 }
 
 /// The series a point is drawn in: one per renderer and sampler, and apart from it the
@@ -227,7 +281,37 @@ pub fn png(title: &str, subtitle: &str, points: &[Point]) -> Result<(Vec<u8>, Op
 
 #[cfg(test)]
 mod tests {
-    use super::label;
+    use super::{label, log_ticks, tick_label};
+
+    #[test]
+    fn an_axis_within_one_decade_still_gets_ticks() {
+        // Points between 0.15 and 0.56 s, with the plot's margin of 1.5 either side: no power
+        // of ten lies on the axis (plotters' own log axis drew no tick there).
+        let (lo, hi) = (0.15 / 1.5 + 1e-12, 0.56 * 1.5);
+        let ticks = log_ticks(lo, hi);
+        assert!(ticks.len() >= 3, "{ticks:?}");
+        assert!(ticks.iter().all(|t| (lo..=hi).contains(t)), "{ticks:?}");
+        // 1-2-5 would give two ticks (0.2 and 0.5): the next set, every tenth, gives seven.
+        let labels: Vec<String> = ticks.iter().map(|&t| tick_label(t)).collect();
+        assert_eq!(labels, ["0.2", "0.3", "0.4", "0.5", "0.6", "0.7", "0.8"]);
+    }
+
+    #[test]
+    fn an_axis_over_several_decades_gets_powers_of_ten() {
+        let ticks = log_ticks(2e-6, 3e-3);
+        assert_eq!(ticks.len(), 3, "{ticks:?}");
+        for (t, e) in ticks.iter().zip([-5, -4, -3]) {
+            assert!((t / 10f64.powi(e) - 1.0).abs() < 1e-12, "{ticks:?}");
+        }
+        // Forty decades are thinned to at most ten ticks.
+        assert!(log_ticks(1e-20, 1e20).len() <= 10);
+    }
+
+    #[test]
+    fn tick_labels_keep_three_significant_digits_at_most() {
+        let labels = [0.15, 0.0015, 2.5, 100.0, 0.3000000000000001, 1e-5].map(tick_label);
+        assert_eq!(labels, ["0.15", "0.0015", "2.5", "100", "0.3", "1.0e-5"]);
+    }
 
     #[test]
     fn the_legend_names_the_thresholds_only_when_they_trace_the_line() {
