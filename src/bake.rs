@@ -13,7 +13,7 @@ use rayon::prelude::*;
 use crate::accel::Bvh;
 use crate::scene::Scene;
 use crate::surface::camera::Camera;
-use crate::surface::primary::surface_point;
+use crate::surface::primary::{surface_point, PointOptions};
 
 /// Camera-space unit normals of every pixel, row-major; `None` where the ray hits nothing.
 #[derive(Clone, Debug, PartialEq)]
@@ -46,7 +46,7 @@ pub fn bake_normals(scene: &Scene, bvh: &Bvh) -> Result<BakedNormals, String> {
             let Some(hit) = bvh.intersect(ray.origin, ray.direction, ray.t_max) else {
                 continue;
             };
-            let sp = surface_point(&scene.mesh, &hit, ray.direction, false);
+            let sp = surface_point(&scene.mesh, &hit, ray.direction, PointOptions::default());
             let mut n = sp.shading_normal;
             if scene.materials[sp.material as usize].two_sided && n.dot(sp.to_viewer) < 0.0 {
                 n = -n;

@@ -10,7 +10,9 @@ use crate::scene::normal_map::{NormalMapScene, Preset};
 use crate::scene::Scene;
 use crate::shading::convention::ShadingConvention;
 use crate::shading::material::{Material, PbrTextures};
+use crate::shading::shadow::{ShadowOffset, ShadowTerminator};
 use crate::surface::normal_image::NormalImage;
+use crate::surface::primary::PointOptions;
 
 /// An extra image written beside the render.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -102,6 +104,8 @@ pub struct RenderPlan {
     pub primary_rays: u64,
     /// The adaptive sampler decides per pixel how many samples it takes.
     pub adaptive: bool,
+    /// Shadow rays leave from the smooth surface of the vertex normals, not the flat triangle.
+    pub smooth_shadow_origins: bool,
     /// Upper bound on shadow rays (one per primary hit and light in front of the surface).
     pub max_shadow_rays: u64,
     /// How the shader forms its dot products.
@@ -140,6 +144,26 @@ impl RenderPlan {
                     "{} light(s), one ray per light in front of each shaded point",
                     scene.lights.len()
                 )
+            },
+        );
+        let smooth_shadow_origins = decide(
+            "smooth shadow origins",
+            shadows
+                && scene.shadow_offset == ShadowOffset::ErrorBound
+                && scene.shadow_terminator == ShadowTerminator::Smooth
+                && scene.mesh.normals_bend(),
+            if !shadows {
+                "no shadow rays".into()
+            } else if scene.shadow_offset == ShadowOffset::Mitsuba {
+                "the mitsuba offset starts on the flat triangle, as Mitsuba does".into()
+            } else if scene.shadow_terminator == ShadowTerminator::Flat {
+                "shadow_terminator = flat".into()
+            } else if !scene.mesh.normals_bend() {
+                "every vertex normal is its triangle's normal: nothing to smooth".into()
+            } else {
+                "vertex normals bend over flat triangles: hits move onto the smooth surface they describe, \
+                 and shadow rays leave from there (no shadow terminator)"
+                    .into()
             },
         );
         let used: Vec<_> = {
@@ -246,6 +270,7 @@ impl RenderPlan {
             stages,
             primary_rays,
             adaptive: scene.film.sampler.is_adaptive(),
+            smooth_shadow_origins,
             max_shadow_rays,
             convention: ShadingConvention::Physical,
         }
@@ -309,8 +334,17 @@ impl RenderPlan {
             stages,
             primary_rays: 0,
             adaptive: false,
+            smooth_shadow_origins: false,
             max_shadow_rays: 0,
             convention,
+        }
+    }
+
+    /// What the surface stage computes for each camera-ray hit.
+    pub fn point_options(&self) -> PointOptions {
+        PointOptions {
+            uvs: self.uvs,
+            smooth_shadow_origin: self.smooth_shadow_origins,
         }
     }
 

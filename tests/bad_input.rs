@@ -99,6 +99,8 @@ fn toml_syntax_unknown_keys_and_wrong_types_give_line_and_column() {
     c.fails(&unknown_model, &[], &["line 2", "phong"]);
     let unknown_term = c.scene("[material.m]\nmodel = \"cook-torrance\"\ng = \"smith\"\n");
     c.fails(&unknown_term, &[], &["line 3", "smith"]);
+    let terminator = c.scene("[render]\nshadow_terminator = \"soft\"\n");
+    c.fails(&terminator, &[], &["scene.toml", "line 2", "soft", "smooth or flat"]);
 }
 
 #[test]
@@ -153,6 +155,7 @@ fn absurd_sizes_and_bad_options() {
     c.fails(&tri, &["--sampler", "grid", "--spp", "8"], &["square"]);
     c.fails(&tri, &["--sampler", "halton"], &["--sampler", "halton"]);
     c.fails(&tri, &["--aov", "normals"], &["--aov"]);
+    c.fails(&tri, &["--shadow-terminator", "soft"], &["--shadow-terminator", "soft"]);
     c.fails(&tri, &["--time-budget", "nan"], &["time_budget", "NaN"]);
     c.fails(&tri, &["--time-budget", "0"], &["time_budget"]);
     c.fails(

@@ -10,7 +10,7 @@ use crate::film::{Image, PixelRect, SamplerKind};
 use crate::output::exr::encode_exr;
 use crate::output::{aov_path, encode, write_all_or_nothing, Format};
 use crate::plan::{Aov, RenderPlan};
-use crate::shading::shadow::ShadowOffset;
+use crate::shading::shadow::{ShadowOffset, ShadowTerminator};
 use crate::{render, scene};
 
 /// Arguments of `pointshade render`.
@@ -68,6 +68,11 @@ pub struct RenderArgs {
     /// pixel-exact validation).
     #[arg(long)]
     shadow_offset: Option<String>,
+    /// Where shadow rays start on smooth-shaded meshes: smooth (default: from the surface the
+    /// vertex normals describe, so coarse meshes show no faceted shadow terminator) or flat (from
+    /// the triangle itself). The mitsuba offset always starts on the triangle.
+    #[arg(long, value_name = "smooth|flat")]
+    shadow_terminator: Option<String>,
     /// Print the render plan: stages kept and skipped, and why.
     #[arg(long)]
     explain: bool,
@@ -111,6 +116,9 @@ pub fn run(args: RenderArgs) -> Result<(), InputError> {
     }
     if let Some(name) = &args.shadow_offset {
         scene.shadow_offset = ShadowOffset::parse(name).map_err(|e| option_error("--shadow-offset", e))?;
+    }
+    if let Some(name) = &args.shadow_terminator {
+        scene.shadow_terminator = ShadowTerminator::parse(name).map_err(|e| option_error("--shadow-terminator", e))?;
     }
     f.validate().map_err(|e| InputError::new(&args.scene, e))?;
     for w in &scene.warnings {

@@ -187,7 +187,7 @@ impl<'a> Context<'a> {
                 bvh.intersect_packet(&rays[..n], &mut hits[..n]);
                 for ((job, &(origin, direction, _)), hit) in group.iter().zip(&rays).zip(&hits) {
                     let Some(hit) = hit else { continue };
-                    let mut point = surface_point(&scene.mesh, hit, direction, plan.uvs);
+                    let mut point = surface_point(&scene.mesh, hit, direction, plan.point_options());
                     if plan.normal_textures {
                         apply_normal_texture(&mut point, &scene.mesh, hit, &scene.materials, &scene.textures);
                     }

@@ -24,7 +24,7 @@ use crate::scene::textures::{decode_used_images, offset_images, PendingImage};
 use crate::scene::{extension, Scene, SceneObject};
 use crate::shading::light::{Falloff, Light, LightKind};
 use crate::shading::material::{BlinnPhong, CookTorrance, Material, Specular};
-use crate::shading::shadow::ShadowOffset;
+use crate::shading::shadow::{ShadowOffset, ShadowTerminator};
 use crate::surface::camera::{CameraSpec, FovAxis, Projection};
 
 #[derive(Deserialize)]
@@ -106,6 +106,7 @@ enum FovAxisName {
 struct RenderSection {
     shadows: Option<bool>,
     shadow_offset: Option<Spanned<String>>,
+    shadow_terminator: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -409,6 +410,10 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
         shadow_offset: match file.render.as_ref().and_then(|r| r.shadow_offset.as_ref()) {
             Some(name) => ShadowOffset::parse(name.get_ref()).map_err(|m| at(name.span(), m))?,
             None => ShadowOffset::default(),
+        },
+        shadow_terminator: match file.render.as_ref().and_then(|r| r.shadow_terminator.as_ref()) {
+            Some(name) => ShadowTerminator::parse(name.get_ref()).map_err(|m| at(name.span(), m))?,
+            None => ShadowTerminator::default(),
         },
         objects,
         notes,

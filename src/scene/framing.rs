@@ -114,6 +114,7 @@ pub fn scene_for_bare_mesh(path: &Path) -> InputResult<Scene> {
         mesh,
         shadows: true,
         shadow_offset: Default::default(),
+        shadow_terminator: Default::default(),
         objects: vec![SceneObject {
             mesh: path.to_path_buf(),
             transform: glam::Mat4::IDENTITY,

@@ -41,6 +41,17 @@ impl TriangleMesh {
         self.triangles[t].map(|i| self.positions[i as usize])
     }
 
+    /// Whether some vertex normal leans away from its triangle's geometric normal (by more than
+    /// about 0.8°): smooth shading over flat facets, where shadow-ray origins have somewhere
+    /// to move ([`crate::surface::primary::smooth_origin`]). Stops at the first such triangle.
+    pub fn normals_bend(&self) -> bool {
+        self.triangles.iter().any(|&[a, b, c]| {
+            let [pa, pb, pc] = [a, b, c].map(|i| self.positions[i as usize]);
+            let ng = (pb - pa).cross(pc - pa).normalize_or_zero();
+            ng != Vec3::ZERO && [a, b, c].iter().any(|&i| self.normals[i as usize].dot(ng) < 0.9999)
+        })
+    }
+
     /// Axis-aligned bounds `(min, max)` of all vertices referenced by a triangle, or `None` if empty.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
         let mut it = self.triangles.iter().flatten().map(|&i| self.positions[i as usize]);
@@ -182,6 +193,24 @@ pub fn angle_weighted_normals(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn normals_bend_where_a_vertex_normal_leans_off_its_triangle() {
+        // One triangle in z = 0, counter-clockwise from +z.
+        let mesh = |normals: [Vec3; 3]| TriangleMesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+            normals: normals.to_vec(),
+            triangles: vec![[0, 1, 2]],
+            material_of_triangle: vec![0],
+            ..Default::default()
+        };
+        assert!(!mesh([Vec3::Z; 3]).normals_bend(), "flat");
+        let leaning = Vec3::new(0.1, 0.0, 1.0).normalize(); // 5.7°
+        assert!(mesh([Vec3::Z, leaning, Vec3::Z]).normals_bend());
+        let barely = Vec3::new(0.005, 0.0, 1.0).normalize(); // 0.3°, below the 0.8° it asks for
+        assert!(!mesh([Vec3::Z, barely, Vec3::Z]).normals_bend());
+        assert!(!TriangleMesh::default().normals_bend(), "no triangles");
+    }
 
     #[test]
     fn contiguous_parts_merge_and_only_parts_get_derived_normals() {

@@ -19,7 +19,7 @@ use crate::error::{InputError, InputResult};
 use crate::film::FilmSettings;
 use crate::shading::light::Light;
 use crate::shading::material::Material;
-use crate::shading::shadow::ShadowOffset;
+use crate::shading::shadow::{ShadowOffset, ShadowTerminator};
 use crate::shading::texture::TextureImage;
 use crate::surface::camera::CameraSpec;
 pub use mesh::TriangleMesh;
@@ -46,6 +46,9 @@ pub struct Scene {
     pub shadows: bool,
     /// How shadow rays leave the surface (`mitsuba` only for validation).
     pub shadow_offset: ShadowOffset,
+    /// Whether shadow rays leave from the smooth surface of the vertex normals or the flat
+    /// triangle (the error-bound offset only; `mitsuba` is always flat).
+    pub shadow_terminator: ShadowTerminator,
     /// Where each part of `mesh` came from (for exporters; rendering uses `mesh` only).
     pub objects: Vec<SceneObject>,
     /// Decisions made for the user (automatic camera, default light …), shown by `--explain`.

@@ -401,6 +401,13 @@ pub fn catalogue() -> Vec<(&'static str, String)> {
             uv_sphere(64, 32).to_obj(&format!("unit UV sphere, 64 segments, 32 rings\n{note}"), None),
         ),
         (
+            "uv-sphere-coarse.obj",
+            uv_sphere(12, 8).to_obj(
+                &format!("unit UV sphere, 12 segments, 8 rings: coarse facets for the shadow terminator\n{note}"),
+                None,
+            ),
+        ),
+        (
             "plane.obj",
             plane(10.0, 1).to_obj(&format!("20×20 square in y = 0 facing +Y\n{note}"), None),
         ),

@@ -114,6 +114,38 @@ impl ShadowOffset {
     }
 }
 
+/// Where shadow rays start on a mesh whose vertex normals bend away from its flat triangles.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ShadowTerminator {
+    /// pointshade's default: from the point moved onto the smooth surface of the vertex normals
+    /// (`surface::primary::smooth_origin`), so that a coarse smooth-shaded mesh does not shadow
+    /// itself in facets where its shading turns towards the light.
+    #[default]
+    Smooth,
+    /// From the hit point on the flat triangle: the geometry as it is, facets and all. The
+    /// `mitsuba` offset always starts there, as Mitsuba does.
+    Flat,
+}
+
+impl ShadowTerminator {
+    /// Name in scene files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Smooth => "smooth",
+            Self::Flat => "flat",
+        }
+    }
+
+    /// Parses a name; the error lists the valid ones.
+    pub fn parse(name: &str) -> Result<Self, String> {
+        match name {
+            "smooth" => Ok(Self::Smooth),
+            "flat" => Ok(Self::Flat),
+            other => Err(format!("unknown shadow terminator '{other}' (expected smooth or flat)")),
+        }
+    }
+}
+
 /// Mitsuba's `math::RayEpsilon` = 2⁻²⁴·1500 (mitsuba3.md §3.5).
 const MITSUBA_RAY_EPSILON: f32 = 1500.0 / 16_777_216.0;
 /// Mitsuba's `math::ShadowEpsilon` = 10·RayEpsilon.
@@ -208,6 +240,10 @@ mod tests {
         assert!((r.t_max - (10.0 - 8.9407) * (1.0 - 8.9407e-4)).abs() < 1e-3);
         assert_eq!(ShadowOffset::parse("mitsuba"), Ok(ShadowOffset::Mitsuba));
         assert!(ShadowOffset::parse("fixed").is_err());
+        for t in [ShadowTerminator::Smooth, ShadowTerminator::Flat] {
+            assert_eq!(ShadowTerminator::parse(t.name()), Ok(t));
+        }
+        assert!(ShadowTerminator::parse("soft").is_err());
     }
 
     #[test]

@@ -113,7 +113,8 @@ pub fn html(results: &[SceneValidation]) -> String {
          <p>{passed} of {exact} scenes with an exact Mitsuba equivalent agree (≥ {} of pixels within {TOLERANCE:.0e} \
          relative, mean relative error ≤ {REQUIRED_MEAN_RELATIVE_ERROR:.0e}). Mitsuba variant: {variant}. \
          Relative error = |ours − ref| / max(|ref|, 1e-4 · max ref). pointshade is compared with Mitsuba's \
-         fixed-epsilon shadow offset (like for like) and, for information, with its own error-bound offset.</p>\n\
+         fixed-epsilon shadow offset (like for like) and, for information, with its own error-bound offset \
+         (and smooth shadow origins on smooth-shaded meshes).</p>\n\
          <p class=\"legend\">Heat maps: <span style=\"background:#000\"></span> ≤ 1e-6 \
          <span style=\"background:#00e\"></span> 1e-4 <span style=\"background:#0b0\"></span> 1e-3 \
          <span style=\"background:#ee0\"></span> 1e-2 <span style=\"background:#f00\"></span> ≥ 0.1 \

@@ -3,7 +3,8 @@
 //! For each sample count (pixel centres, then an N×N grid), the scene is exported per light,
 //! rendered by Mitsuba through `validation/render.py` (the lights summed), and rendered by
 //! pointshade twice: with Mitsuba's fixed-epsilon shadow offset (the like-for-like comparison)
-//! and with pointshade's default error-bound offset (to show what that choice changes).
+//! and with pointshade's default error-bound offset and smooth shadow origins (to show what
+//! those choices change).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

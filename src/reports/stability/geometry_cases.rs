@@ -235,7 +235,7 @@ fn degenerate_case() -> Case {
             match bvh.intersect(p, d, f32::INFINITY) {
                 None => bad += 1,
                 Some(h) => {
-                    let sp = crate::surface::primary::surface_point(&mesh, &h, d, false);
+                    let sp = crate::surface::primary::surface_point(&mesh, &h, d, Default::default());
                     let finite =
                         sp.position.is_finite() && sp.geometric_normal.is_finite() && sp.shading_normal.is_finite();
                     let unit = (sp.geometric_normal.length() - 1.0).abs() < 1e-5;

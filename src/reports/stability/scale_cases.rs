@@ -97,6 +97,7 @@ pub fn contact_scene(scale: f32, offset: f32) -> Scene {
         mesh,
         shadows: true,
         shadow_offset: Default::default(),
+        shadow_terminator: Default::default(),
         objects: Vec::new(),
         notes: Vec::new(),
         warnings: Vec::new(),

@@ -168,6 +168,7 @@ pub fn scene_for_gltf(path: &Path, camera: Option<usize>) -> InputResult<Scene> 
         mesh,
         shadows: true,
         shadow_offset: ShadowOffset::default(),
+        shadow_terminator: Default::default(),
         notes,
         warnings: contents.warnings,
     })

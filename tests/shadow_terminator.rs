@@ -1,0 +1,167 @@
+//! The shadow terminator: a coarse sphere with smooth vertex normals, on a ground plane, under a
+//! grazing directional light. From the flat triangles (`shadow_terminator = "flat"`), points
+//! whose shading normal faces the light are shadowed by the neighbouring facets in steps; from
+//! the smooth surface of the normals (the default) every such point is lit as Lambert's law
+//! says, while the shadow the sphere casts on the ground stays where the geometry puts it.
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicU32, Ordering};
+
+use glam::Vec3;
+use pointshade::accel::{Bvh, BvhPreset};
+use pointshade::film::Image;
+use pointshade::plan::{Aov, RenderPlan};
+use pointshade::render::render;
+use pointshade::scene;
+use pointshade::scene::procedural::{plane, uv_sphere};
+
+const SIZE: u32 = 160;
+/// Where the light travels (towards −x, slightly down): a terminator across the sphere's front.
+const LIGHT: Vec3 = Vec3::new(-1.0, -0.35, 0.1);
+const ALBEDO: f32 = 0.8;
+const COS_MIN: f32 = 0.02;
+const IRRADIANCE: f32 = 3.0;
+/// The sphere's centre; it has radius 1 (vertices on the sphere, the facets inside it).
+const CENTRE: Vec3 = Vec3::new(0.0, 1.0, 0.0);
+const CAMERA: Vec3 = Vec3::new(1.5, 3.0, 5.0);
+
+fn scene_dir(terminator: &str) -> PathBuf {
+    // Tests run in parallel: a directory per call.
+    static CALLS: AtomicU32 = AtomicU32::new(0);
+    let call = CALLS.fetch_add(1, Ordering::Relaxed);
+    let name = format!("pointshade-terminator-{}-{call}-{terminator}", std::process::id());
+    let dir = std::env::temp_dir().join(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("sphere.obj"), uv_sphere(12, 8).to_obj("coarse sphere", None)).unwrap();
+    std::fs::write(dir.join("ground.obj"), plane(6.0, 1).to_obj("ground", None)).unwrap();
+    let toml = format!(
+        r#"
+[film]
+width = {SIZE}
+height = {SIZE}
+spp = 1
+sampler = "grid"
+[camera]
+position = [{px}, {py}, {pz}]
+look_at = [-0.8, 0.6, 0.0]
+fov = 45.0
+[[light]]
+type = "directional"
+direction = [{lx}, {ly}, {lz}]
+intensity = {IRRADIANCE}
+[material.clay]
+model = "lambert"
+albedo = [{ALBEDO}, {ALBEDO}, {ALBEDO}]
+[render]
+shadow_terminator = "{terminator}"
+[[object]]
+mesh = "sphere.obj"
+material = "clay"
+transform = {{ translate = [{cx}, {cy}, {cz}] }}
+[[object]]
+mesh = "ground.obj"
+material = "clay"
+"#,
+        px = CAMERA.x,
+        py = CAMERA.y,
+        pz = CAMERA.z,
+        lx = LIGHT.x,
+        ly = LIGHT.y,
+        lz = LIGHT.z,
+        cx = CENTRE.x,
+        cy = CENTRE.y,
+        cz = CENTRE.z,
+    );
+    std::fs::write(dir.join("scene.toml"), toml).unwrap();
+    dir
+}
+
+/// The render's radiance, shading normals and positions, and whether the plan smoothed the
+/// shadow origins.
+fn render_with(terminator: &str) -> (Image, Image, Image, bool) {
+    let dir = scene_dir(terminator);
+    let scene = scene::load(&dir.join("scene.toml")).expect("scene loads");
+    let plan = RenderPlan::new(&scene, &[Aov::Normal, Aov::Position]);
+    let bvh = Bvh::build(&scene.mesh, BvhPreset::DEFAULT);
+    let mut rendered = render(&scene, &plan, Some(&bvh), &|_| {}).unwrap();
+    let _ = std::fs::remove_dir_all(dir);
+    let position = rendered.aovs.pop().unwrap().1;
+    let normal = rendered.aovs.pop().unwrap().1;
+    (rendered.image, normal, position, plan.smooth_shadow_origins)
+}
+
+/// Lambert under the directional light at cos θ_i.
+fn lambert(cos: f32) -> f32 {
+    ALBEDO / std::f32::consts::PI * IRRADIANCE * cos
+}
+
+/// Counts over the sphere's pixels whose shading normal faces the light by cos θ_i > [`COS_MIN`]:
+/// (pixels, those black, those off Lambert's value by more than 1e-3 relative).
+fn facing_the_light(image: &Image, normal: &Image, position: &Image) -> (u32, u32, u32) {
+    let to_light = -LIGHT.normalize();
+    let (mut facing, mut black, mut off) = (0, 0, 0);
+    for y in 0..SIZE {
+        for x in 0..SIZE {
+            let (p, n) = (position.get(x, y), normal.get(x, y));
+            let cos = n.dot(to_light);
+            // Near the silhouette a facet seen from the front can have shading normals that
+            // face away from the viewer: black whatever the shadows (n·ω_o ≤ 0), left out.
+            let seen = n.dot((CAMERA - p).normalize()) > 0.05;
+            if p.y < 0.01 || !seen || cos <= COS_MIN {
+                continue;
+            }
+            facing += 1;
+            let v = image.get(x, y).x;
+            black += u32::from(v == 0.0);
+            off += u32::from((v - lambert(cos)).abs() > 1e-3 * lambert(cos));
+        }
+    }
+    (facing, black, off)
+}
+
+#[test]
+fn smooth_origins_light_every_point_that_faces_the_light() {
+    let (flat, flat_n, flat_p, flat_smoothed) = render_with("flat");
+    let (smooth, smooth_n, smooth_p, smoothed) = render_with("smooth");
+    assert!(smoothed && !flat_smoothed, "the plan follows shadow_terminator");
+    let (facing, flat_black, _) = facing_the_light(&flat, &flat_n, &flat_p);
+    // From the flat facets, the sphere shadows itself in steps along the terminator…
+    assert!(facing > 1500, "{facing} pixels face the light");
+    assert!(
+        flat_black > 50,
+        "flat origins: {flat_black} of {facing} facing pixels black"
+    );
+    // …and from the smooth surface, every point that faces the light gets Lambert's value.
+    let (facing, black, off) = facing_the_light(&smooth, &smooth_n, &smooth_p);
+    assert_eq!((black, off), (0, 0), "smooth origins: of {facing} facing pixels");
+}
+
+#[test]
+fn smooth_origins_keep_the_shadow_the_sphere_casts() {
+    let (image, _, position, _) = render_with("smooth");
+    let to_light = -LIGHT.normalize();
+    let (mut shadowed, mut lit) = (0, 0);
+    for y in 0..SIZE {
+        for x in 0..SIZE {
+            let p = position.get(x, y);
+            if p.y.abs() > 1e-3 || image.get(x, y) == Vec3::ZERO && p == Vec3::ZERO {
+                continue; // not the ground (or background)
+            }
+            // Distance from the sphere's centre to the ray from the ground point to the light.
+            let to_centre = CENTRE - p;
+            let along = to_centre.dot(to_light);
+            let miss = (to_centre - along * to_light).length();
+            let v = image.get(x, y).x;
+            // The facets lie between radius cos(π/12)·cos(π/16) ≈ 0.947 and 1.
+            if along > 0.0 && miss < 0.9 {
+                assert_eq!(v, 0.0, "ground at {p} is in the sphere's shadow");
+                shadowed += 1;
+            } else if along <= 0.0 || miss > 1.05 {
+                let e = lambert(to_light.y);
+                assert!((v - e).abs() <= 1e-4 * e, "ground at {p}: {v} against {e}");
+                lit += 1;
+            }
+        }
+    }
+    assert!(shadowed > 500 && lit > 3000, "shadowed {shadowed}, lit {lit}");
+}
