@@ -22,7 +22,7 @@
 //!
 //!    On the glossy dragon `cells` reaches the 8×8 grid's error with 6.6 samples per pixel and
 //!    `adaptive` with 8.7; on the Cornell box, whose edges run along the pixel grid, `adaptive`
-//!    is the better one below about 6 samples per pixel (README, "Error against run time").
+//!    is the better one below about 6 samples per pixel (README, "Sampling").
 //!
 //! Each decision reads only the pixel's own samples and its neighbours' centre samples, which the
 //! apron provides for crops: the image is independent of threads, tiles and crops.

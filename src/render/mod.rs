@@ -178,7 +178,7 @@ pub fn tiles(region: PixelRect) -> Vec<PixelRect> {
 /// The tiles as parallel jobs of one tile each. Left to itself, rayon cuts a slice into about
 /// two runs per thread, and a run is not split once a thread has started it: on the dragon the
 /// thread whose run held the most refined pixels finished 77 ms after the other, which sat idle
-/// (README, "Error against run time"). One tile per job lets an idle thread steal any tile not
+/// (docs/performance-log.md). One tile per job lets an idle thread steal any tile not
 /// yet started; tiles take milliseconds, so the extra jobs cost nothing measurable. A zip with
 /// another indexed iterator keeps the one tile per job (rayon's zip takes the smaller maximum).
 fn par_tiles(tiles: &[PixelRect]) -> impl IndexedParallelIterator<Item = &PixelRect> {

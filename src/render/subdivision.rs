@@ -16,7 +16,7 @@
 //! leaves in a pixel: ~2g cells along it, each off by up to a cell's area (g^−2) times the jump,
 //! with signs that mostly cancel (√(2g)). Jumps, not second differences: a steep smooth gradient
 //! splits too, but the second-difference rule, though it took 12% fewer samples on the dragon
-//! at equal error, was no faster (the samples it saves are the cheap ones; README).
+//! at equal error, was no faster (the samples it saves are the cheap ones; docs/performance-log.md).
 //!
 //! Every position is a cell centre, fixed by the pixel and the decisions: no seed, and the image
 //! does not depend on threads, tiles or crops. The price of a regular grid: an edge that runs
