@@ -161,8 +161,8 @@ impl RenderPlan {
             } else if !scene.mesh.normals_bend() {
                 "every vertex normal is its triangle's normal: nothing to smooth".into()
             } else {
-                "vertex normals bend over flat triangles: hits move onto the smooth surface they describe, \
-                 and shadow rays leave from there (no shadow terminator)"
+                "vertex normals bend over flat triangles: shadow rays leave from the smooth surface they \
+                 describe (no shadow terminator)"
                     .into()
             },
         );

@@ -165,3 +165,65 @@ fn smooth_origins_keep_the_shadow_the_sphere_casts() {
     }
     assert!(shadowed > 500 && lit > 3000, "shadowed {shadowed}, lit {lit}");
 }
+
+/// Inside the same sphere (two-sided, scaled ×3), lit by a point light inside it: the inside is
+/// concave, seen from behind the normals, and whatever the smoothing does there, every point
+/// that faces the light is lit with Lambert's value.
+#[test]
+fn points_seen_from_inside_a_smooth_mesh_are_lit_as_lambert_says() {
+    let dir = scene_dir("inside");
+    let toml = format!(
+        r#"
+[film]
+width = {SIZE}
+height = {SIZE}
+spp = 1
+sampler = "grid"
+[camera]
+position = [0.0, 0.0, 0.0]
+look_at = [0.3, -0.2, -1.0]
+fov = 90.0
+[[light]]
+type = "point"
+position = [0.5, 0.8, 0.6]
+intensity = {IRRADIANCE}
+[material.clay]
+model = "lambert"
+albedo = [{ALBEDO}, {ALBEDO}, {ALBEDO}]
+two_sided = true
+[[object]]
+mesh = "sphere.obj"
+material = "clay"
+transform = {{ scale = 3.0 }}
+"#
+    );
+    std::fs::write(dir.join("scene.toml"), toml).unwrap();
+    let scene = scene::load(&dir.join("scene.toml")).expect("scene loads");
+    let _ = std::fs::remove_dir_all(&dir);
+    let plan = RenderPlan::new(&scene, &[Aov::Normal, Aov::Position]);
+    assert!(plan.smooth_shadow_origins);
+    let bvh = Bvh::build(&scene.mesh, BvhPreset::DEFAULT);
+    let mut rendered = render(&scene, &plan, Some(&bvh), &|_| {}).unwrap();
+    let position = rendered.aovs.pop().unwrap().1;
+    let normal = rendered.aovs.pop().unwrap().1;
+    let light = Vec3::new(0.5, 0.8, 0.6);
+    let (mut facing, mut wrong) = (0, 0);
+    for y in 0..SIZE {
+        for x in 0..SIZE {
+            let (p, n) = (position.get(x, y), normal.get(x, y));
+            // The normal image holds the mesh's normals (outwards); the material turns them to
+            // the viewer at the centre.
+            let n = if n.dot(-p) < 0.0 { -n } else { n };
+            let d = light - p;
+            let cos = n.dot(d.normalize());
+            if n == Vec3::ZERO || cos <= COS_MIN {
+                continue;
+            }
+            facing += 1;
+            let e = lambert(cos) / d.length_squared();
+            wrong += u32::from((rendered.image.get(x, y).x - e).abs() > 1e-3 * e);
+        }
+    }
+    assert!(facing > 10_000, "{facing} pixels face the light");
+    assert_eq!(wrong, 0, "of {facing} pixels facing the light");
+}

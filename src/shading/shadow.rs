@@ -152,12 +152,20 @@ const MITSUBA_RAY_EPSILON: f32 = 1500.0 / 16_777_216.0;
 const MITSUBA_SHADOW_EPSILON: f32 = 10.0 * MITSUBA_RAY_EPSILON;
 
 impl ShadowRay {
-    /// The shadow ray from `p` towards a light in direction `wi` at `distance` (infinite for
-    /// directional lights), with the origin offset `offset` asks for.
-    #[inline]
-    pub fn new(offset: ShadowOffset, p: Vec3, ng: Vec3, wi: Vec3, distance: f32, scene_unit: f32) -> Self {
+    /// The shadow ray from `p` (geometric normal `ng`) towards a light in direction `wi` at
+    /// `distance` (infinite for directional lights), with the origin offset `offset` asks for.
+    /// The error-bound offset starts `lift` above `p` along `ng` (the point's
+    /// [`shadow_lift`](crate::surface::SurfacePoint::shadow_lift), 0 on flat meshes), and the
+    /// segment keeps its direction and length: it ends as far from the light as the lift, a
+    /// fraction of a triangle. (Aiming at the light from the lifted origin instead took a square
+    /// root and a division per ray, 20% of the dragon's shading time.) `mitsuba` always starts at
+    /// `p`. Always inlined: left to the compiler, it became a call per shadow ray once it took
+    /// the lift (1.5% more instructions in renders that lift nothing).
+    #[inline(always)]
+    pub fn new(offset: ShadowOffset, p: Vec3, lift: f32, ng: Vec3, wi: Vec3, distance: f32, scene_unit: f32) -> Self {
         match offset {
-            ShadowOffset::ErrorBound => Self::towards_light(p, ng, wi, distance, scene_unit),
+            // p + 0·ng is p: no branch for flat meshes.
+            ShadowOffset::ErrorBound => Self::towards_light(p + lift * ng, ng, wi, distance, scene_unit),
             ShadowOffset::Mitsuba => Self::mitsuba(p, ng, wi, distance),
         }
     }
@@ -234,7 +242,7 @@ mod tests {
     #[test]
     fn mitsuba_offset_is_fixed_epsilon_along_the_geometric_normal() {
         let p = Vec3::new(1e5, 0.0, 0.0);
-        let r = ShadowRay::new(ShadowOffset::Mitsuba, p, Vec3::NEG_Y, Vec3::Y, 10.0, 1.0);
+        let r = ShadowRay::new(ShadowOffset::Mitsuba, p, 0.0, Vec3::NEG_Y, Vec3::Y, 10.0, 1.0);
         // (1 + 1e5)·8.9407e-5 ≈ 8.94 units: far larger than an ulp, as in Mitsuba.
         assert!((r.origin.y - 8.9407).abs() < 1e-3, "{}", r.origin);
         assert!((r.t_max - (10.0 - 8.9407) * (1.0 - 8.9407e-4)).abs() < 1e-3);

@@ -17,6 +17,12 @@ use crate::shading::brdf::{map3, F32x8, LANES};
 pub struct SurfacePoint {
     /// World-space position.
     pub position: Vec3,
+    /// Height along `geometric_normal` at which shadow rays leave, before their offset: 0, or on
+    /// a mesh whose vertex normals bend away from its flat triangles, the height of the smooth
+    /// surface the normals describe, so that the faces beside the point do not shadow it where
+    /// its shading normal turns towards the light (the "shadow terminator"; see [`primary`]).
+    /// A height, not a second position: the point stays as small as it was.
+    pub shadow_lift: f32,
     /// Unit normal of the flat surface element (for shadow-ray offsets and sidedness).
     pub geometric_normal: Vec3,
     /// Normal used for shading (interpolated vertex normals, or a normal image's pixel): unit

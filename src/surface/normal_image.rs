@@ -450,6 +450,7 @@ impl ImageSurface {
         let position = self.position(col, row);
         Some(SurfacePoint {
             position,
+            shadow_lift: 0.0,
             geometric_normal: Vec3::Z,
             shading_normal,
             uv: Vec2::ZERO,

@@ -103,6 +103,7 @@ mod tests {
         };
         let point = SurfacePoint {
             position: Vec3::new(0.25, 0.25, 0.0),
+            shadow_lift: 0.0,
             geometric_normal: Vec3::Z,
             shading_normal: Vec3::Z,
             uv: Vec2::new(0.25, 0.75),

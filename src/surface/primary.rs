@@ -4,21 +4,17 @@
 //! normal is normalize((p1 − p0) × (p2 − p0)) (counter-clockwise = front), and the shading normal
 //! is the normalised barycentric interpolation of the unit vertex normals.
 //!
-//! Where the plan asks for it (pointshade's default offset on a smooth-shaded mesh), the point
-//! then leaves the flat triangle for the smooth surface its vertex normals describe (Hanika,
-//! "Hacking the Shadow Terminator", Ray Tracing Gems II ch. 4). On a coarse mesh with smooth
-//! normals, a point whose shading normal still faces the light can lie below the plane of the
-//! neighbouring faces, which then shadow it in the faceted steps known as the shadow
+//! Where the plan asks for it (pointshade's default offset on a smooth-shaded mesh), shadow rays
+//! then leave from the smooth surface the vertex normals describe rather than the flat triangle
+//! (Hanika, "Hacking the Shadow Terminator", Ray Tracing Gems II ch. 4). On a coarse mesh with
+//! smooth normals, a point whose shading normal still faces the light can lie below the plane of
+//! the neighbouring faces, which then shadow it in the faceted steps known as the shadow
 //! terminator. The point is projected onto the tangent plane of each vertex (its position and
 //! normal) where it lies below that plane, and the three projections are interpolated with the
-//! barycentrics. Convex regions move out; concave ones and flat meshes, whose points lie on or
-//! above every vertex's plane, do not move; at a vertex the point is that vertex.
-//!
-//! Hanika moves only the shadow ray's origin; here the shaded position moves too, so that the
-//! surface point keeps its size (a separate origin in every point cost the dragon's render 5–7%
-//! of its time with the move switched off; README, "Shadows"). The move is a fraction of the
-//! triangle's size, and everything but a point light's distance and direction is unaffected:
-//! the normals, the view direction (the camera ray's) and the depth (the hit's distance).
+//! barycentrics ([`smooth_origin`]). Convex regions move out; concave ones and flat meshes, whose
+//! points lie on or above every vertex's plane, do not move; at a vertex the point is that
+//! vertex. The surface point keeps only the height of the moved point above its triangle
+//! ([`SurfacePoint::shadow_lift`]); the shaded position stays on the triangle, as in Mitsuba.
 
 use glam::{Vec2, Vec3};
 
@@ -31,15 +27,15 @@ use crate::surface::SurfacePoint;
 pub struct PointOptions {
     /// Interpolate texture coordinates (both sets); else they are zero.
     pub uvs: bool,
-    /// Move the position onto the smooth surface of the vertex normals, where shadow rays
-    /// then leave from; else it stays on the triangle.
+    /// Lift shadow-ray origins to the smooth surface of the vertex normals; else they leave
+    /// from the triangle.
     pub smooth_shadow_origin: bool,
 }
 
 /// Builds the surface point of `hit` for a ray travelling along `direction`.
 ///
-/// Always inlined: the move onto the smooth surface grew it past what the compiler inlines into
-/// the render's hit loop, and the call cost renders without the move 0.9% more instructions.
+/// Always inlined: the shadow lift grew it past what the compiler inlines into the render's hit
+/// loop, and the call cost renders without a lift 0.9% more instructions.
 #[inline(always)]
 pub fn surface_point(mesh: &TriangleMesh, hit: &Hit, direction: Vec3, options: PointOptions) -> SurfacePoint {
     let t = hit.triangle as usize;
@@ -47,7 +43,7 @@ pub fn surface_point(mesh: &TriangleMesh, hit: &Hit, direction: Vec3, options: P
     let (b1, b2) = (hit.b1, hit.b2);
     let b0 = 1.0 - b1 - b2;
     let [p0, p1, p2] = [mesh.positions[i0], mesh.positions[i1], mesh.positions[i2]];
-    let mut position = b0 * p0 + b1 * p1 + b2 * p2;
+    let position = b0 * p0 + b1 * p1 + b2 * p2;
     let to_viewer = -direction;
     // A triangle the ray hit has a non-zero area in f32 (the watertight test rejects det = 0),
     // but the cross product can still underflow for microscopic slivers: fall back to facing
@@ -62,9 +58,14 @@ pub fn surface_point(mesh: &TriangleMesh, hit: &Hit, direction: Vec3, options: P
         // Opposite vertex normals cancel, or the file had zero normals: shade flat.
         shading_normal = geometric_normal;
     }
-    if options.smooth_shadow_origin {
-        position = smooth_origin(position, [b0, b1, b2], [p0, p1, p2], [n[i0], n[i1], n[i2]]);
-    }
+    // The moved point's height above the triangle: finite, as `smooth_origin` returns p for
+    // anything else and the normal is unit.
+    let shadow_lift = if options.smooth_shadow_origin {
+        let moved = smooth_origin(position, [b0, b1, b2], [p0, p1, p2], [n[i0], n[i1], n[i2]]);
+        (moved - position).dot(geometric_normal)
+    } else {
+        0.0
+    };
     let (mut uv, mut uv1) = Default::default();
     if options.uvs {
         let interpolate = |uvs: &[Vec2]| b0 * uvs[i0] + b1 * uvs[i1] + b2 * uvs[i2];
@@ -77,6 +78,7 @@ pub fn surface_point(mesh: &TriangleMesh, hit: &Hit, direction: Vec3, options: P
     }
     SurfacePoint {
         position,
+        shadow_lift,
         geometric_normal,
         shading_normal,
         uv,

@@ -32,6 +32,7 @@ fn point_light(at: Vec3, intensity: f32) -> Light {
 fn surface(p: Vec3, n: Vec3) -> SurfacePoint {
     SurfacePoint {
         position: p,
+        shadow_lift: 0.0,
         geometric_normal: n,
         shading_normal: n,
         uv: Default::default(),

@@ -11,7 +11,7 @@ use std::borrow::Borrow;
 
 use glam::Vec3;
 
-use super::{assignment_term, Shader, BATCH};
+use super::{assignment_term, front_lift, Shader, BATCH};
 use crate::shading::brdf::{dot3, map3, F32x8, LaneInstructions, LaneMask, LocalDots, Mask, Mask8, Real, LANES};
 use crate::shading::convention::ShadingConvention;
 use crate::shading::light::{Light, LightSamples};
@@ -297,7 +297,11 @@ impl<O: Occluder> Shader<'_, O> {
                 *lit = facing.as_ref().map(|f| f.lit(light));
             }
             if let Some(occluder) = self.occluder {
-                self.block(occluder, &facing, &mut lit, shadow_rays);
+                let lift = |g: usize, i: usize| {
+                    let p = point(order[ranges[g].0 + i]);
+                    (p.shadow_lift, p.geometric_normal)
+                };
+                self.block(occluder, &facing, &lift, &mut lit, shadow_rays);
             }
             for ((facing, lit), radiance) in facing.iter().zip(&lit).zip(&mut radiance) {
                 if let (Some(facing), Some(lit)) = (facing, lit) {
@@ -320,6 +324,7 @@ impl<O: Occluder> Shader<'_, O> {
         &self,
         occluder: &O,
         facing: &[Option<FacingLanes>; GROUPS],
+        shadow_lift: &impl Fn(usize, usize) -> (f32, Vec3),
         lit: &mut [Option<LitLanes>; GROUPS],
         shadow_rays: &mut u64,
     ) {
@@ -338,7 +343,10 @@ impl<O: Occluder> Shader<'_, O> {
             for i in (0..LANES).filter(|&i| lit.lit.test(i)) {
                 let (wi, distance) = (lane(&lit.ls.wi, i), lit.ls.distance.0[i]);
                 let (p, ng) = (lane(&facing.position, i), lane(&facing.ng, i));
-                rays[n] = ShadowRay::new(self.shadow_offset, p, ng, wi, distance, self.scene_unit);
+                // Read from the point, not carried in lanes: only lit lanes need it.
+                let (lift, point_ng) = shadow_lift(g, i);
+                let lift = front_lift(lift, ng, point_ng);
+                rays[n] = ShadowRay::new(self.shadow_offset, p, lift, ng, wi, distance, self.scene_unit);
                 from[n] = (g, i);
                 n += 1;
             }

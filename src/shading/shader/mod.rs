@@ -242,6 +242,7 @@ impl<O: Occluder> Shader<'_, O> {
         ShadowRay::new(
             self.shadow_offset,
             sp.position,
+            front_lift(sp.shadow_lift, facing.ng, sp.geometric_normal),
             facing.ng,
             ls.wi,
             ls.distance,
@@ -275,6 +276,20 @@ impl<O: Occluder> Shader<'_, O> {
             radiance += Vec3::from(term);
         }
         radiance.min(Vec3::splat(f32::MAX))
+    }
+}
+
+/// A point's shadow lift as its shader uses it: as is where the point is seen from the side its
+/// normals face (`facing_ng`, the geometric normal as shading turned it, is `ng`), and none where
+/// a two-sided material turned it round. The lift moves towards the normals' side, where the
+/// smooth surface bulges; seen from behind (inside a closed mesh) it would move the origin
+/// through the surface, away from the lights on the viewer's side.
+#[inline(always)]
+fn front_lift(lift: f32, facing_ng: Vec3, ng: Vec3) -> f32 {
+    if facing_ng.dot(ng) > 0.0 {
+        lift
+    } else {
+        0.0
     }
 }
 
@@ -342,6 +357,7 @@ mod tests {
         let light = Vec3::new(0.0, 1.0, 1.0);
         let point = |position: Vec3, n: Vec3, to_viewer: Vec3| SurfacePoint {
             position,
+            shadow_lift: 0.0,
             geometric_normal: Vec3::Z,
             shading_normal: n,
             uv: Vec2::ZERO,
