@@ -4,7 +4,7 @@
 //! the smooth surface of the normals (the default) every such point is lit as Lambert's law
 //! says, while the shadow the sphere casts on the ground stays where the geometry puts it.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU32, Ordering};
 
 use glam::Vec3;
@@ -16,6 +16,11 @@ use pointshade::scene;
 use pointshade::scene::procedural::{plane, uv_sphere};
 
 const SIZE: u32 = 160;
+
+/// Every scene's film: SIZE², one sample at each pixel's centre.
+fn film() -> String {
+    format!("[film]\nwidth = {SIZE}\nheight = {SIZE}\nspp = 1\nsampler = \"grid\"")
+}
 /// Where the light travels (towards −x, slightly down): a terminator across the sphere's front.
 const LIGHT: Vec3 = Vec3::new(-1.0, -0.35, 0.1);
 const ALBEDO: f32 = 0.8;
@@ -35,12 +40,7 @@ fn scene_dir(terminator: &str) -> PathBuf {
     std::fs::write(dir.join("sphere.obj"), uv_sphere(12, 8).to_obj("coarse sphere", None)).unwrap();
     std::fs::write(dir.join("ground.obj"), plane(6.0, 1).to_obj("ground", None)).unwrap();
     let toml = format!(
-        r#"
-[film]
-width = {SIZE}
-height = {SIZE}
-spp = 1
-sampler = "grid"
+        r#"{film}
 [camera]
 position = [{px}, {py}, {pz}]
 look_at = [-0.8, 0.6, 0.0]
@@ -71,23 +71,28 @@ material = "clay"
         cx = CENTRE.x,
         cy = CENTRE.y,
         cz = CENTRE.z,
+        film = film(),
     );
     std::fs::write(dir.join("scene.toml"), toml).unwrap();
     dir
 }
 
-/// The render's radiance, shading normals and positions, and whether the plan smoothed the
-/// shadow origins.
-fn render_with(terminator: &str) -> (Image, Image, Image, bool) {
-    let dir = scene_dir(terminator);
+/// The render of `dir`'s scene.toml: radiance, shading normals and positions, and whether the
+/// plan smoothed the shadow origins. Removes `dir`.
+fn render_dir(dir: &Path) -> (Image, Image, Image, bool) {
     let scene = scene::load(&dir.join("scene.toml")).expect("scene loads");
+    let _ = std::fs::remove_dir_all(dir);
     let plan = RenderPlan::new(&scene, &[Aov::Normal, Aov::Position]);
     let bvh = Bvh::build(&scene.mesh, BvhPreset::DEFAULT);
     let mut rendered = render(&scene, &plan, Some(&bvh), &|_| {}).unwrap();
-    let _ = std::fs::remove_dir_all(dir);
     let position = rendered.aovs.pop().unwrap().1;
     let normal = rendered.aovs.pop().unwrap().1;
     (rendered.image, normal, position, plan.smooth_shadow_origins)
+}
+
+/// [`render_dir`] of the sphere on the ground with `shadow_terminator = terminator`.
+fn render_with(terminator: &str) -> (Image, Image, Image, bool) {
+    render_dir(&scene_dir(terminator))
 }
 
 /// Lambert under the directional light at cos θ_i.
@@ -173,12 +178,7 @@ fn smooth_origins_keep_the_shadow_the_sphere_casts() {
 fn points_seen_from_inside_a_smooth_mesh_are_lit_as_lambert_says() {
     let dir = scene_dir("inside");
     let toml = format!(
-        r#"
-[film]
-width = {SIZE}
-height = {SIZE}
-spp = 1
-sampler = "grid"
+        r#"{film}
 [camera]
 position = [0.0, 0.0, 0.0]
 look_at = [0.3, -0.2, -1.0]
@@ -195,17 +195,12 @@ two_sided = true
 mesh = "sphere.obj"
 material = "clay"
 transform = {{ scale = 3.0 }}
-"#
+"#,
+        film = film(),
     );
     std::fs::write(dir.join("scene.toml"), toml).unwrap();
-    let scene = scene::load(&dir.join("scene.toml")).expect("scene loads");
-    let _ = std::fs::remove_dir_all(&dir);
-    let plan = RenderPlan::new(&scene, &[Aov::Normal, Aov::Position]);
-    assert!(plan.smooth_shadow_origins);
-    let bvh = Bvh::build(&scene.mesh, BvhPreset::DEFAULT);
-    let mut rendered = render(&scene, &plan, Some(&bvh), &|_| {}).unwrap();
-    let position = rendered.aovs.pop().unwrap().1;
-    let normal = rendered.aovs.pop().unwrap().1;
+    let (image, normal, position, smoothed) = render_dir(&dir);
+    assert!(smoothed);
     let light = Vec3::new(0.5, 0.8, 0.6);
     let (mut facing, mut wrong) = (0, 0);
     for y in 0..SIZE {
@@ -221,7 +216,7 @@ transform = {{ scale = 3.0 }}
             }
             facing += 1;
             let e = lambert(cos) / d.length_squared();
-            wrong += u32::from((rendered.image.get(x, y).x - e).abs() > 1e-3 * e);
+            wrong += u32::from((image.get(x, y).x - e).abs() > 1e-3 * e);
         }
     }
     assert!(facing > 10_000, "{facing} pixels face the light");
