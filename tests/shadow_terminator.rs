@@ -16,11 +16,11 @@ use pointshade::scene;
 use pointshade::scene::procedural::{plane, uv_sphere};
 
 const SIZE: u32 = 160;
-
 /// Every scene's film: SIZE², one sample at each pixel's centre.
 fn film() -> String {
     format!("[film]\nwidth = {SIZE}\nheight = {SIZE}\nspp = 1\nsampler = \"grid\"")
 }
+
 /// Where the light travels (towards −x, slightly down): a terminator across the sphere's front.
 const LIGHT: Vec3 = Vec3::new(-1.0, -0.35, 0.1);
 const ALBEDO: f32 = 0.8;
