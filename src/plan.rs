@@ -146,19 +146,21 @@ impl RenderPlan {
                 )
             },
         );
+        // The mesh is scanned (normals_bend) once, and only when nothing else rules the stage out.
+        let smooth_shadow_origins = shadows
+            && scene.shadow_offset == ShadowOffset::ErrorBound
+            && scene.shadow_terminator == ShadowTerminator::Smooth
+            && scene.mesh.normals_bend();
         let smooth_shadow_origins = decide(
             "smooth shadow origins",
-            shadows
-                && scene.shadow_offset == ShadowOffset::ErrorBound
-                && scene.shadow_terminator == ShadowTerminator::Smooth
-                && scene.mesh.normals_bend(),
+            smooth_shadow_origins,
             if !shadows {
                 "no shadow rays".into()
             } else if scene.shadow_offset == ShadowOffset::Mitsuba {
                 "the mitsuba offset starts on the flat triangle, as Mitsuba does".into()
             } else if scene.shadow_terminator == ShadowTerminator::Flat {
                 "shadow_terminator = flat".into()
-            } else if !scene.mesh.normals_bend() {
+            } else if !smooth_shadow_origins {
                 "every vertex normal is its triangle's normal: nothing to smooth".into()
             } else {
                 "vertex normals bend over flat triangles: shadow rays leave from the smooth surface they \
@@ -344,7 +346,7 @@ impl RenderPlan {
     pub fn point_options(&self) -> PointOptions {
         PointOptions {
             uvs: self.uvs,
-            smooth_shadow_origin: self.smooth_shadow_origins,
+            shadow_lift: self.smooth_shadow_origins,
         }
     }
 
