@@ -76,7 +76,9 @@ where
     }
     let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
     for p in &finite {
-        (x0, x1, y0, y1) = (x0.min(p.seconds), x1.max(p.seconds), y0.min(p.rmse), y1.max(p.rmse));
+        let (fastest, slowest) = time_spread(p).unwrap_or((p.seconds, p.seconds));
+        (x0, x1) = (x0.min(fastest.min(p.seconds)), x1.max(slowest.max(p.seconds)));
+        (y0, y1) = (y0.min(p.rmse), y1.max(p.rmse));
     }
     let (x0, x1, y0, y1) = (x0 / 1.5, x1 * 1.5, y0 / 1.5, y1 * 1.5);
     let mut builder = ChartBuilder::on(&root);
@@ -97,11 +99,13 @@ where
         .map_err(err)?;
     let mut mesh = chart.configure_mesh();
     if text {
-        mesh.x_desc(format!("seconds, median (scene load + render) — reference: {subtitle}"))
-            .y_desc("RMSE")
-            .x_label_formatter(&|v| tick_label(*v))
-            .y_label_formatter(&|v| format!("{v:.1e}"))
-            .label_style(("sans-serif", 14));
+        mesh.x_desc(format!(
+            "seconds (scene load + render): median, bar = fastest…slowest repeat — reference: {subtitle}"
+        ))
+        .y_desc("RMSE")
+        .x_label_formatter(&|v| tick_label(*v))
+        .y_label_formatter(&|v| format!("{v:.1e}"))
+        .label_style(("sans-serif", 14));
     } else {
         mesh.disable_x_axis().disable_y_axis();
     }
@@ -145,6 +149,15 @@ where
         chart
             .draw_series(pts.into_iter().map(|p| Circle::new(p, 4, c.filled())))
             .map_err(err)?;
+        // The repeats' spread: a bar from the fastest to the slowest, with end ticks.
+        for (p, (fastest, slowest)) in members.iter().filter_map(|p| Some((p, time_spread(p)?))) {
+            let style = c.stroke_width(1);
+            let tick = |x: f64| EmptyElement::at((x, p.rmse)) + PathElement::new(vec![(0, -4), (0, 4)], style);
+            chart
+                .draw_series([PathElement::new(vec![(fastest, p.rmse), (slowest, p.rmse)], style)])
+                .map_err(err)?;
+            chart.draw_series([tick(fastest), tick(slowest)]).map_err(err)?;
+        }
     }
     if text {
         chart
@@ -210,6 +223,14 @@ fn tick_label(v: f64) -> String {
     } else {
         text
     }
+}
+
+/// The spread of a point's repeats: (fastest, slowest) of its positive, finite times, when they
+/// differ (one repeat, or equal times, draw no bar).
+fn time_spread(p: &Point) -> Option<(f64, f64)> {
+    let times = p.all_seconds.iter().copied().filter(|t| t.is_finite() && *t > 0.0);
+    let (fastest, slowest) = times.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), t| (lo.min(t), hi.max(t)));
+    (fastest < slowest).then_some((fastest, slowest))
 }
 
 /// The series a point is drawn in: one per renderer and sampler, and apart from it the
@@ -281,7 +302,33 @@ pub fn png(title: &str, subtitle: &str, points: &[Point]) -> Result<(Vec<u8>, Op
 
 #[cfg(test)]
 mod tests {
-    use super::{label, log_ticks, tick_label};
+    use super::{label, log_ticks, tick_label, time_spread};
+    use crate::reports::convergence::Point;
+
+    fn point(all_seconds: Vec<f64>) -> Point {
+        Point {
+            renderer: "pointshade",
+            sampler: "cells".into(),
+            spp: 256,
+            threshold: None,
+            time_budget: None,
+            mean_spp: 6.6,
+            seconds: 0.2,
+            all_seconds,
+            rmse: 1e-4,
+            rel_mse: 1e-3,
+            within: 0.9,
+        }
+    }
+
+    #[test]
+    fn a_points_bar_spans_its_fastest_and_slowest_repeat() {
+        assert_eq!(time_spread(&point(vec![0.21, 0.19, 0.25])), Some((0.19, 0.25)));
+        // Nothing to draw for one repeat or equal times; unusable times are left out.
+        assert_eq!(time_spread(&point(vec![0.2])), None);
+        assert_eq!(time_spread(&point(vec![0.2, 0.2])), None);
+        assert_eq!(time_spread(&point(vec![f64::NAN, 0.2, 0.0, 0.3])), Some((0.2, 0.3)));
+    }
 
     #[test]
     fn an_axis_within_one_decade_still_gets_ticks() {
