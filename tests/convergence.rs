@@ -196,6 +196,29 @@ fn a_threshold_list_with_a_bad_entry_fails_with_one_line_before_anything_is_writ
         let options = ["--sampler", "adaptive", "--adaptive-threshold", list];
         sweep.fails_before_writing(&options, list, &[says]);
     }
+    sweep.fails_before_writing(&["--metric", "mse"], "an unknown metric", &["--metric", "mse"]);
+}
+
+#[test]
+fn the_plot_shows_the_metric_asked_for() {
+    let sweep = SweepFolder::new("metric", 48, 36);
+    sweep.rows(&[
+        "--spp",
+        "1,4",
+        "--sampler",
+        "sobol",
+        "--repeats",
+        "1",
+        "--metric",
+        "rel-mse",
+    ]);
+    let svg = std::fs::read_to_string(sweep.out.join("convergence.svg")).unwrap();
+    if !svg.contains("<text") {
+        eprintln!("*** SKIPPED: no system font, so the plot has no text to check (POINTSHADE_FONT)");
+        return;
+    }
+    assert!(svg.contains("relative MSE against time"), "the title names the metric");
+    assert!(!svg.contains("RMSE"), "and RMSE appears nowhere");
 }
 
 #[test]

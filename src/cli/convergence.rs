@@ -6,7 +6,7 @@ use crate::cli::{comma_list, option_error};
 use crate::error::InputError;
 use crate::film::SamplerKind;
 use crate::output::read_linear;
-use crate::reports::convergence::{check, own_reference, run, write_outputs, Reference, Sweep};
+use crate::reports::convergence::{check, own_reference, run, write_outputs, ErrorMetric, Reference, Sweep};
 use crate::shading::shadow::ShadowOffset;
 use crate::validation::run::MitsubaRunner;
 
@@ -48,6 +48,10 @@ pub struct ConvergenceArgs {
     /// Shadow-ray offset of pointshade's renders (default: mitsuba with --mitsuba, else error-bound).
     #[arg(long)]
     shadow_offset: Option<String>,
+    /// The plot's error: rmse, rel-mse (relative MSE) or outside (the share of pixels off by
+    /// more than 1e-3). The CSV has all three.
+    #[arg(long, default_value = "rmse", value_name = "rmse|rel-mse|outside")]
+    metric: String,
     /// Output folder: convergence.csv, convergence.svg, convergence.png, reference.png.
     #[arg(long)]
     out: PathBuf,
@@ -55,6 +59,7 @@ pub struct ConvergenceArgs {
 
 /// Runs `pointshade convergence`.
 pub fn run_command(args: ConvergenceArgs) -> Result<(), InputError> {
+    let metric = ErrorMetric::parse(&args.metric).map_err(|e| option_error("--metric", e))?;
     let spp = comma_list("--spp", &args.spp, "sample counts like 1,4,16,64", |s| {
         s.parse::<u32>()
             .ok()
@@ -148,7 +153,7 @@ pub fn run_command(args: ConvergenceArgs) -> Result<(), InputError> {
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    if let Some(note) = write_outputs(&args.out, &name, &points, &reference)? {
+    if let Some(note) = write_outputs(&args.out, &name, &points, &reference, metric)? {
         eprintln!("warning: {note}");
     }
     eprintln!("wrote {}/convergence.{{csv,svg,png}}", args.out.display());

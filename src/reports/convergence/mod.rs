@@ -9,6 +9,8 @@
 
 pub mod plot;
 
+pub use plot::ErrorMetric;
+
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -381,19 +383,20 @@ pub fn csv(points: &[Point], reference: &Reference) -> String {
     s
 }
 
-/// Writes `convergence.csv`, `convergence.svg` and `convergence.png` into `out`, and the
-/// reference as `reference.png` for a look. Returns a note about the PNG's text when no system
+/// Writes `convergence.csv` (every metric), `convergence.svg` and `convergence.png` (`metric`
+/// against time) into `out`, and the reference as `reference.png` for a look. Returns a note about the PNG's text when no system
 /// font was found.
 pub fn write_outputs(
     out: &Path,
     scene_name: &str,
     points: &[Point],
     reference: &Reference,
+    metric: ErrorMetric,
 ) -> InputResult<Option<String>> {
-    let title = format!("{scene_name}: RMSE against time");
-    let svg = plot::svg(&title, &reference.description, points)
+    let title = format!("{scene_name}: {} against time", metric.label());
+    let svg = plot::svg(&title, &reference.description, points, metric)
         .map_err(|e| InputError::new(out.join("convergence.svg"), e))?;
-    let (png, note) = plot::png(&title, &reference.description, points)
+    let (png, note) = plot::png(&title, &reference.description, points, metric)
         .map_err(|e| InputError::new(out.join("convergence.png"), e))?;
     let reference_png =
         encode(&reference.image, Format::Png, 0.0).map_err(|e| InputError::new(out.join("reference.png"), e))?;

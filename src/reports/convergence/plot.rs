@@ -55,11 +55,67 @@ fn colour(renderer: &str, sampler: &str) -> RGBColor {
     }
 }
 
+/// What the plot's vertical axis shows: one of the errors every point has (`convergence.csv`
+/// has all three).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ErrorMetric {
+    /// Root mean squared error, the benchmark's measure.
+    #[default]
+    Rmse,
+    /// Relative MSE (squared error over the reference's squared value + 1e-2), the usual measure
+    /// in rendering papers: an error in a dark pixel weighs as much as a proportionate one in a
+    /// bright pixel.
+    RelMse,
+    /// The share of pixels off the reference by more than 1e-3 (1 − `within_1e-3`).
+    Outside,
+}
+
+impl ErrorMetric {
+    /// Every metric, in the order `--metric` lists them.
+    pub const ALL: [ErrorMetric; 3] = [Self::Rmse, Self::RelMse, Self::Outside];
+
+    /// Name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Rmse => "rmse",
+            Self::RelMse => "rel-mse",
+            Self::Outside => "outside",
+        }
+    }
+
+    /// Parses a name; the error lists the valid ones.
+    pub fn parse(name: &str) -> Result<Self, String> {
+        Self::ALL
+            .into_iter()
+            .find(|m| m.name() == name)
+            .ok_or_else(|| format!("unknown metric '{name}' (expected rmse, rel-mse or outside)"))
+    }
+
+    /// The axis's title.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Rmse => "RMSE",
+            Self::RelMse => "relative MSE",
+            Self::Outside => "share of pixels off by more than 1e-3",
+        }
+    }
+
+    /// `p`'s error by this metric.
+    pub fn of(self, p: &Point) -> f64 {
+        match self {
+            Self::Rmse => p.rmse,
+            Self::RelMse => p.rel_mse,
+            Self::Outside => 1.0 - p.within,
+        }
+    }
+}
+
 fn draw<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     title: &str,
     subtitle: &str,
     points: &[Point],
+    metric: ErrorMetric,
     text: bool,
 ) -> Result<(), String>
 where
@@ -69,16 +125,16 @@ where
     root.fill(&WHITE).map_err(err)?;
     let finite: Vec<&Point> = points
         .iter()
-        .filter(|p| p.seconds > 0.0 && p.rmse > 0.0 && p.rmse.is_finite())
+        .filter(|p| p.seconds > 0.0 && metric.of(p) > 0.0 && metric.of(p).is_finite())
         .collect();
     if finite.is_empty() {
-        return Err("no point with a positive time and error to plot".into());
+        return Err(format!("no point with a positive time and {} to plot", metric.label()));
     }
     let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
     for p in &finite {
         let (fastest, slowest) = time_spread(p).unwrap_or((p.seconds, p.seconds));
         (x0, x1) = (x0.min(fastest.min(p.seconds)), x1.max(slowest.max(p.seconds)));
-        (y0, y1) = (y0.min(p.rmse), y1.max(p.rmse));
+        (y0, y1) = (y0.min(metric.of(p)), y1.max(metric.of(p)));
     }
     let (x0, x1, y0, y1) = (x0 / 1.5, x1 * 1.5, y0 / 1.5, y1 * 1.5);
     let mut builder = ChartBuilder::on(&root);
@@ -102,7 +158,7 @@ where
         mesh.x_desc(format!(
             "seconds (scene load + render): median, bar = fastest…slowest repeat — reference: {subtitle}"
         ))
-        .y_desc("RMSE")
+        .y_desc(metric.label())
         .x_label_formatter(&|v| tick_label(*v))
         .y_label_formatter(&|v| format!("{v:.1e}"))
         .label_style(("sans-serif", 14));
@@ -118,7 +174,7 @@ where
             .iter()
             .filter(|p| series_of(p) == (renderer, sampler, budgets))
             .collect();
-        let mut pts: Vec<(f64, f64)> = members.iter().map(|p| (p.seconds, p.rmse)).collect();
+        let mut pts: Vec<(f64, f64)> = members.iter().map(|p| (p.seconds, metric.of(p))).collect();
         // A budget line's thresholds are what its budgets reached, not what traced it.
         let label = label(
             renderer,
@@ -152,9 +208,10 @@ where
         // The repeats' spread: a bar from the fastest to the slowest, with end ticks.
         for (p, (fastest, slowest)) in members.iter().filter_map(|p| Some((p, time_spread(p)?))) {
             let style = c.stroke_width(1);
-            let tick = |x: f64| EmptyElement::at((x, p.rmse)) + PathElement::new(vec![(0, -4), (0, 4)], style);
+            let error = metric.of(p);
+            let tick = |x: f64| EmptyElement::at((x, error)) + PathElement::new(vec![(0, -4), (0, 4)], style);
             chart
-                .draw_series([PathElement::new(vec![(fastest, p.rmse), (slowest, p.rmse)], style)])
+                .draw_series([PathElement::new(vec![(fastest, error), (slowest, error)], style)])
                 .map_err(err)?;
             chart.draw_series([tick(fastest), tick(slowest)]).map_err(err)?;
         }
@@ -263,20 +320,26 @@ fn label(
 }
 
 /// The plot as SVG text.
-pub fn svg(title: &str, subtitle: &str, points: &[Point]) -> Result<String, String> {
+pub fn svg(title: &str, subtitle: &str, points: &[Point], metric: ErrorMetric) -> Result<String, String> {
     let mut out = String::new();
     draw(
         SVGBackend::with_string(&mut out, SIZE).into_drawing_area(),
         title,
         subtitle,
         points,
+        metric,
         font_available(),
     )?;
     Ok(out)
 }
 
 /// The plot as PNG bytes, and a note when it has no text (no font found).
-pub fn png(title: &str, subtitle: &str, points: &[Point]) -> Result<(Vec<u8>, Option<String>), String> {
+pub fn png(
+    title: &str,
+    subtitle: &str,
+    points: &[Point],
+    metric: ErrorMetric,
+) -> Result<(Vec<u8>, Option<String>), String> {
     let text = font_available();
     let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
     draw(
@@ -284,6 +347,7 @@ pub fn png(title: &str, subtitle: &str, points: &[Point]) -> Result<(Vec<u8>, Op
         title,
         subtitle,
         points,
+        metric,
         text,
     )?;
     let image = image::RgbImage::from_raw(SIZE.0, SIZE.1, rgb).ok_or("plot buffer size")?;
@@ -302,7 +366,7 @@ pub fn png(title: &str, subtitle: &str, points: &[Point]) -> Result<(Vec<u8>, Op
 
 #[cfg(test)]
 mod tests {
-    use super::{label, log_ticks, tick_label, time_spread};
+    use super::{label, log_ticks, svg, tick_label, time_spread, ErrorMetric};
     use crate::reports::convergence::Point;
 
     fn point(all_seconds: Vec<f64>) -> Point {
@@ -319,6 +383,26 @@ mod tests {
             rel_mse: 1e-3,
             within: 0.9,
         }
+    }
+
+    #[test]
+    fn each_metric_reads_its_own_error_and_names_its_axis() {
+        let p = point(vec![0.2]);
+        let values = ErrorMetric::ALL.map(|m| m.of(&p));
+        assert_eq!(values, [1e-4, 1e-3, 1.0 - 0.9]);
+        for m in ErrorMetric::ALL {
+            assert_eq!(ErrorMetric::parse(m.name()), Ok(m));
+        }
+        assert!(ErrorMetric::parse("mse")
+            .unwrap_err()
+            .contains("rmse, rel-mse or outside"));
+        // Every point at zero error by one metric: nothing to draw on a log axis, said so.
+        let perfect = Point {
+            within: 1.0,
+            ..point(vec![0.2])
+        };
+        let e = svg("t", "s", &[perfect], ErrorMetric::Outside).unwrap_err();
+        assert!(e.contains("share of pixels off"), "{e}");
     }
 
     #[test]
