@@ -384,8 +384,8 @@ pub fn csv(points: &[Point], reference: &Reference) -> String {
 }
 
 /// Writes `convergence.csv` (every metric), `convergence.svg` and `convergence.png` (`metric`
-/// against time) into `out`, and the reference as `reference.png` for a look. Returns a note about the PNG's text when no system
-/// font was found.
+/// against time) into `out`, and the reference as `reference.png` for a look. Returns a note
+/// about the PNG's text when no system font was found.
 pub fn write_outputs(
     out: &Path,
     scene_name: &str,
