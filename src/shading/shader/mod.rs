@@ -474,6 +474,74 @@ mod tests {
         }
     }
 
+    /// Blocks nothing and records where every shadow ray starts.
+    struct OriginRecorder(std::sync::Mutex<Vec<Vec3>>);
+
+    impl Occluder for OriginRecorder {
+        fn occluded(&self, ray: &ShadowRay) -> bool {
+            self.0.lock().unwrap().push(ray.origin);
+            false
+        }
+    }
+
+    #[test]
+    fn shadow_rays_start_lifted_in_front_of_the_normals_and_unlifted_behind_them() {
+        let light = |y: f32| Light {
+            kind: LightKind::Point {
+                position: Vec3::new(0.0, y, 0.0),
+            },
+            power: Vec3::ONE,
+            falloff: Falloff::InverseSquare,
+        };
+        // A two-sided surface at the origin facing +y, lifted by 0.25, with a light on each side.
+        let (lights, materials) = ([light(5.0), light(-5.0)], [Material::lambert("m", [0.5; 3])]);
+        assert!(materials[0].two_sided);
+        let occluder = OriginRecorder(Default::default());
+        let shader = physical(&materials, &lights, &occluder);
+        let front = SurfacePoint {
+            position: Vec3::ZERO,
+            shadow_lift: 0.25,
+            geometric_normal: Vec3::Y,
+            shading_normal: Vec3::Y,
+            uv: Vec2::ZERO,
+            uv1: Vec2::ZERO,
+            material: 0,
+            to_viewer: Vec3::Y,
+        };
+        // Seen from below, the material turns the normals down: the light below is the lit one,
+        // and a lift (towards +y, where the normals bulge) would start its ray through the surface.
+        let behind = SurfacePoint {
+            to_viewer: Vec3::NEG_Y,
+            ..front
+        };
+        let origins = |shade: &dyn Fn()| {
+            shade();
+            std::mem::take(&mut *occluder.0.lock().unwrap())
+        };
+        let lifted = |o: &Vec3| (o.y - 0.25).abs() < 1e-3 && o.x == 0.0 && o.z == 0.0;
+        let on_the_surface = |o: &Vec3| o.y < 0.0 && o.y > -1e-3 && o.x == 0.0 && o.z == 0.0;
+        // One point at a time…
+        let one = origins(&|| {
+            shader.shade(&front, &mut 0);
+        });
+        assert!(one.len() == 1 && lifted(&one[0]), "{one:?}");
+        let one = origins(&|| {
+            shader.shade(&behind, &mut 0);
+        });
+        assert!(one.len() == 1 && on_the_surface(&one[0]), "{one:?}");
+        // …and eight at a time on lanes, both kinds in one batch.
+        let batch: Vec<SurfacePoint> = (0..16).map(|i| if i % 2 == 0 { front } else { behind }).collect();
+        let lanes = origins(&|| {
+            let mut out = vec![Vec3::ZERO; batch.len()];
+            assert!(
+                shader.shade_batch_lanes(&batch, &mut out, &mut 0),
+                "the batch goes on lanes"
+            );
+        });
+        assert_eq!(lanes.iter().filter(|o| lifted(o)).count(), 8, "{lanes:?}");
+        assert_eq!(lanes.iter().filter(|o| on_the_surface(o)).count(), 8, "{lanes:?}");
+    }
+
     #[test]
     fn a_batch_shades_exactly_as_one_point_at_a_time() {
         let (lights, materials) = (lights(), batch_materials());
