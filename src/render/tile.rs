@@ -176,6 +176,7 @@ impl<'a> Context<'a> {
             // for up to PACKET nearly parallel rays (exactly the hits of one walk per ray).
             let mut rays = [(Vec3::ZERO, Vec3::ZERO, 0.0); PACKET];
             let mut hits = [None; PACKET];
+            let options = plan.point_options();
             let blocks = jobs.chunk_by(|a, b| block_of(a.film) == block_of(b.film));
             for (packet, group) in blocks.flat_map(|block| block.chunks(PACKET)).enumerate() {
                 let n = group.len();
@@ -187,7 +188,7 @@ impl<'a> Context<'a> {
                 bvh.intersect_packet(&rays[..n], &mut hits[..n]);
                 for ((job, &(origin, direction, _)), hit) in group.iter().zip(&rays).zip(&hits) {
                     let Some(hit) = hit else { continue };
-                    let mut point = surface_point(&scene.mesh, hit, direction, plan.point_options());
+                    let mut point = surface_point(&scene.mesh, hit, direction, options);
                     if plan.normal_textures {
                         apply_normal_texture(&mut point, &scene.mesh, hit, &scene.materials, &scene.textures);
                     }

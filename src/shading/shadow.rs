@@ -158,9 +158,9 @@ impl ShadowRay {
     /// [`shadow_lift`](crate::surface::SurfacePoint::shadow_lift), 0 on flat meshes), and the
     /// segment keeps its direction and length: it ends as far from the light as the lift, a
     /// fraction of a triangle. (Aiming at the light from the lifted origin instead took a square
-    /// root and a division per ray, 16% more of the dragon's shading time.) `mitsuba` always starts at
-    /// `p`. Always inlined: left to the compiler, it became a call per shadow ray once it took
-    /// the lift (1.6% more instructions in renders that lift nothing).
+    /// root and a division per ray, 16% more of the dragon's shading time.) `mitsuba` always
+    /// starts at `p`. Always inlined: left to the compiler, it became a call per shadow ray once
+    /// it took the lift (1.6% more instructions in renders that lift nothing).
     #[inline(always)]
     pub fn new(offset: ShadowOffset, p: Vec3, lift: f32, ng: Vec3, wi: Vec3, distance: f32, scene_unit: f32) -> Self {
         match offset {
