@@ -11,6 +11,8 @@
 //!    centre sample of a neighbour hit another material, or nothing (a silhouette between two
 //!    black areas shows no contrast). A pixel refines if the values bend at it or at a
 //!    neighbour: an edge that crosses a pixel between sample centres bends the values beside it.
+//!    A pixel that does not refine takes its centre sample corrected for the shading's curvature
+//!    by its four neighbours' centres (`smooth_pixel_mean`, exact for quadratic shading).
 //! 3. **Refinement**, by the sampler's own rule, to a tolerance of t times the pixel's scale:
 //!    the largest of its centre value, a twentieth of its neighbourhood's level and display white
 //!    (the radiance 8-bit output shows as white, 2^−exposure): below white the tolerance is
@@ -186,7 +188,16 @@ pub fn refine(
                 for k in 0..naovs {
                     sums.aovs[k][slot] = centre.aovs[k][a];
                 }
-                if film.spp > 1 && active_at(x, y) {
+                let refines = film.spp > 1 && active_at(x, y);
+                if film.spp > 1 && !refines {
+                    let around = [(-1, 0), (1, 0), (0, -1), (0, 1)]
+                        .map(|(dx, dy)| neighbour(film, x, y, dx, dy).map(|(nx, ny)| centres.at(nx, ny)));
+                    sums.radiance[slot] = smooth_pixel_mean(&centre.radiance, a, around);
+                    for k in 0..naovs {
+                        sums.aovs[k][slot] = smooth_pixel_mean(&centre.aovs[k], a, around);
+                    }
+                }
+                if refines {
                     let Neighbourhood { level, low, .. } = bent_at(x, y);
                     let c = centre.radiance[a];
                     let beside = [(-1, 0), (1, 0), (0, -1), (0, 1)]
@@ -241,6 +252,27 @@ thread_local! {
     /// is its own job, see `par_tiles`), and growing them again each time cost 1.3% of the
     /// instructions of the dragon's `cells` render (callgrind), mostly in `realloc`.
     static SCRATCH: RefCell<(Scratch, Vec<SurfaceSample>)> = RefCell::default();
+}
+
+/// The mean over a pixel that does not refine, from its centre sample `values[a]` and its four
+/// neighbours' (`around`: left, right, up, down, where they lie on the film). The centre alone is
+/// the midpoint rule, which errs by (h²/24)·(f_xx + f_yy) over a pixel of side h; along each axis
+/// with both neighbours, the second difference of the three centres estimates h²·f'' and its
+/// 24th is added. The result is a blur with positive weights (20/24 for the centre, 1/24 per
+/// neighbour): it cannot overshoot its samples, and NaN-free samples give a NaN-free mean.
+/// Exact for quadratic shading; a pixel whose neighbourhood bends or changes surface refines
+/// instead (`neighbourhood`), so the samples used here lie on one smooth surface. On the dragon
+/// it takes the error of the one-sample pixels from 6.9e-5 to 5.1e-5 (README, "Where the error
+/// sits").
+fn smooth_pixel_mean(values: &[Vec3], a: usize, around: [Option<usize>; 4]) -> Vec3 {
+    let c = values[a];
+    let mut v = c;
+    for (n0, n1) in [(around[0], around[1]), (around[2], around[3])] {
+        if let (Some(n0), Some(n1)) = (n0, n1) {
+            v += (values[n0] + values[n1] - 2.0 * c) / 24.0;
+        }
+    }
+    v
 }
 
 /// One sample at the centre of every pixel of `rect`.
@@ -322,4 +354,49 @@ fn neighbour(film: &FilmSettings, x: u32, y: u32, dx: i32, dy: i32) -> Option<(u
 /// proportionally tighter tolerances.
 fn display_white(film: &FilmSettings) -> f32 {
     (-film.exposure).exp2()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Quadratic shading f(x, y) and its exact mean over the pixel [x, x+1] × [y, y+1].
+    fn quadratic(x: f32, y: f32) -> f32 {
+        0.3 + 0.1 * x - 0.05 * y + 0.02 * x * x - 0.03 * y * y + 0.01 * x * y
+    }
+    fn exact_mean(x: f32, y: f32) -> f32 {
+        // ∫₀¹ (x+s)² ds = x² + x + 1/3; the cross term's mean is (x + ½)(y + ½).
+        0.3 + 0.1 * (x + 0.5) - 0.05 * (y + 0.5) + 0.02 * (x * x + x + 1.0 / 3.0)
+            - 0.03 * (y * y + y + 1.0 / 3.0)
+            + 0.01 * (x + 0.5) * (y + 0.5)
+    }
+
+    /// The centre samples of pixels (x, y) with x, y in 0..3, row-major, as values.
+    fn centres() -> Vec<Vec3> {
+        (0..9)
+            .map(|i| Vec3::splat(quadratic((i % 3) as f32 + 0.5, (i / 3) as f32 + 0.5)))
+            .collect()
+    }
+
+    #[test]
+    fn a_smooth_pixels_mean_is_exact_for_quadratic_shading() {
+        let values = centres();
+        let around = [Some(3), Some(5), Some(1), Some(7)];
+        let mean = smooth_pixel_mean(&values, 4, around).x;
+        let exact = exact_mean(1.0, 1.0);
+        assert!((mean - exact).abs() < 1e-6, "{mean} against {exact}");
+        let centre_error = (values[4].x - exact).abs();
+        assert!(centre_error > 1e-4, "the centre alone errs: {centre_error}");
+    }
+
+    #[test]
+    fn at_the_films_border_only_axes_with_both_neighbours_are_corrected() {
+        let values = centres();
+        // Pixel (0, 1) has no left neighbour: x keeps the midpoint rule, y is corrected.
+        let mean = smooth_pixel_mean(&values, 3, [None, Some(4), Some(0), Some(6)]).x;
+        let x_error = 0.02 / 12.0; // the midpoint rule's error on 0.02·x²
+        assert!((mean - (exact_mean(0.0, 1.0) - x_error)).abs() < 1e-6, "{mean}");
+        // Without neighbours, the centre.
+        assert_eq!(smooth_pixel_mean(&values, 3, [None; 4]), values[3]);
+    }
 }
