@@ -11,7 +11,7 @@ use std::borrow::Borrow;
 
 use glam::Vec3;
 
-use super::{assignment_term, front_lift, Shader, BATCH};
+use super::{assignment_term, Shader, BATCH};
 use crate::shading::brdf::{dot3, map3, F32x8, LaneInstructions, LaneMask, LocalDots, Mask, Mask8, Real, LANES};
 use crate::shading::convention::ShadingConvention;
 use crate::shading::light::{Light, LightSamples};
@@ -31,6 +31,10 @@ struct FacingLanes<'m> {
     position: [F32x8; 3],
     /// Geometric normal (the shadow ray's offset side).
     ng: [F32x8; 3],
+    /// Height above the point its shadow rays start at (`SurfacePoint::shadow_lift`), 0 where
+    /// a two-sided material turned the normals round: lifting along the turned normal would
+    /// move the origin through the surface (see `front_lift`).
+    lift: F32x8,
     ns: [F32x8; 3],
     wo: [F32x8; 3],
     cos_o: F32x8,
@@ -48,22 +52,25 @@ struct LitLanes {
 }
 
 impl<'m> FacingLanes<'m> {
-    /// The lanes of `present` points: a two-sided material turns both normals towards the
-    /// viewer where the shading normal faces away from it.
+    /// The lanes of `present` points with shadow-ray lifts `lift`: a two-sided material turns
+    /// both normals towards the viewer where the shading normal faces away from it, and drops
+    /// the lift there.
     #[inline(always)]
-    fn new(material: &'m Material, points: &SurfaceLanes, ng: [F32x8; 3], present: Mask8) -> Self {
+    fn new(material: &'m Material, points: &SurfaceLanes, ng: [F32x8; 3], lift: F32x8, present: Mask8) -> Self {
         let wo = points.to_viewer;
-        let (mut ns, mut ng) = (points.shading_normal, ng);
+        let (mut ns, mut ng, mut lift) = (points.shading_normal, ng, lift);
         if material.two_sided {
             let flip = dot3(ns, wo).lt(F32x8::splat(0.0));
             ns = map3(ns, |c| F32x8::select(flip, -c, c));
             ng = map3(ng, |c| F32x8::select(flip, -c, c));
+            lift = F32x8::select(flip, F32x8::splat(0.0), lift);
         }
         let cos_o = dot3(ns, wo);
         FacingLanes {
             material,
             position: points.position,
             ng,
+            lift,
             ns,
             wo,
             cos_o,
@@ -151,8 +158,14 @@ impl<O: Occluder> Shader<'_, O> {
     #[inline(always)]
     fn shade_physical_lanes(&self, points: &SurfaceLanes) -> [F32x8; 3] {
         let material = &self.materials[points.material as usize];
-        // No shadow rays here: the geometric normal is not read.
-        let facing = FacingLanes::new(material, points, points.shading_normal, Mask8::splat(true));
+        // No shadow rays here: the geometric normal and the lift are not read.
+        let facing = FacingLanes::new(
+            material,
+            points,
+            points.shading_normal,
+            F32x8::splat(0.0),
+            Mask8::splat(true),
+        );
         let mut radiance = [F32x8::splat(0.0); 3];
         if !facing.visible.any() {
             return radiance;
@@ -265,14 +278,15 @@ impl<O: Occluder> Shader<'_, O> {
         // `array::from_fn`, which the compiler left as calls copying the groups around.)
         let mut facing: [Option<FacingLanes>; GROUPS] = [const { None }; GROUPS];
         for (&(start, end), facing) in ranges.iter().zip(&mut facing) {
-            // Each lane's point as a row of its four vectors, then the rows as lanes.
-            let mut rows = [[0.0f32; 12]; LANES];
+            // Each lane's point as a row of its four vectors and its lift, then the rows as lanes.
+            let mut rows = [[0.0f32; 13]; LANES];
             for (i, row) in rows.iter_mut().enumerate() {
                 let p = point(order[(start + i).min(end - 1)]);
                 let vectors = [p.position, p.shading_normal, p.to_viewer, p.geometric_normal];
                 for (v, chunk) in vectors.iter().zip(row.chunks_exact_mut(3)) {
                     chunk.copy_from_slice(&v.to_array());
                 }
+                row[12] = p.shadow_lift;
             }
             let lanes = |v: usize| map3([0, 1, 2], |c| F32x8::from_fn(|i| rows[i][3 * v + c]));
             let material = point(order[start]).material;
@@ -287,6 +301,7 @@ impl<O: Occluder> Shader<'_, O> {
                 &self.materials[material as usize],
                 &surface,
                 lanes(3),
+                F32x8::from_fn(|i| rows[i][12]),
                 present,
             ));
         }
@@ -297,11 +312,7 @@ impl<O: Occluder> Shader<'_, O> {
                 *lit = facing.as_ref().map(|f| f.lit(light));
             }
             if let Some(occluder) = self.occluder {
-                let lift = |g: usize, i: usize| {
-                    let p = point(order[ranges[g].0 + i]);
-                    (p.shadow_lift, p.geometric_normal)
-                };
-                self.block(occluder, &facing, &lift, &mut lit, shadow_rays);
+                self.block(occluder, &facing, &mut lit, shadow_rays);
             }
             for ((facing, lit), radiance) in facing.iter().zip(&lit).zip(&mut radiance) {
                 if let (Some(facing), Some(lit)) = (facing, lit) {
@@ -324,7 +335,6 @@ impl<O: Occluder> Shader<'_, O> {
         &self,
         occluder: &O,
         facing: &[Option<FacingLanes>; GROUPS],
-        shadow_lift: &impl Fn(usize, usize) -> (f32, Vec3),
         lit: &mut [Option<LitLanes>; GROUPS],
         shadow_rays: &mut u64,
     ) {
@@ -342,10 +352,7 @@ impl<O: Occluder> Shader<'_, O> {
             };
             for i in (0..LANES).filter(|&i| lit.lit.test(i)) {
                 let (wi, distance) = (lane(&lit.ls.wi, i), lit.ls.distance.0[i]);
-                let (p, ng) = (lane(&facing.position, i), lane(&facing.ng, i));
-                // Read from the point, not carried in lanes: only lit lanes need it.
-                let (lift, point_ng) = shadow_lift(g, i);
-                let lift = front_lift(lift, ng, point_ng);
+                let (p, ng, lift) = (lane(&facing.position, i), lane(&facing.ng, i), facing.lift.0[i]);
                 rays[n] = ShadowRay::new(self.shadow_offset, p, lift, ng, wi, distance, self.scene_unit);
                 from[n] = (g, i);
                 n += 1;
