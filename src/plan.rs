@@ -346,7 +346,7 @@ impl RenderPlan {
     pub fn point_options(&self) -> PointOptions {
         PointOptions {
             uvs: self.uvs,
-            shadow_lift: self.smooth_shadow_origins,
+            smooth_shadow_origins: self.smooth_shadow_origins,
         }
     }
 

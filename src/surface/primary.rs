@@ -29,7 +29,7 @@ pub struct PointOptions {
     pub uvs: bool,
     /// Lift shadow-ray origins to the smooth surface of the vertex normals; else they leave
     /// from the triangle.
-    pub shadow_lift: bool,
+    pub smooth_shadow_origins: bool,
 }
 
 /// Builds the surface point of `hit` for a ray travelling along `direction`.
@@ -60,7 +60,7 @@ pub fn surface_point(mesh: &TriangleMesh, hit: &Hit, direction: Vec3, options: P
     }
     // The moved point's height above the triangle: finite, as `smooth_origin` returns p for
     // anything else and the normal is unit.
-    let shadow_lift = if options.shadow_lift {
+    let shadow_lift = if options.smooth_shadow_origins {
         let moved = smooth_origin(position, [b0, b1, b2], [p0, p1, p2], [n[i0], n[i1], n[i2]]);
         (moved - position).dot(geometric_normal)
     } else {
