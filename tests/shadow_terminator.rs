@@ -224,3 +224,65 @@ transform = {{ scale = 3.0 }}
     assert!(facing > 10_000, "{facing} pixels face the light");
     assert_eq!(wrong, 0, "of {facing} pixels facing the light");
 }
+
+/// A point light hanging just under a ceiling, closer to it than the sphere's lifts: the
+/// shadow rays leave from the lifted origins but must still end at the light. (Kept parallel to
+/// the light's direction from the hit, they ended a lift's height above the light, behind the
+/// ceiling, and the sphere's top went black.)
+#[test]
+fn lifted_shadow_rays_end_at_a_light_just_under_a_ceiling() {
+    let dir = scene_dir("ceiling");
+    let light = Vec3::new(0.3, 2.29, 0.0);
+    let camera = Vec3::new(2.6, 2.25, 2.6);
+    let toml = format!(
+        r#"{film}
+[camera]
+position = [{cx}, {cy}, {cz}]
+look_at = [0.0, 1.6, 0.0]
+fov = 50.0
+[[light]]
+type = "point"
+position = [{lx}, {ly}, {lz}]
+intensity = {IRRADIANCE}
+[material.clay]
+model = "lambert"
+albedo = [{ALBEDO}, {ALBEDO}, {ALBEDO}]
+[[object]]
+mesh = "sphere.obj"
+material = "clay"
+transform = {{ translate = [0.0, 1.0, 0.0] }}
+[[object]]
+mesh = "ground.obj"
+material = "clay"
+transform = {{ translate = [0.0, 2.3, 0.0] }}
+"#,
+        film = film(),
+        cx = camera.x,
+        cy = camera.y,
+        cz = camera.z,
+        lx = light.x,
+        ly = light.y,
+        lz = light.z,
+    );
+    std::fs::write(dir.join("scene.toml"), toml).unwrap();
+    let (image, normal, position, smoothed) = render_dir(&dir);
+    assert!(smoothed);
+    let (mut facing, mut wrong) = (0, 0);
+    for y in 0..SIZE {
+        for x in 0..SIZE {
+            let (p, n) = (position.get(x, y), normal.get(x, y));
+            let d = light - p;
+            let cos = n.dot(d.normalize());
+            let seen = n.dot((camera - p).normalize()) > 0.05;
+            // The sphere only (the ceiling is at y = 2.3, the background has no normal).
+            if n == Vec3::ZERO || p.y > 2.2 || !seen || cos <= COS_MIN {
+                continue;
+            }
+            facing += 1;
+            let e = lambert(cos) / d.length_squared();
+            wrong += u32::from((image.get(x, y).x - e).abs() > 1e-3 * e);
+        }
+    }
+    assert!(facing > 800, "{facing} pixels face the light");
+    assert_eq!(wrong, 0, "of {facing} pixels facing the light");
+}

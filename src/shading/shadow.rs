@@ -155,17 +155,16 @@ impl ShadowRay {
     /// The shadow ray from `p` (geometric normal `ng`) towards a light in direction `wi` at
     /// `distance` (infinite for directional lights), with the origin offset `offset` asks for.
     /// The error-bound offset starts `lift` above `p` along `ng` (the point's
-    /// [`shadow_lift`](crate::surface::SurfacePoint::shadow_lift), 0 on flat meshes), and the
-    /// segment keeps its direction and length: it ends as far from the light as the lift, a
-    /// fraction of a triangle. (Aiming at the light from the lifted origin instead took a square
-    /// root and a division per ray, 16% more of the dragon's shading time.) `mitsuba` always
-    /// starts at `p`. Always inlined: left to the compiler, it became a call per shadow ray once
-    /// it took the lift (1.6% more instructions in renders that lift nothing).
+    /// [`shadow_lift`](crate::surface::SurfacePoint::shadow_lift), 0 on flat meshes) and aims
+    /// at the light from there, so the segment still ends at the light: kept parallel to `wi`,
+    /// it would end a lift's height beside the light, through a ceiling the light hangs under
+    /// (`tests/shadow_terminator.rs`). `mitsuba` always starts at `p`. Always inlined: left to
+    /// the compiler, it became a call per shadow ray once it took the lift (1.6% more
+    /// instructions in renders that lift nothing).
     #[inline(always)]
     pub fn new(offset: ShadowOffset, p: Vec3, lift: f32, ng: Vec3, wi: Vec3, distance: f32, scene_unit: f32) -> Self {
         match offset {
-            // p + 0·ng is p: no branch for flat meshes.
-            ShadowOffset::ErrorBound => Self::towards_light(p + lift * ng, ng, wi, distance, scene_unit),
+            ShadowOffset::ErrorBound => Self::from_lifted(p, lift, ng, wi, distance, scene_unit),
             ShadowOffset::Mitsuba => Self::mitsuba(p, ng, wi, distance),
         }
     }
@@ -199,18 +198,36 @@ impl ShadowRay {
     /// `wi` at `distance` (infinite for directional lights).
     #[inline]
     pub fn towards_light(p: Vec3, ng: Vec3, wi: Vec3, distance: f32, scene_unit: f32) -> Self {
+        Self::from_lifted(p, 0.0, ng, wi, distance, scene_unit)
+    }
+
+    /// The error-bound ray of [`ShadowRay::new`]: from `p + lift·ng`, moved off the surface by
+    /// [`offset_origin`], towards the light at `p + wi·distance` (or along `wi`, if infinite).
+    #[inline(always)]
+    fn from_lifted(p: Vec3, lift: f32, ng: Vec3, wi: Vec3, distance: f32, scene_unit: f32) -> Self {
         let n = if ng.dot(wi) >= 0.0 { ng } else { -ng };
-        let origin = offset_origin(p, n, scene_unit);
-        let t_max = if distance.is_finite() {
-            // Measure from the moved origin, and stop just short of the light itself.
-            (p + wi * distance - origin).length() * (1.0 - 1e-5)
-        } else {
-            f32::INFINITY
-        };
+        // p + 0·ng is p: no branch for flat meshes.
+        let origin = offset_origin(p + lift * ng, n, scene_unit);
+        if !distance.is_finite() {
+            // A directional light: every parallel ray reaches it.
+            return Self {
+                origin,
+                direction: wi,
+                t_max: f32::INFINITY,
+            };
+        }
+        // Measure from the moved origin, aim at the light itself, and stop just short of it.
+        // length > 0: lights reject d = 0, and the origin moves by a small fraction of a
+        // triangle (the lift) plus ulps, so it lands on the light only if the light sits
+        // within that of the surface; then the ray is degenerate, t_max is 0 and nothing
+        // occludes it (the direction falls back to `wi`, never NaN).
+        let to_light = p + wi * distance - origin;
+        let length = to_light.length();
+        let direction = if length > 0.0 { to_light / length } else { wi };
         Self {
             origin,
-            direction: wi,
-            t_max,
+            direction,
+            t_max: length * (1.0 - 1e-5),
         }
     }
 }
