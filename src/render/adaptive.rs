@@ -39,7 +39,7 @@ use super::progressive::SampleCache;
 use super::rounds;
 use super::subdivision::{self, Scratch};
 use super::tile::{block_order, Context, PixelSums, SampleJob, SurfaceSample};
-use super::{assemble, par_tiles, tiles};
+use super::{assemble, par_tiles, place_tile, tiles};
 use crate::film::{FilmSettings, PixelRect, SamplerKind};
 
 /// Floor of a pixel's scale in the convergence test, as a share of its neighbourhood's level.
@@ -238,10 +238,7 @@ pub fn refine(
     let sums = assemble(region, &region_tiles, parts, naovs);
     let mut counts = vec![0u32; (region.width() * region.height()) as usize];
     for (t, c) in region_tiles.iter().zip(count_parts) {
-        for (i, v) in c.into_iter().enumerate() {
-            let (x, y) = (t.x0 + i as u32 % t.width(), t.y0 + i as u32 / t.width());
-            counts[((y - region.y0) * region.width() + (x - region.x0)) as usize] = v;
-        }
+        place_tile(region, t, &c, &mut counts);
     }
     (sums, counts)
 }

@@ -189,17 +189,22 @@ fn par_tiles(tiles: &[PixelRect]) -> impl IndexedParallelIterator<Item = &PixelR
 fn assemble(region: PixelRect, tiles: &[PixelRect], parts: Vec<PixelSums>, aovs: usize) -> PixelSums {
     let mut all = PixelSums::new((region.width() * region.height()) as usize, aovs);
     for (t, part) in tiles.iter().zip(parts) {
-        for (i, v) in part.radiance.iter().enumerate() {
-            let (x, y) = (t.x0 + i as u32 % t.width(), t.y0 + i as u32 / t.width());
-            let at = ((y - region.y0) * region.width() + (x - region.x0)) as usize;
-            all.radiance[at] = *v;
-            all.surface[at] = part.surface[i];
-            for k in 0..aovs {
-                all.aovs[k][at] = part.aovs[k][i];
-            }
+        place_tile(region, t, &part.radiance, &mut all.radiance);
+        place_tile(region, t, &part.surface, &mut all.surface);
+        for (tile_aov, aov) in part.aovs.iter().zip(&mut all.aovs) {
+            place_tile(region, t, tile_aov, aov);
         }
     }
     all
+}
+
+/// Copies the row-major values of `tile` into the row-major values of `region`, row by row.
+fn place_tile<T: Copy>(region: PixelRect, tile: &PixelRect, values: &[T], into: &mut [T]) {
+    let width = tile.width() as usize;
+    for (row, y) in values.chunks_exact(width).zip(tile.y0..tile.y1) {
+        let at = ((y - region.y0) * region.width() + (tile.x0 - region.x0)) as usize;
+        into[at..at + width].copy_from_slice(row);
+    }
 }
 
 /// Fixed sampling: every pixel takes the film's spp samples from its sampler.
