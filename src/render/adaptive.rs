@@ -19,8 +19,9 @@
 //!    absolute, as the error a viewer and RMSE see is.
 //!    - `adaptive` (`rounds`): Owen-scrambled Sobol samples in rounds of 16, 64, 256, … until the
 //!      pixel's estimate stops moving and the two halves of its samples agree.
-//!    - `cells` (`subdivision`): a centred 4×4 grid of cells, split 2×2 where a cell's value still
-//!      jumps against its neighbours', down to 32×32.
+//!    - `cells` (`subdivision`): a centred 4×4 grid of cells (3×3 for a pixel active only
+//!      through the dilation), split 2×2 where a cell's value still jumps against its
+//!      neighbours', down to 32×32.
 //!
 //!    On the glossy dragon `cells` reaches the 8×8 grid's error with 6.6 samples per pixel and
 //!    `adaptive` with 8.7; on the Cornell box, whose edges run along the pixel grid, `adaptive`
@@ -82,6 +83,9 @@ pub struct ActivePixel {
     pub level: f32,
     /// Smallest of the neighbourhood's centre samples' largest channels.
     pub low: f32,
+    /// The centre values bend at the pixel itself; else it refines only because they bend at a
+    /// neighbour (the dilation), and the cells take a first look of 2×2 instead of 4×4.
+    pub bends: bool,
 }
 
 /// Renders `region` adaptively; returns the per-pixel sums and sample counts (row-major).
@@ -211,6 +215,7 @@ pub fn refine(
                         scale: c.max_element().max(DARK_FLOOR * level).max(white),
                         level,
                         low,
+                        bends: bent_at(x, y).bends,
                     });
                 }
             }

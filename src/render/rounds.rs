@@ -186,6 +186,7 @@ mod tests {
             scale: 1.0,
             level,
             low,
+            bends: true,
         };
         let (mut sums, mut counts) = (PixelSums::new(1, 0), [0u32]);
         let mut trace = |jobs: &[SampleJob], sums: &mut PixelSums| {
