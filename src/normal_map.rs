@@ -16,6 +16,7 @@ use crate::shading::brdf::{LaneInstructions, LANES};
 use crate::shading::convention::ShadingConvention;
 use crate::shading::shader::Shader;
 use crate::shading::shadow::NoOcclusion;
+use crate::shading::shadow::SceneExtent;
 use crate::surface::normal_image::{ImageSurface, NormalDecoding, NormalImage, PixelPositions, TpScaling};
 use crate::surface::SurfaceLanes;
 
@@ -56,7 +57,7 @@ pub fn shader<'a>(scene: &'a NormalMapScene, convention: ShadingConvention) -> S
         materials: std::slice::from_ref(&scene.material),
         lights: &scene.lights,
         occluder: None,
-        scene_unit: 1.0,
+        extent: SceneExtent::UNIT,
         shadow_offset: Default::default(),
         convention,
         textures: None,

@@ -72,17 +72,28 @@ impl<'a> RayPacket<'a> {
         let lanes = |v: &[Vec3A; PACKET], group: usize| {
             let ray = |k: usize| v[4 * group + k];
             let (a, b, c, d) = (ray(0), ray(1), ray(2), ray(3));
-            [0, 1, 2].map(|axis| Vec4::new(a[axis], b[axis], c[axis], d[axis]))
+            [
+                Vec4::new(a.x, b.x, c.x, d.x),
+                Vec4::new(a.y, b.y, c.y, d.y),
+                Vec4::new(a.z, b.z, c.z, d.z),
+            ]
         };
+        // Arrays written out rather than `[0, 1, 2].map(…)`: the compiler left `map`'s closures
+        // as calls once the code around the packet walks changed (+0.3% instructions).
         Self {
             rays,
-            origin_near: [0, 1, 2].map(|axis| extreme(axis, true)),
-            origin_far: [0, 1, 2].map(|axis| extreme(axis, false)),
-            inv_lo: [0, 1, 2].map(|axis| Vec4::splat(i_lo[axis])),
-            inv_hi: [0, 1, 2].map(|axis| Vec4::splat(i_hi[axis])),
+            origin_near: [extreme(0, true), extreme(1, true), extreme(2, true)],
+            origin_far: [extreme(0, false), extreme(1, false), extreme(2, false)],
+            inv_lo: [Vec4::splat(i_lo.x), Vec4::splat(i_lo.y), Vec4::splat(i_lo.z)],
+            inv_hi: [Vec4::splat(i_hi.x), Vec4::splat(i_hi.y), Vec4::splat(i_hi.z)],
             near,
-            lane_origin: [0, 1, 2, 3].map(|group| lanes(origin, group)),
-            lane_inv_dir: [0, 1, 2, 3].map(|group| lanes(inv_dir, group)),
+            lane_origin: [lanes(origin, 0), lanes(origin, 1), lanes(origin, 2), lanes(origin, 3)],
+            lane_inv_dir: [
+                lanes(inv_dir, 0),
+                lanes(inv_dir, 1),
+                lanes(inv_dir, 2),
+                lanes(inv_dir, 3),
+            ],
         }
     }
 

@@ -16,6 +16,7 @@ use crate::film::PixelRect;
 use crate::plan::{Aov, RenderPlan};
 use crate::scene::Scene;
 use crate::shading::shader::Shader;
+use crate::shading::shadow::{SceneExtent, ShadowOffset};
 use crate::surface::camera::Camera;
 use crate::surface::normal_texture::apply_normal_texture;
 use crate::surface::primary::surface_point;
@@ -150,7 +151,14 @@ impl<'a> Context<'a> {
                 materials: &scene.materials,
                 lights: &scene.lights,
                 occluder: if plan.shadows { bvh } else { None },
-                scene_unit: bvh.map_or(1.0, Bvh::scene_unit),
+                // Only the mitsuba offset reads the bounding sphere: no pass over the vertices
+                // for it otherwise.
+                extent: SceneExtent::new(
+                    bvh.map_or(1.0, Bvh::scene_unit),
+                    (scene.shadow_offset == ShadowOffset::Mitsuba)
+                        .then(|| scene.mesh.bounds())
+                        .flatten(),
+                ),
                 convention: plan.convention,
                 textures: plan.textures.then_some(scene.textures.as_slice()),
                 emission: plan.emission,

@@ -15,6 +15,7 @@ use crate::shading::convention::ShadingConvention;
 use crate::shading::light::{Falloff, Light, LightKind};
 use crate::shading::material::Material;
 use crate::shading::shader::Shader;
+use crate::shading::shadow::SceneExtent;
 use crate::shading::shadow::{NoOcclusion, Occluder};
 use crate::surface::SurfacePoint;
 
@@ -67,7 +68,10 @@ fn shade<O: Occluder>(sp: &SurfacePoint, lights: &[Light], occluder: Option<&O>,
         materials: &materials,
         lights,
         occluder,
-        scene_unit: unit,
+        extent: SceneExtent {
+            unit,
+            ..SceneExtent::UNIT
+        },
         shadow_offset: Default::default(),
         convention: ShadingConvention::Physical,
         textures: None,

@@ -353,7 +353,7 @@ impl<O: Occluder> Shader<'_, O> {
             for i in (0..LANES).filter(|&i| lit.lit.test(i)) {
                 let (wi, distance) = (lane(&lit.ls.wi, i), lit.ls.distance.0[i]);
                 let (p, ng, lift) = (lane(&facing.position, i), lane(&facing.ng, i), facing.lift.0[i]);
-                rays[n] = ShadowRay::new(self.shadow_offset, p, lift, ng, wi, distance, self.scene_unit);
+                rays[n] = ShadowRay::new(self.shadow_offset, p, lift, ng, wi, distance, &self.extent);
                 from[n] = (g, i);
                 n += 1;
             }
@@ -380,7 +380,7 @@ mod tests {
     use crate::shading::brdf::LANES;
     use crate::shading::convention::ShadingConvention;
     use crate::shading::material::{Material, Specular};
-    use crate::shading::shadow::NoOcclusion;
+    use crate::shading::shadow::{NoOcclusion, SceneExtent};
     use crate::shading::texture::{Filter, TextureRef, Wrap};
     use crate::surface::SurfacePoint;
 
@@ -399,7 +399,7 @@ mod tests {
                 materials: std::slice::from_ref(&material),
                 lights: &lights,
                 occluder: None,
-                scene_unit: 1.0,
+                extent: SceneExtent::UNIT,
                 convention,
                 textures: None,
                 emission: false,

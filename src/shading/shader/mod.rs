@@ -18,7 +18,7 @@ use crate::shading::brdf::{map3, LocalDots, Mask, Real};
 use crate::shading::convention::{assignment_dots, ShadingConvention};
 use crate::shading::light::{Light, LightSample};
 use crate::shading::material::{Material, PbrPoint, Specular};
-use crate::shading::shadow::{Occluder, ShadowOffset, ShadowRay};
+use crate::shading::shadow::{Occluder, SceneExtent, ShadowOffset, ShadowRay};
 use crate::shading::texture::TextureImage;
 use crate::surface::SurfacePoint;
 
@@ -55,8 +55,8 @@ pub struct Shader<'a, O: Occluder> {
     pub lights: &'a [Light],
     /// What blocks shadow rays; `None` when the plan leaves shadows out.
     pub occluder: Option<&'a O>,
-    /// Length unit of the shadow-ray offset (scene size / 256).
-    pub scene_unit: f32,
+    /// The scene's size, as shadow rays need it.
+    pub extent: SceneExtent,
     /// How directions and dot products are formed (the plan decides).
     pub convention: ShadingConvention,
     /// The scene's decoded texture images when the plan samples material textures; `None`
@@ -246,7 +246,7 @@ impl<O: Occluder> Shader<'_, O> {
             facing.ng,
             ls.wi,
             ls.distance,
-            self.scene_unit,
+            &self.extent,
         )
     }
 
@@ -457,7 +457,7 @@ mod tests {
             materials,
             lights,
             occluder: Some(occluder),
-            scene_unit: 1.0,
+            extent: SceneExtent::UNIT,
             convention: ShadingConvention::Physical,
             textures: None,
             emission: false,
@@ -474,13 +474,21 @@ mod tests {
         }
     }
 
-    /// Blocks nothing and records where every shadow ray starts.
-    struct OriginRecorder(std::sync::Mutex<Vec<Vec3>>);
+    /// Blocks nothing and records every shadow ray.
+    struct RayRecorder(std::sync::Mutex<Vec<ShadowRay>>);
 
-    impl Occluder for OriginRecorder {
+    impl Occluder for RayRecorder {
         fn occluded(&self, ray: &ShadowRay) -> bool {
-            self.0.lock().unwrap().push(ray.origin);
+            self.0.lock().unwrap().push(*ray);
             false
+        }
+    }
+
+    impl RayRecorder {
+        /// The rays `shade` traced, taken out of the record.
+        fn rays(&self, shade: &dyn Fn()) -> Vec<ShadowRay> {
+            shade();
+            std::mem::take(&mut *self.0.lock().unwrap())
         }
     }
 
@@ -496,7 +504,7 @@ mod tests {
         // A two-sided surface at the origin facing +y, lifted by 0.25, with a light on each side.
         let (lights, materials) = ([light(5.0), light(-5.0)], [Material::lambert("m", [0.5; 3])]);
         assert!(materials[0].two_sided);
-        let occluder = OriginRecorder(Default::default());
+        let occluder = RayRecorder(Default::default());
         let shader = physical(&materials, &lights, &occluder);
         let front = SurfacePoint {
             position: Vec3::ZERO,
@@ -514,10 +522,7 @@ mod tests {
             to_viewer: Vec3::NEG_Y,
             ..front
         };
-        let origins = |shade: &dyn Fn()| {
-            shade();
-            std::mem::take(&mut *occluder.0.lock().unwrap())
-        };
+        let origins = |shade: &dyn Fn()| -> Vec<Vec3> { occluder.rays(shade).iter().map(|r| r.origin).collect() };
         let lifted = |o: &Vec3| (o.y - 0.25).abs() < 1e-3 && o.x == 0.0 && o.z == 0.0;
         let on_the_surface = |o: &Vec3| o.y < 0.0 && o.y > -1e-3 && o.x == 0.0 && o.z == 0.0;
         // One point at a time…
@@ -540,6 +545,57 @@ mod tests {
         });
         assert_eq!(lanes.iter().filter(|o| lifted(o)).count(), 8, "{lanes:?}");
         assert_eq!(lanes.iter().filter(|o| on_the_surface(o)).count(), 8, "{lanes:?}");
+    }
+
+    #[test]
+    fn with_the_mitsuba_offset_a_directional_lights_ray_ends_where_mitsuba_aims_it() {
+        let lights = [Light {
+            kind: LightKind::Directional {
+                direction: Vec3::new(0.0, -1.0, 0.0),
+            },
+            power: Vec3::ONE,
+            falloff: Falloff::None,
+        }];
+        let materials = [Material::lambert("m", [0.5; 3])];
+        let occluder = RayRecorder(Default::default());
+        let mut shader = physical(&materials, &lights, &occluder);
+        shader.extent = SceneExtent {
+            centre: Vec3::new(0.0, 0.0, 1.0),
+            radius: 3.0,
+            ..SceneExtent::UNIT
+        };
+        let point = |x: f32| SurfacePoint {
+            position: Vec3::new(x, 0.0, 0.0),
+            shadow_lift: 0.0,
+            // Tilted, so that the offset origin leaves the line along ω_i.
+            geometric_normal: Vec3::new(0.6, 0.8, 0.0),
+            shading_normal: Vec3::Y,
+            uv: Vec2::ZERO,
+            uv1: Vec2::ZERO,
+            material: 0,
+            to_viewer: Vec3::Y,
+        };
+        // pointshade's own offset: the ray runs to infinity along ω_i.
+        let own = occluder.rays(&|| {
+            shader.shade(&point(1.0), &mut 0);
+        });
+        assert!(own[0].t_max.is_infinite() && own[0].direction == Vec3::Y, "{own:?}");
+        // Mitsuba's: towards p + ω_i·2·max(R, |p − c|), from its offset origin, one point at a
+        // time and on lanes. Inside the sphere that is 2R = 6; far from it, twice the distance.
+        shader.shadow_offset = ShadowOffset::Mitsuba;
+        for (x, expected) in [(1.0f32, 6.0f32), (10.0, 2.0 * 101.0f32.sqrt())] {
+            let batch = [point(x); 8];
+            let rays = occluder.rays(&|| {
+                shader.shade(&batch[0], &mut 0);
+                assert!(shader.shade_batch_lanes(&batch, &mut [Vec3::ZERO; 8], &mut 0));
+            });
+            assert_eq!(rays.len(), 9);
+            for r in &rays {
+                let end = r.origin + r.direction * r.t_max;
+                assert!((end - Vec3::new(x, expected, 0.0)).length() < 1e-3 * expected, "{r:?}");
+                assert!(r.direction.x.abs() < 1e-3 && r.direction != Vec3::Y, "re-aimed: {r:?}");
+            }
+        }
     }
 
     #[test]
