@@ -34,7 +34,7 @@ fn check(scene: &Path) -> bool {
     let reference = read_linear(&reference_path)
         .unwrap_or_else(|e| panic!("{e}: every validation scene needs a committed reference (pointshade validate --update-references validation/references)"));
     let s = load_sampled(scene, SamplerKind::Grid, 1).unwrap();
-    let exact = export(&s, 1, BsdfChoice::NativeWhereExact).differences.is_empty();
+    let exact = export(&s, 1, BsdfChoice::NativeWhereExact, "s").differences.is_empty();
     let ours = render_ours(&s, ShadowOffset::Mitsuba).unwrap().0.image;
     let c = compare(&ours, &reference, TOLERANCE, 3);
     eprintln!(
@@ -70,7 +70,7 @@ fn own_mesh_scenes_agree_with_committed_mitsuba_references() {
 #[test]
 fn shared_mesh_scenes_agree_with_committed_mitsuba_references() {
     if !root().join("../shared/data/meshes").is_dir() {
-        eprintln!("SKIPPED: ../shared/data is missing; the bunny and dragon validation scenes need it");
+        eprintln!("SKIPPED: ../shared/data is missing; the bunny, dragon and glTF spheres validation scenes need it");
         return;
     }
     for s in scenes(&root().join("scenes/validation/shared")) {

@@ -1,7 +1,7 @@
 """pointshade's BRDF models as a Mitsuba 3 BSDF plugin named "pointshade".
 
 Mitsuba has no BSDF for Blinn-Phong, for the assignment's Schlick-Smith masking, for Schlick
-Fresnel or for a diffuse + specular sum, so this plugin re-implements pointshade's models from
+Fresnel, for a diffuse + specular sum or for glTF's metallic-roughness BRDF, so this plugin re-implements pointshade's models from
 their published formulas (README.md, "Materials and BRDFs") in Dr.Jit. It is written separately
 from the Rust code and in the textbook forms (tangent-form Smith G1, plain GGX denominator,
 G / (4 cos cos) without cancelling), so agreement between the two is evidence for both.
@@ -41,7 +41,7 @@ def register():
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
             self.model = props["model"] if props.has_property("model") else "lambert"
-            if self.model not in ("lambert", "blinn-phong", "cook-torrance"):
+            if self.model not in ("lambert", "blinn-phong", "cook-torrance", "gltf-pbr"):
                 raise ValueError(f"pointshade BSDF: unknown model {self.model!r}")
             self.albedo = _color(props, "albedo", 0.8)
             self.kd = _float(props, "kd", 1.0)
@@ -57,6 +57,10 @@ def register():
             # Per-channel Python floats: fresnel_conductor takes one complex index at a time.
             self.eta = _floats(props, "eta", 0.0)
             self.k = _floats(props, "k", 1.0)
+            # gltf-pbr: the base colour is `albedo`; alpha = roughness^2.
+            self.gltf_metallic = _float(props, "metallic", 0.0) if self.model == "gltf-pbr" else 0.0
+            if self.model == "gltf-pbr":
+                self.alpha = max(_float(props, "roughness", 1.0) ** 2, MIN_ALPHA)
             flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
             self.m_components = [flags]
             self.m_flags = flags
@@ -116,12 +120,29 @@ def register():
                 return mi.Color3f(self.specular_color)
             raise ValueError(f"pointshade BSDF: unknown F {self.f!r}")
 
+        def _gltf_pbr(self, ci, co, nh, ih):
+            # The glTF 2.0 specification's reference BRDF (Appendix B): a Lambert lobe for the
+            # non-metallic share, weighted by 1 - F, plus GGX with the height-correlated Smith
+            # visibility V = G / (4 cos cos) and Schlick's F from F0 = lerp(0.04, base, metallic).
+            m = self.gltf_metallic
+            a2 = self.alpha * self.alpha
+            d = a2 / (dr.pi * dr.square(nh * nh * (a2 - 1.0) + 1.0))
+            v = 0.5 / (ci * dr.sqrt(co * co * (1.0 - a2) + a2) + co * dr.sqrt(ci * ci * (1.0 - a2) + a2))
+            f0 = 0.04 * (1.0 - m) + self.albedo * m
+            f = f0 + (1.0 - f0) * dr.power(1.0 - dr.clip(ih, 0.0, 1.0), 5.0)
+            return (1.0 - f) * self.albedo * ((1.0 - m) / dr.pi) + f * (d * v)
+
         # --- BSDF interface --------------------------------------------------------------------
         def eval(self, ctx, si, wo, active=True):
             wi = si.wi
             co = mi.Frame3f.cos_theta(wi)
             ci = mi.Frame3f.cos_theta(wo)
             active = active & (ci > 0.0) & (co > 0.0)
+            if self.model == "gltf-pbr":
+                h = dr.normalize(wi + wo)
+                nh = dr.clip(mi.Frame3f.cos_theta(h), 0.0, 1.0)
+                value = self._gltf_pbr(ci, co, nh, dr.dot(wo, h))
+                return dr.select(active, value * ci, 0.0)
             value = self.albedo * (self.kd / dr.pi)
             if self.model != "lambert":
                 h = dr.normalize(wi + wo)

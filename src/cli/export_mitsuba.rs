@@ -53,8 +53,12 @@ pub fn run(args: ExportArgs) -> Result<(), InputError> {
     } else {
         BsdfChoice::NativeWhereExact
     };
-    let e = export(&scene, scene.film.spp, choice);
+    // Mesh files (glTF meshes, OBJs of several materials) go beside the XML, named after it.
+    let prefix = args.output.file_stem().map_or("scene".into(), |s| s.to_string_lossy());
+    let e = export(&scene, scene.film.spp, choice, &prefix);
+    let dir = args.output.parent().unwrap_or(std::path::Path::new("."));
     let mut files = vec![(args.output.clone(), e.scene.into_bytes())];
+    files.extend(e.meshes.into_iter().map(|(name, bytes)| (dir.join(name), bytes)));
     if args.per_light {
         let stem = args.output.with_extension("");
         for (k, xml) in e.per_light.into_iter().enumerate() {

@@ -2,8 +2,10 @@
 //!
 //! Everything is exported with Mitsuba's exact conventions (mitsuba3.md): perspective or
 //! orthographic sensor, `direct` integrator with one emitter sample and no BSDF samples, box
-//! filter, float32 `hdrfilm`, `stratified` sampler without jitter for the grid sampler. Meshes are
-//! referenced, not copied. Materials map to Mitsuba's own BSDFs where one computes exactly
+//! filter, float32 `hdrfilm`, `stratified` sampler without jitter for the grid sampler. OBJ meshes
+//! of one material are referenced, not copied; every other object (glTF meshes, OBJ files whose
+//! faces use several materials) is written as one binary PLY per material ([`super::ply`]), the
+//! world-space triangles and normals pointshade renders. Materials map to Mitsuba's own BSDFs where one computes exactly
 //! pointshade's model (Lambert → `diffuse`; Cook-Torrance with GGX, separable Smith and conductor
 //! or constant Fresnel and no diffuse part → `roughconductor`), and to the `pointshade` BSDF
 //! plugin (validation/pointshade_bsdf.py, pointshade's formulas re-implemented in Dr.Jit)
@@ -15,6 +17,7 @@ use std::path::Path;
 
 use glam::{Mat4, Vec3};
 
+use super::ply;
 use crate::film::SamplerKind;
 use crate::scene::Scene;
 use crate::shading::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
@@ -44,15 +47,21 @@ pub struct MitsubaExport {
     pub differences: Vec<String>,
     /// How each material was mapped (native BSDF or plugin), one line each.
     pub material_notes: Vec<String>,
+    /// Mesh files the scenes reference by file name, to be written beside them: (file name,
+    /// contents).
+    pub meshes: Vec<(String, Vec<u8>)>,
 }
 
 /// Mitsuba's default near clip, used where pointshade's is 0 (Mitsuba needs > 0).
 const MITSUBA_NEAR_CLIP: f32 = 0.01;
 
 /// Exports `scene` rendered at `spp` samples with `sampler` (grid → stratified without jitter).
-pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice) -> MitsubaExport {
+/// The mesh files it writes are named `{mesh_prefix}.object{i}.mat{m}.ply` (the prefix keeps the
+/// meshes of different exports into one folder apart).
+pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice, mesh_prefix: &str) -> MitsubaExport {
     let mut differences = Vec::new();
     let mut material_notes = Vec::new();
+    let mut meshes = Vec::new();
     let mut body = String::new();
     let _ = writeln!(body, "{}", integrator());
     let _ = writeln!(body, "{}", sensor(scene, spp, &mut differences));
@@ -60,40 +69,37 @@ pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice) -> MitsubaExport {
         let (xml, note) = bsdf(index, m, bsdfs);
         material_notes.push(format!("{}: {note}", m.name));
         if let Specular::GltfPbr(p) = &m.specular {
-            differences.push(format!(
-                "material '{}': the BSDF plugin has no gltf-pbr model{}",
-                m.name,
-                if p.textures == Default::default() {
-                    ""
-                } else {
-                    ", and its textures are not exported"
-                }
-            ));
+            if p.textures != Default::default() {
+                differences.push(format!(
+                    "material '{}': its glTF textures are not exported (the plugin takes the factors)",
+                    m.name
+                ));
+            }
+            if m.emits() {
+                differences.push(format!("material '{}': its emission is not exported", m.name));
+            }
         }
         let _ = writeln!(body, "{xml}");
     }
-    for object in &scene.objects {
+    for (i, object) in scene.objects.iter().enumerate() {
         let used = object.materials(&scene.mesh);
         let is_obj = crate::scene::extension(&object.mesh).as_deref() == Some("obj");
-        if !is_obj {
-            differences.push(format!(
-                "{}: Mitsuba cannot load this mesh format",
-                object.mesh.display()
-            ));
+        if is_obj && used.len() <= 1 {
+            let _ = writeln!(
+                body,
+                "{}",
+                shape(&object.mesh, object.transform, used.first().copied().unwrap_or(0))
+            );
             continue;
         }
-        if used.len() > 1 {
-            differences.push(format!(
-                "{}: {} materials in one OBJ (Mitsuba gives an OBJ file one BSDF)",
-                object.mesh.display(),
-                used.len()
-            ));
+        // Mitsuba cannot read the file, or would give all of an OBJ's faces one BSDF.
+        for &material in &used {
+            if let Some(bytes) = ply::part(&scene.mesh, object.triangles.clone(), material) {
+                let name = format!("{mesh_prefix}.object{i}.mat{material}.ply");
+                let _ = writeln!(body, "{}", ply_shape(&name, material));
+                meshes.push((name, bytes));
+            }
         }
-        let _ = writeln!(
-            body,
-            "{}",
-            shape(&object.mesh, object.transform, used.first().copied().unwrap_or(0))
-        );
     }
     let lights: Vec<String> = scene.lights.iter().map(|l| emitter(l, &mut differences)).collect();
     if !scene.shadows {
@@ -128,6 +134,7 @@ pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice) -> MitsubaExport {
         per_light: lights.iter().map(|l| document(std::slice::from_ref(l))).collect(),
         differences,
         material_notes,
+        meshes,
     }
 }
 
@@ -323,6 +330,14 @@ fn plugin_bsdf(m: &Material) -> String {
     p
 }
 
+/// A PLY part of the scene mesh, already in world space, by its file name beside the XML.
+fn ply_shape(name: &str, material: u32) -> String {
+    format!(
+        "  <shape type=\"ply\">\n    <string name=\"filename\" value=\"{}\"/>\n    <ref id=\"mat{material}\"/>\n  </shape>",
+        xml_escape(name)
+    )
+}
+
 fn shape(mesh: &Path, transform: Mat4, material: u32) -> String {
     let path = std::fs::canonicalize(mesh).unwrap_or_else(|_| mesh.to_path_buf());
     let m = transform.transpose().to_cols_array(); // row-major
@@ -399,6 +414,17 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("pointshade-mitsuba-{}-{}", std::process::id(), toml.len()));
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+        // Two triangles of two materials (from its own library) in one OBJ.
+        std::fs::write(
+            dir.join("two.mtl"),
+            "newmtl red\nKd 0.8 0.1 0.1\nnewmtl blue\nKd 0.1 0.1 0.8\n",
+        )
+        .unwrap();
+        std::fs::write(
+            dir.join("two.obj"),
+            "mtllib two.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nusemtl red\nf 1 2 3\nusemtl blue\nf 2 4 3\n",
+        )
+        .unwrap();
         std::fs::write(dir.join("s.toml"), toml).unwrap();
         let s = scene::load(&dir.join("s.toml")).unwrap();
         std::fs::remove_dir_all(dir).unwrap();
@@ -419,7 +445,7 @@ mod tests {
              [[object]]\nmesh = \"tri.obj\"\nmaterial = \"a\"\n\
              [[object]]\nmesh = \"tri.obj\"\nmaterial = \"b\"\ntransform = {{ translate = [1.0, 2.0, 3.0] }}\n"
         ));
-        let e = export(&s, 4, BsdfChoice::NativeWhereExact);
+        let e = export(&s, 4, BsdfChoice::NativeWhereExact, "s");
         assert!(e.differences.is_empty(), "{:?}", e.differences);
         assert_eq!(e.per_light.len(), 2);
         assert!(e.per_light[0].contains("type=\"point\"") && !e.per_light[0].contains("directional"));
@@ -446,7 +472,7 @@ mod tests {
              [material.bp]\nmodel = \"blinn-phong\"\nks = 0.5\nshininess = 20.0\n\
              [[object]]\nmesh = \"tri.obj\"\nmaterial = \"bp\"\n"
         ));
-        let e = export(&s, 1, BsdfChoice::NativeWhereExact);
+        let e = export(&s, 1, BsdfChoice::NativeWhereExact, "s");
         assert!(e
             .scene
             .contains("type=\"pointshade\"><string name=\"model\" value=\"blinn-phong\"/>"));
@@ -461,8 +487,34 @@ mod tests {
             "[camera]\ntype = \"orthographic\"\nposition = [0.0, 0.0, 3.0]\nlook_at = [0.0, 0.0, 0.0]\nscale = 2.0\n\
              [film]\nwidth = 200\nheight = 100\n[[object]]\nmesh = \"tri.obj\"\n",
         );
-        let e = export(&s, 1, BsdfChoice::PluginEverywhere);
+        let e = export(&s, 1, BsdfChoice::PluginEverywhere, "s");
         assert!(e.scene.contains("<scale x=\"4\" y=\"4\" z=\"1\"/>"), "{}", e.scene);
         assert!(e.scene.contains("type=\"pointshade\""));
+    }
+
+    #[test]
+    fn an_obj_of_two_materials_is_exported_as_a_ply_per_material() {
+        let s = load(&format!(
+            "{CAMERA}[film]\nsampler = \"grid\"\n[[object]]\nmesh = \"two.obj\"\n[[object]]\nmesh = \"tri.obj\"\n"
+        ));
+        let e = export(&s, 1, BsdfChoice::NativeWhereExact, "scene");
+        assert!(e.differences.is_empty(), "{:?}", e.differences);
+        let names: Vec<&str> = e.meshes.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names.len(), 2, "{names:?}");
+        for (name, bytes) in &e.meshes {
+            assert!(
+                name.starts_with("scene.object0.mat") && name.ends_with(".ply"),
+                "{name}"
+            );
+            assert!(bytes.starts_with(b"ply\n") && bytes.windows(15).any(|w| w == b"element face 1\n"));
+            assert!(
+                e.scene
+                    .contains(&format!("<string name=\"filename\" value=\"{name}\"/>")),
+                "{}",
+                e.scene
+            );
+        }
+        // The one-material OBJ is referenced as it is.
+        assert!(e.scene.contains("tri.obj") && !names.iter().any(|n| n.contains("object1")));
     }
 }

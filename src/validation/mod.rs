@@ -6,5 +6,6 @@
 
 pub mod compare;
 pub mod mitsuba;
+pub mod ply;
 pub mod report;
 pub mod run;

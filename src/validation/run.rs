@@ -18,7 +18,7 @@ use crate::render::{render_scene, Rendered};
 use crate::scene::{self, Scene};
 use crate::shading::shadow::ShadowOffset;
 use crate::validation::compare::{compare, Comparison};
-use crate::validation::mitsuba::{export, BsdfChoice};
+use crate::validation::mitsuba::{export, BsdfChoice, MitsubaExport};
 
 /// Agreement every exact scene must reach at the like-for-like setting.
 pub const REQUIRED_WITHIN: f64 = 0.999;
@@ -90,10 +90,12 @@ pub struct MitsubaJob {
 }
 
 impl MitsubaJob {
-    /// Writes `per_light` (one XML scene per light, [`export`]'s `per_light`) as
-    /// `{stem}.light{k}.xml`, for a film of `size`.
-    pub fn write(per_light: &[String], stem: &Path, size: (u32, u32)) -> InputResult<Self> {
-        let files: Vec<(PathBuf, Vec<u8>)> = per_light
+    /// Writes `exported`'s per-light scenes as `{stem}.light{k}.xml` and the mesh files they
+    /// reference beside them, for a film of `size`.
+    pub fn write(exported: &MitsubaExport, stem: &Path, size: (u32, u32)) -> InputResult<Self> {
+        let dir = stem.parent().unwrap_or(Path::new("."));
+        let xmls: Vec<(PathBuf, Vec<u8>)> = exported
+            .per_light
             .iter()
             .enumerate()
             .map(|(k, xml)| {
@@ -103,11 +105,13 @@ impl MitsubaJob {
                 )
             })
             .collect();
-        write_all_or_nothing(&files)?;
-        Ok(Self {
-            xmls: files.into_iter().map(|(p, _)| p).collect(),
-            size,
-        })
+        let xml_paths = xmls.iter().map(|(p, _)| p.clone()).collect();
+        let meshes = exported
+            .meshes
+            .iter()
+            .map(|(name, bytes)| (dir.join(name), bytes.clone()));
+        write_all_or_nothing(&xmls.into_iter().chain(meshes).collect::<Vec<_>>())?;
+        Ok(Self { xmls: xml_paths, size })
     }
 }
 
@@ -270,12 +274,15 @@ pub fn validate_scene(
     };
     for spp in counts {
         let scene = load_sampled(path, SamplerKind::Grid, spp)?;
-        let exported = export(&scene, spp, BsdfChoice::NativeWhereExact);
+        let exported = export(&scene, spp, BsdfChoice::NativeWhereExact, "mitsuba");
         result.differences = exported.differences.clone();
         result.material_notes = exported.material_notes.clone();
-        write_all_or_nothing(&[(dir.join(format!("mitsuba-spp{spp}.xml")), exported.scene.into_bytes())])?;
+        write_all_or_nothing(&[(
+            dir.join(format!("mitsuba-spp{spp}.xml")),
+            exported.scene.clone().into_bytes(),
+        )])?;
         let size = (scene.film.width, scene.film.height);
-        let job = MitsubaJob::write(&exported.per_light, &dir.join(format!("mitsuba-spp{spp}")), size)?;
+        let job = MitsubaJob::write(&exported, &dir.join(format!("mitsuba-spp{spp}")), size)?;
         let reference_path = dir.join(format!("mitsuba-spp{spp}.exr"));
         let timing = mitsuba.render_job(&job, &reference_path)?;
         let reference = read_linear(&reference_path)?;
@@ -322,9 +329,9 @@ fn plugin_against_native(
     mitsuba: &MitsubaRunner,
     native: &Image,
 ) -> InputResult<Comparison> {
-    let exported = export(scene, 1, BsdfChoice::PluginEverywhere);
+    let exported = export(scene, 1, BsdfChoice::PluginEverywhere, "mitsuba");
     let size = (scene.film.width, scene.film.height);
-    let job = MitsubaJob::write(&exported.per_light, &dir.join("plugin-spp1"), size)?;
+    let job = MitsubaJob::write(&exported, &dir.join("plugin-spp1"), size)?;
     let out = dir.join("plugin-spp1.exr");
     mitsuba.render_job(&job, &out)?;
     Ok(compare(&read_linear(&out)?, native, TOLERANCE, 3))

@@ -321,9 +321,9 @@ pub fn run(sweep: &Sweep, reference: &Reference, progress: &mut dyn FnMut(&Point
         for sampler in [SamplerKind::Grid, SamplerKind::Independent] {
             for spp in sweep.counts(sampler) {
                 let scene = load(sweep, (sampler, spp, None, None))?;
-                let exported = export(&scene, spp, BsdfChoice::NativeWhereExact);
+                let exported = export(&scene, spp, BsdfChoice::NativeWhereExact, "mitsuba");
                 let stem = sweep.out.join(format!("mitsuba-{}-{spp}", sampler.name()));
-                let job = MitsubaJob::write(&exported.per_light, &stem, (scene.film.width, scene.film.height))?;
+                let job = MitsubaJob::write(&exported, &stem, (scene.film.width, scene.film.height))?;
                 configs.push(Config::Mitsuba(sampler, spp, mitsuba, job, stem.with_extension("exr")));
             }
         }
