@@ -14,7 +14,8 @@ use crate::validation::mitsuba::{export, BsdfChoice};
 pub struct ExportArgs {
     /// Scene file (.toml) or mesh (.obj).
     scene: PathBuf,
-    /// Output XML file.
+    /// Output XML file. Meshes Mitsuba cannot read (glTF, OBJs of several materials) are
+    /// written beside it as OUTPUT-STEM.object{i}.mat{m}.ply.
     #[arg(short, long)]
     output: PathBuf,
     /// Samples per pixel (default: the scene's).
