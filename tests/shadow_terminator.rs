@@ -39,42 +39,35 @@ fn scene_dir(terminator: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("sphere.obj"), uv_sphere(12, 8).to_obj("coarse sphere", None)).unwrap();
     std::fs::write(dir.join("ground.obj"), plane(6.0, 1).to_obj("ground", None)).unwrap();
-    let toml = format!(
-        r#"{film}
-[camera]
-position = [{px}, {py}, {pz}]
-look_at = [-0.8, 0.6, 0.0]
-fov = 45.0
-[[light]]
-type = "directional"
-direction = [{lx}, {ly}, {lz}]
-intensity = {IRRADIANCE}
-[material.clay]
-model = "lambert"
-albedo = [{ALBEDO}, {ALBEDO}, {ALBEDO}]
-[render]
-shadow_terminator = "{terminator}"
-[[object]]
-mesh = "sphere.obj"
-material = "clay"
-transform = {{ translate = [{cx}, {cy}, {cz}] }}
-[[object]]
-mesh = "ground.obj"
-material = "clay"
-"#,
-        px = CAMERA.x,
-        py = CAMERA.y,
-        pz = CAMERA.z,
-        lx = LIGHT.x,
-        ly = LIGHT.y,
-        lz = LIGHT.z,
-        cx = CENTRE.x,
-        cy = CENTRE.y,
-        cz = CENTRE.z,
-        film = film(),
+    let rest = format!(
+        "[[light]]\ntype = \"directional\"\ndirection = {light}\nintensity = {IRRADIANCE}\n\
+         [render]\nshadow_terminator = \"{terminator}\"\n\
+         [[object]]\nmesh = \"sphere.obj\"\nmaterial = \"clay\"\ntransform = {{ translate = {centre} }}\n\
+         [[object]]\nmesh = \"ground.obj\"\nmaterial = \"clay\"\n",
+        light = toml_vec(LIGHT),
+        centre = toml_vec(CENTRE),
     );
+    let toml = clay_scene(CAMERA, Vec3::new(-0.8, 0.6, 0.0), 45.0, &rest);
     std::fs::write(dir.join("scene.toml"), toml).unwrap();
     dir
+}
+
+/// `v` as a TOML array.
+fn toml_vec(v: Vec3) -> String {
+    format!("[{}, {}, {}]", v.x, v.y, v.z)
+}
+
+/// A scene file: [`film`], a camera at `camera` looking at `look_at` with a vertical `fov`, the
+/// two-sided (the default, written out) Lambert material `clay` of albedo [`ALBEDO`], then
+/// `rest` (lights, settings and objects).
+fn clay_scene(camera: Vec3, look_at: Vec3, fov: f32, rest: &str) -> String {
+    format!(
+        "{film}\n[camera]\nposition = {camera}\nlook_at = {look_at}\nfov = {fov:?}\n\
+         [material.clay]\nmodel = \"lambert\"\nalbedo = [{ALBEDO}, {ALBEDO}, {ALBEDO}]\ntwo_sided = true\n{rest}",
+        film = film(),
+        camera = toml_vec(camera),
+        look_at = toml_vec(look_at),
+    )
 }
 
 /// The render of `dir`'s scene.toml: radiance, shading normals and positions, and whether the
@@ -122,6 +115,37 @@ fn facing_the_light(image: &Image, normal: &Image, position: &Image) -> (u32, u3
         }
     }
     (facing, black, off)
+}
+
+/// Over the pixels `pick` keeps (given position and normal, it returns the normal to shade
+/// with), those whose normal faces the point light at `light` by cos θ_i > [`COS_MIN`], and of
+/// them those off Lambert's value under that light by more than 1e-3 relative: (facing, wrong).
+/// The background (no normal) is left out.
+fn lambert_under_point_light(
+    image: &Image,
+    normal: &Image,
+    position: &Image,
+    light: Vec3,
+    pick: impl Fn(Vec3, Vec3) -> Option<Vec3>,
+) -> (u32, u32) {
+    let (mut facing, mut wrong) = (0, 0);
+    for y in 0..SIZE {
+        for x in 0..SIZE {
+            let (p, n) = (position.get(x, y), normal.get(x, y));
+            let Some(n) = pick(p, n).filter(|&n| n != Vec3::ZERO) else {
+                continue;
+            };
+            let d = light - p;
+            let cos = n.dot(d.normalize());
+            if cos <= COS_MIN {
+                continue;
+            }
+            facing += 1;
+            let e = lambert(cos) / d.length_squared();
+            wrong += u32::from((image.get(x, y).x - e).abs() > 1e-3 * e);
+        }
+    }
+    (facing, wrong)
 }
 
 #[test]
@@ -179,48 +203,21 @@ fn smooth_origins_keep_the_shadow_the_sphere_casts() {
 #[test]
 fn points_seen_from_inside_a_smooth_mesh_are_lit_as_lambert_says() {
     let dir = scene_dir("inside");
-    let toml = format!(
-        r#"{film}
-[camera]
-position = [0.0, 0.0, 0.0]
-look_at = [0.3, -0.2, -1.0]
-fov = 90.0
-[[light]]
-type = "point"
-position = [0.5, 0.8, 0.6]
-intensity = {IRRADIANCE}
-[material.clay]
-model = "lambert"
-albedo = [{ALBEDO}, {ALBEDO}, {ALBEDO}]
-two_sided = true
-[[object]]
-mesh = "sphere.obj"
-material = "clay"
-transform = {{ scale = 3.0 }}
-"#,
-        film = film(),
+    let light = Vec3::new(0.5, 0.8, 0.6);
+    let rest = format!(
+        "[[light]]\ntype = \"point\"\nposition = {}\nintensity = {IRRADIANCE}\n\
+         [[object]]\nmesh = \"sphere.obj\"\nmaterial = \"clay\"\ntransform = {{ scale = 3.0 }}\n",
+        toml_vec(light)
     );
+    let toml = clay_scene(Vec3::ZERO, Vec3::new(0.3, -0.2, -1.0), 90.0, &rest);
     std::fs::write(dir.join("scene.toml"), toml).unwrap();
     let (image, normal, position, smoothed) = render_dir(&dir);
     assert!(smoothed);
-    let light = Vec3::new(0.5, 0.8, 0.6);
-    let (mut facing, mut wrong) = (0, 0);
-    for y in 0..SIZE {
-        for x in 0..SIZE {
-            let (p, n) = (position.get(x, y), normal.get(x, y));
-            // The normal image holds the mesh's normals (outwards); the material turns them to
-            // the viewer at the centre.
-            let n = if n.dot(-p) < 0.0 { -n } else { n };
-            let d = light - p;
-            let cos = n.dot(d.normalize());
-            if n == Vec3::ZERO || cos <= COS_MIN {
-                continue;
-            }
-            facing += 1;
-            let e = lambert(cos) / d.length_squared();
-            wrong += u32::from((image.get(x, y).x - e).abs() > 1e-3 * e);
-        }
-    }
+    // The normal image holds the mesh's normals (outwards); the material turns them to the
+    // viewer at the centre.
+    let (facing, wrong) = lambert_under_point_light(&image, &normal, &position, light, |p, n| {
+        Some(if n.dot(-p) < 0.0 { -n } else { n })
+    });
     assert!(facing > 10_000, "{facing} pixels face the light");
     assert_eq!(wrong, 0, "of {facing} pixels facing the light");
 }
@@ -234,55 +231,20 @@ fn lifted_shadow_rays_end_at_a_light_just_under_a_ceiling() {
     let dir = scene_dir("ceiling");
     let light = Vec3::new(0.3, 2.29, 0.0);
     let camera = Vec3::new(2.6, 2.25, 2.6);
-    let toml = format!(
-        r#"{film}
-[camera]
-position = [{cx}, {cy}, {cz}]
-look_at = [0.0, 1.6, 0.0]
-fov = 50.0
-[[light]]
-type = "point"
-position = [{lx}, {ly}, {lz}]
-intensity = {IRRADIANCE}
-[material.clay]
-model = "lambert"
-albedo = [{ALBEDO}, {ALBEDO}, {ALBEDO}]
-[[object]]
-mesh = "sphere.obj"
-material = "clay"
-transform = {{ translate = [0.0, 1.0, 0.0] }}
-[[object]]
-mesh = "ground.obj"
-material = "clay"
-transform = {{ translate = [0.0, 2.3, 0.0] }}
-"#,
-        film = film(),
-        cx = camera.x,
-        cy = camera.y,
-        cz = camera.z,
-        lx = light.x,
-        ly = light.y,
-        lz = light.z,
+    let rest = format!(
+        "[[light]]\ntype = \"point\"\nposition = {}\nintensity = {IRRADIANCE}\n\
+         [[object]]\nmesh = \"sphere.obj\"\nmaterial = \"clay\"\ntransform = {{ translate = [0.0, 1.0, 0.0] }}\n\
+         [[object]]\nmesh = \"ground.obj\"\nmaterial = \"clay\"\ntransform = {{ translate = [0.0, 2.3, 0.0] }}\n",
+        toml_vec(light)
     );
+    let toml = clay_scene(camera, Vec3::new(0.0, 1.6, 0.0), 50.0, &rest);
     std::fs::write(dir.join("scene.toml"), toml).unwrap();
     let (image, normal, position, smoothed) = render_dir(&dir);
     assert!(smoothed);
-    let (mut facing, mut wrong) = (0, 0);
-    for y in 0..SIZE {
-        for x in 0..SIZE {
-            let (p, n) = (position.get(x, y), normal.get(x, y));
-            let d = light - p;
-            let cos = n.dot(d.normalize());
-            let seen = n.dot((camera - p).normalize()) > 0.05;
-            // The sphere only (the ceiling is at y = 2.3, the background has no normal).
-            if n == Vec3::ZERO || p.y > 2.2 || !seen || cos <= COS_MIN {
-                continue;
-            }
-            facing += 1;
-            let e = lambert(cos) / d.length_squared();
-            wrong += u32::from((image.get(x, y).x - e).abs() > 1e-3 * e);
-        }
-    }
+    // The sphere's points seen from the front (the ceiling is at y = 2.3).
+    let (facing, wrong) = lambert_under_point_light(&image, &normal, &position, light, |p, n| {
+        (p.y < 2.2 && n.dot((camera - p).normalize()) > 0.05).then_some(n)
+    });
     assert!(facing > 800, "{facing} pixels face the light");
     assert_eq!(wrong, 0, "of {facing} pixels facing the light");
 }
