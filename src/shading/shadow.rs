@@ -45,12 +45,15 @@ impl SceneExtent {
         radius: 1.0,
     };
 
-    /// The extent of a scene whose box is `bounds` (`None`: empty), with offset unit `unit`.
+    /// The extent of a scene whose box is `bounds` (`None`: empty), with offset unit `unit`. The
+    /// radius is Mitsuba's: |max − centre|, grown by a factor 1 + RayEpsilon and at least
+    /// RayEpsilon (its `directional` emitter's `set_scene`).
     pub fn new(unit: f32, bounds: Option<(Vec3, Vec3)>) -> Self {
         let (centre, radius) = bounds.map_or((Vec3::ZERO, 0.0), |(lo, hi)| {
             let centre = (lo + hi) * 0.5;
             (centre, (hi - centre).length())
         });
+        let radius = (radius * (1.0 + MITSUBA_RAY_EPSILON)).max(MITSUBA_RAY_EPSILON);
         Self { unit, centre, radius }
     }
 }
