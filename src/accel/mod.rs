@@ -88,6 +88,8 @@ pub struct Bvh {
     wide: WideBvh,
     /// World → BVH space factor (a power of two).
     scale: f32,
+    /// The mesh's bounding box in world space (`TriangleMesh::bounds`), kept from the build.
+    bounds: Option<(Vec3, Vec3)>,
     /// Time spent building.
     pub build_time: Duration,
 }
@@ -96,7 +98,8 @@ impl Bvh {
     /// Builds the BVH over `mesh` (which must have at least one triangle).
     pub fn build(mesh: &TriangleMesh, preset: BvhPreset) -> Bvh {
         let start = Instant::now();
-        let scale = world_to_bvh_scale(mesh);
+        let bounds = mesh.bounds();
+        let scale = world_to_bvh_scale(bounds);
         // Triangles without area (exactly zero cross product: repeated or collinear vertices)
         // have no normal and nothing to show; rounding in the sheared ray space could still
         // report hits on them, so they are left out of the BVH (unless nothing else is left).
@@ -129,6 +132,7 @@ impl Bvh {
         Bvh {
             wide,
             scale,
+            bounds,
             build_time: start.elapsed(),
         }
     }
@@ -264,6 +268,11 @@ impl Bvh {
         1.0 / self.scale
     }
 
+    /// The bounding box `(min, max)` in world space of the mesh it was built over.
+    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
+        self.bounds
+    }
+
     /// Number of 4-wide nodes.
     pub fn node_count(&self) -> usize {
         self.wide.node_count()
@@ -332,8 +341,8 @@ fn padded_box(triangle: &[Vec3A; 3]) -> obvhs::aabb::Aabb {
 
 /// 2^e such that the scene's bounding-box diagonal times it is in [128, 256), limited so that no
 /// coordinate overflows or loses its normal range.
-fn world_to_bvh_scale(mesh: &TriangleMesh) -> f32 {
-    let Some((lo, hi)) = mesh.bounds() else { return 1.0 };
+fn world_to_bvh_scale(bounds: Option<(Vec3, Vec3)>) -> f32 {
+    let Some((lo, hi)) = bounds else { return 1.0 };
     let diagonal = (hi - lo).length();
     let largest = lo.abs().max(hi.abs()).max_element();
     if !(diagonal > 0.0) || !diagonal.is_finite() {
@@ -532,7 +541,7 @@ mod tests {
 
     #[test]
     fn scale_is_a_power_of_two() {
-        let s = world_to_bvh_scale(&quad(0.0, 3.7e-5, Vec3::ZERO));
+        let s = world_to_bvh_scale(quad(0.0, 3.7e-5, Vec3::ZERO).bounds());
         assert_eq!(s.log2().fract(), 0.0);
         assert!(s > 1.0);
     }

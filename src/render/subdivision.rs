@@ -6,10 +6,11 @@
 //! A pixel that refines only because the centre values bend at a neighbour (the activation's
 //! one-pixel dilation), not at itself, starts with a 3×3 grid (then 6×6, 12×12, 24×24): its
 //! neighbours' centres lie on a straight line through its own in every direction, so an edge
-//! inside it is unlikely, and 98% of such pixels on the dragon stopped at the first grid. On
-//! the dragon this takes 3–7% fewer samples for the same RMSE from T = 0.01 to 0.0025, and on the
-//! Cornell box 5–9% fewer for the same RMSE below white (README, "Adaptive sampling"); a 2×2
-//! first look took 8% fewer at T = 0.0075 but lost at T = 0.0025 (docs/performance-log.md).
+//! inside it is unlikely, and 98% of such pixels on the dragon stopped at the first grid (a
+//! temporary count, docs/performance-log.md). On the dragon this takes 3–7% fewer samples for
+//! the same RMSE from T = 0.01 to 0.0025, and on the Cornell box 5–9% fewer for the same RMSE
+//! below white (README, "Adaptive sampling"); a 2×2 first look took 8% fewer at T = 0.0075 but
+//! lost at T = 0.0025 (docs/performance-log.md).
 //!
 //! Why cells rather than more points spread over the whole pixel: the error left in an active
 //! pixel is nearly all where an edge (silhouette, shadow boundary) crosses it. A grid of side g

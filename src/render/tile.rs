@@ -16,7 +16,7 @@ use crate::film::PixelRect;
 use crate::plan::{Aov, RenderPlan};
 use crate::scene::Scene;
 use crate::shading::shader::Shader;
-use crate::shading::shadow::{SceneExtent, ShadowOffset};
+use crate::shading::shadow::SceneExtent;
 use crate::surface::camera::Camera;
 use crate::surface::normal_texture::apply_normal_texture;
 use crate::surface::primary::surface_point;
@@ -151,14 +151,7 @@ impl<'a> Context<'a> {
                 materials: &scene.materials,
                 lights: &scene.lights,
                 occluder: if plan.shadows { bvh } else { None },
-                // Only the mitsuba offset reads the bounding sphere: no pass over the vertices
-                // for it otherwise.
-                extent: SceneExtent::new(
-                    bvh.map_or(1.0, Bvh::scene_unit),
-                    (scene.shadow_offset == ShadowOffset::Mitsuba)
-                        .then(|| scene.mesh.bounds())
-                        .flatten(),
-                ),
+                extent: bvh.map_or(SceneExtent::UNIT, |b| SceneExtent::new(b.scene_unit(), b.bounds())),
                 convention: plan.convention,
                 textures: plan.textures.then_some(scene.textures.as_slice()),
                 emission: plan.emission,

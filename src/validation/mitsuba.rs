@@ -93,12 +93,10 @@ pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice, mesh_prefix: &str) -> 
             continue;
         }
         // Mitsuba cannot read the file, or would give all of an OBJ's faces one BSDF.
-        for &material in &used {
-            if let Some(bytes) = ply::part(&scene.mesh, object.triangles.clone(), material) {
-                let name = format!("{mesh_prefix}.object{i}.mat{material}.ply");
-                let _ = writeln!(body, "{}", ply_shape(&name, material));
-                meshes.push((name, bytes));
-            }
+        for (material, bytes) in ply::parts(&scene.mesh, object.triangles.clone()) {
+            let name = format!("{mesh_prefix}.object{i}.mat{material}.ply");
+            let _ = writeln!(body, "{}", ply_shape(&name, material));
+            meshes.push((name, bytes));
         }
     }
     let lights: Vec<String> = scene.lights.iter().map(|l| emitter(l, &mut differences)).collect();

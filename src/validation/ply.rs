@@ -9,17 +9,26 @@ use std::fmt::Write as _;
 
 use crate::scene::mesh::TriangleMesh;
 
-/// The triangles of `mesh` in `triangles` whose material is `material`, as a binary
-/// little-endian PLY (positions and normals per vertex, vertices shared as in `mesh`, listed in
-/// the order the part's triangles first use them). `None` if no triangle matches.
-pub fn part(mesh: &TriangleMesh, triangles: std::ops::Range<usize>, material: u32) -> Option<Vec<u8>> {
-    let chosen: Vec<[u32; 3]> = triangles
-        .filter(|&t| mesh.material_of_triangle[t] == material)
-        .map(|t| mesh.triangles[t])
-        .collect();
-    if chosen.is_empty() {
-        return None;
+/// The triangles of `mesh` in `triangles`, one part per material they use, in material order:
+/// (material, binary little-endian PLY with positions and normals per vertex, vertices shared
+/// as in `mesh` and listed in the order the part's triangles first use them). One pass over the
+/// triangles, whatever the number of materials.
+pub fn parts(mesh: &TriangleMesh, triangles: std::ops::Range<usize>) -> Vec<(u32, Vec<u8>)> {
+    let mut by_material: std::collections::BTreeMap<u32, Vec<[u32; 3]>> = Default::default();
+    for t in triangles {
+        by_material
+            .entry(mesh.material_of_triangle[t])
+            .or_default()
+            .push(mesh.triangles[t]);
     }
+    by_material
+        .into_iter()
+        .map(|(material, chosen)| (material, write(mesh, &chosen)))
+        .collect()
+}
+
+/// The PLY of the triangles `chosen` (vertex indices into `mesh`).
+fn write(mesh: &TriangleMesh, chosen: &[[u32; 3]]) -> Vec<u8> {
     // Renumber the vertices the part uses, in first-use order.
     let mut new_index = std::collections::HashMap::new();
     let mut vertices: Vec<u32> = Vec::new();
@@ -55,7 +64,7 @@ pub fn part(mesh: &TriangleMesh, triangles: std::ops::Range<usize>, material: u3
             bytes.extend_from_slice(&(i as i32).to_le_bytes());
         }
     }
-    Some(bytes)
+    bytes
 }
 
 #[cfg(test)]
@@ -91,8 +100,9 @@ mod tests {
     #[test]
     fn a_part_holds_the_triangles_of_its_material_with_their_vertices_renumbered() {
         let m = mesh();
-        let bytes = part(&m, 0..4, 1).unwrap();
-        let (header, body) = split(&bytes);
+        let parts = parts(&m, 0..4);
+        assert_eq!(parts.iter().map(|p| p.0).collect::<Vec<_>>(), [0, 1]);
+        let (header, body) = split(&parts[1].1);
         assert!(header.contains(&"element vertex 4".to_string()), "{header:?}");
         assert!(header.contains(&"element face 2".to_string()));
         assert_eq!(body.len(), 4 * 24 + 2 * 13);
@@ -111,9 +121,11 @@ mod tests {
     }
 
     #[test]
-    fn a_part_without_triangles_is_none() {
+    fn only_the_materials_in_the_range_make_parts() {
         let m = mesh();
-        assert!(part(&m, 0..2, 1).is_none(), "the range holds only material 0");
-        assert!(part(&m, 0..4, 7).is_none());
+        let only_first = parts(&m, 0..2);
+        assert_eq!(only_first.len(), 1, "the range holds only material 0");
+        assert_eq!(only_first[0].0, 0);
+        assert!(parts(&m, 0..0).is_empty());
     }
 }
