@@ -70,7 +70,7 @@ fn own_mesh_scenes_agree_with_committed_mitsuba_references() {
 #[test]
 fn shared_mesh_scenes_agree_with_committed_mitsuba_references() {
     if !root().join("../shared/data/meshes").is_dir() {
-        eprintln!("SKIPPED: ../shared/data is missing; the bunny, dragon and glTF spheres validation scenes need it");
+        eprintln!("SKIPPED: ../shared/data is missing; the bunny, dragon, glTF spheres and DamagedHelmet validation scenes need it");
         return;
     }
     for s in scenes(&root().join("scenes/validation/shared")) {

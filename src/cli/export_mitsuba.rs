@@ -24,7 +24,8 @@ pub struct ExportArgs {
     /// Sampler (default: the scene's): grid → Mitsuba's stratified without jitter, independent.
     #[arg(long)]
     sampler: Option<String>,
-    /// Also write one file per light (OUTPUT with .lightK.xml), for deterministic references.
+    /// Also write one file per light (OUTPUT with .lightK.xml) and, if some material emits, the
+    /// emission pass (.emission.xml): their renders sum to a deterministic reference.
     #[arg(long)]
     per_light: bool,
     /// Use the pointshade BSDF plugin for every material, even where Mitsuba has an exact BSDF.
@@ -58,14 +59,14 @@ pub fn run(args: ExportArgs) -> Result<(), InputError> {
     let prefix = args.output.file_stem().map_or("scene".into(), |s| s.to_string_lossy());
     let e = export(&scene, scene.film.spp, choice, &prefix);
     let dir = args.output.parent().unwrap_or(std::path::Path::new("."));
-    let mut files = vec![(args.output.clone(), e.scene.into_bytes())];
-    files.extend(e.meshes.into_iter().map(|(name, bytes)| (dir.join(name), bytes)));
+    let mut files = vec![(args.output.clone(), e.scene.clone().into_bytes())];
+    files.extend(e.meshes.iter().map(|(name, bytes)| (dir.join(name), bytes.clone())));
     if args.per_light {
         let stem = args.output.with_extension("");
-        for (k, xml) in e.per_light.into_iter().enumerate() {
+        for (suffix, xml) in e.passes() {
             files.push((
-                PathBuf::from(format!("{}.light{k}.xml", stem.display())),
-                xml.into_bytes(),
+                PathBuf::from(format!("{}.{suffix}.xml", stem.display())),
+                xml.as_bytes().to_vec(),
             ));
         }
     }

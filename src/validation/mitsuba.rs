@@ -17,12 +17,14 @@ use std::path::Path;
 
 use glam::{Mat4, Vec3};
 
-use super::ply;
+use super::ply::{self, VertexAttributes};
+use super::textures;
 use crate::film::SamplerKind;
 use crate::scene::Scene;
 use crate::shading::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
 use crate::shading::light::{Falloff, Light, LightKind};
 use crate::shading::material::{Material, Specular};
+use crate::shading::texture::TextureImage;
 use crate::surface::camera::{FovAxis, Projection};
 
 /// Which BSDFs the export uses.
@@ -47,9 +49,28 @@ pub struct MitsubaExport {
     pub differences: Vec<String>,
     /// How each material was mapped (native BSDF or plugin), one line each.
     pub material_notes: Vec<String>,
-    /// Mesh files the scenes reference by file name, to be written beside them: (file name,
-    /// contents).
+    /// The emitted radiance the camera sees, where some material emits: the scene without lights
+    /// and with black BSDFs, whose emissive surfaces are `area` emitters. It completes the sum of
+    /// [`Self::per_light`] (pointshade adds emission to what its lights reflect).
+    pub emission: Option<String>,
+    /// Files the scenes reference by file name, to be written beside them: (file name,
+    /// contents). PLY meshes and texture images.
     pub meshes: Vec<(String, Vec<u8>)>,
+}
+
+impl MitsubaExport {
+    /// The documents whose renders sum to pointshade's image, each with the suffix its file
+    /// takes (`{stem}.{suffix}.xml`): `light{k}` per light, then `emission` if some material
+    /// emits.
+    pub fn passes(&self) -> Vec<(String, &str)> {
+        let lights = self
+            .per_light
+            .iter()
+            .enumerate()
+            .map(|(k, xml)| (format!("light{k}"), xml.as_str()));
+        let emission = self.emission.iter().map(|xml| ("emission".to_string(), xml.as_str()));
+        lights.chain(emission).collect()
+    }
 }
 
 /// Mitsuba's default near clip, used where pointshade's is 0 (Mitsuba needs > 0).
@@ -61,41 +82,50 @@ const MITSUBA_NEAR_CLIP: f32 = 0.01;
 pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice, mesh_prefix: &str) -> MitsubaExport {
     let mut differences = Vec::new();
     let mut material_notes = Vec::new();
-    let mut meshes = Vec::new();
-    let mut body = String::new();
-    let _ = writeln!(body, "{}", integrator());
-    let _ = writeln!(body, "{}", sensor(scene, spp, &mut differences));
+    let mut meshes = textures::image_files(&scene.textures, mesh_prefix);
+    let head = format!("{}\n{}\n", integrator(), sensor(scene, spp, &mut differences));
+    // The materials as BSDFs, and as black diffuse BSDFs of the same ids for the emission pass.
+    let (mut materials, mut black) = (String::new(), String::new());
     for (index, m) in scene.materials.iter().enumerate() {
-        let (xml, note) = bsdf(index, m, bsdfs);
+        let (xml, note) = bsdf(index, m, bsdfs, &scene.textures, mesh_prefix);
         material_notes.push(format!("{}: {note}", m.name));
-        if let Specular::GltfPbr(p) = &m.specular {
-            if p.textures != Default::default() {
-                differences.push(format!(
-                    "material '{}': its glTF textures are not exported (the plugin takes the factors)",
-                    m.name
-                ));
-            }
-            if m.emits() {
-                differences.push(format!("material '{}': its emission is not exported", m.name));
-            }
+        if m.emits() && m.two_sided {
+            differences.push(format!(
+                "material '{}': emits from both sides (two-sided), Mitsuba's area emitter from the front only",
+                m.name
+            ));
         }
-        let _ = writeln!(body, "{xml}");
+        let _ = writeln!(materials, "{xml}");
+        let _ = writeln!(
+            black,
+            "  <bsdf id=\"mat{index}\" type=\"diffuse\">{}</bsdf>",
+            rgb("reflectance", [0.0; 3])
+        );
     }
+    // The shapes, without and with the area emitters of emissive materials.
+    let (mut shapes, mut emitting) = (String::new(), String::new());
+    let mut any_emitter = false;
+    let mut add = |xml: &dyn Fn(Option<&str>) -> String, material: u32| {
+        let emitter = textures::area_emitter(&scene.materials[material as usize], &scene.textures, mesh_prefix);
+        any_emitter |= emitter.is_some();
+        let _ = writeln!(shapes, "{}", xml(None));
+        let _ = writeln!(emitting, "{}", xml(emitter.as_deref()));
+    };
+    let attributes = |material: u32| textures::vertex_attributes(&scene.materials[material as usize], &scene.mesh);
     for (i, object) in scene.objects.iter().enumerate() {
         let used = object.materials(&scene.mesh);
         let is_obj = crate::scene::extension(&object.mesh).as_deref() == Some("obj");
-        if is_obj && used.len() <= 1 {
-            let _ = writeln!(
-                body,
-                "{}",
-                shape(&object.mesh, object.transform, used.first().copied().unwrap_or(0))
-            );
+        let plain = used.iter().all(|&m| attributes(m) == VertexAttributes::default());
+        if is_obj && used.len() <= 1 && plain {
+            let material = used.first().copied().unwrap_or(0);
+            add(&|e| shape(&object.mesh, object.transform, material, e), material);
             continue;
         }
-        // Mitsuba cannot read the file, or would give all of an OBJ's faces one BSDF.
-        for (material, bytes) in ply::parts(&scene.mesh, object.triangles.clone()) {
+        // Mitsuba cannot read the file, would give all of an OBJ's faces one BSDF, or the
+        // plugin needs texture coordinates and tangents.
+        for (material, bytes) in ply::parts(&scene.mesh, object.triangles.clone(), attributes) {
             let name = format!("{mesh_prefix}.object{i}.mat{material}.ply");
-            let _ = writeln!(body, "{}", ply_shape(&name, material));
+            add(&|e| ply_shape(&name, material, e), material);
             meshes.push((name, bytes));
         }
     }
@@ -103,33 +133,52 @@ pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice, mesh_prefix: &str) -> 
     if !scene.shadows {
         differences.push("shadows = false (Mitsuba always traces shadow rays)".into());
     }
-    let document = |emitters: &[String]| {
+    let document = |body: &str, notes: &[&str], emitters: &[String]| {
         let mut s = String::from("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n");
         let _ = writeln!(
             s,
             "<!-- exported by pointshade from {} -->",
             xml_escape(&scene.source.display().to_string())
         );
-        if material_notes.iter().any(|n| n.contains("plugin")) {
+        if material_notes.iter().any(|n| n.contains("plugin")) || any_emitter {
             let _ = writeln!(
                 s,
-                "<!-- materials of type \"pointshade\" need validation/pointshade_bsdf.py registered -->"
+                "<!-- materials of type \"pointshade\" and emitted radiance need validation/pointshade_bsdf.py registered -->"
             );
         }
         for d in &differences {
             let _ = writeln!(s, "<!-- no Mitsuba equivalent: {} -->", xml_escape(d));
         }
+        for n in notes {
+            let _ = writeln!(s, "<!-- {n} -->");
+        }
         let _ = writeln!(s, "<scene version=\"3.0.0\">");
-        s.push_str(&body);
+        s.push_str(&head);
+        s.push_str(body);
         for e in emitters {
             let _ = writeln!(s, "{e}");
         }
         s.push_str("</scene>\n");
         s
     };
+    let all_notes: &[&str] = if any_emitter {
+        &["Mitsuba also lights surfaces by the emissive ones here, which pointshade does not: the per-light documents and their emission pass render pointshade's image exactly"]
+    } else {
+        &[]
+    };
     MitsubaExport {
-        scene: document(&lights),
-        per_light: lights.iter().map(|l| document(std::slice::from_ref(l))).collect(),
+        scene: document(&format!("{materials}{emitting}"), all_notes, &lights),
+        per_light: lights
+            .iter()
+            .map(|l| document(&format!("{materials}{shapes}"), &[], std::slice::from_ref(l)))
+            .collect(),
+        emission: any_emitter.then(|| {
+            document(
+                &format!("{black}{emitting}"),
+                &["the emission pass: black BSDFs, so that only the emission the camera sees directly is left"],
+                &[],
+            )
+        }),
         differences,
         material_notes,
         meshes,
@@ -238,12 +287,18 @@ fn is_roughconductor(m: &Material) -> bool {
     }
 }
 
-fn rgb(name: &str, c: [f32; 3]) -> String {
+pub(super) fn rgb(name: &str, c: [f32; 3]) -> String {
     format!("<rgb name=\"{name}\" value=\"{}, {}, {}\"/>", c[0], c[1], c[2])
 }
 
 /// The BSDF of material `index` (id `mat{index}`), and how it was mapped.
-fn bsdf(index: usize, m: &Material, choice: BsdfChoice) -> (String, &'static str) {
+fn bsdf(
+    index: usize,
+    m: &Material,
+    choice: BsdfChoice,
+    images: &[TextureImage],
+    prefix: &str,
+) -> (String, &'static str) {
     let diffuse_reflectance = m.albedo.map(|a| a * m.kd);
     let native = choice == BsdfChoice::NativeWhereExact;
     let (inner, note) = if native && !m.has_specular() && diffuse_reflectance.iter().all(|&r| r <= 1.0) {
@@ -271,9 +326,12 @@ fn bsdf(index: usize, m: &Material, choice: BsdfChoice) -> (String, &'static str
             "Mitsuba roughconductor (exact)",
         )
     } else {
-        (plugin_bsdf(m), "pointshade BSDF plugin (exact by construction)")
+        (
+            plugin_bsdf(m, images, prefix),
+            "pointshade BSDF plugin (exact by construction)",
+        )
     };
-    let wrapped = if m.two_sided {
+    let wrapped = if m.two_sided && !textures::plugin_handles_sides(m) {
         format!("<bsdf type=\"twosided\">{inner}</bsdf>")
     } else {
         inner
@@ -283,7 +341,7 @@ fn bsdf(index: usize, m: &Material, choice: BsdfChoice) -> (String, &'static str
     (format!("  {with_id}"), note)
 }
 
-fn plugin_bsdf(m: &Material) -> String {
+fn plugin_bsdf(m: &Material, images: &[TextureImage], prefix: &str) -> String {
     let mut p = format!(
         "<bsdf type=\"pointshade\"><string name=\"model\" value=\"{}\"/>{}<float name=\"kd\" value=\"{}\"/>",
         m.model_name(),
@@ -319,9 +377,14 @@ fn plugin_bsdf(m: &Material) -> String {
         Specular::GltfPbr(g) => {
             let _ = write!(
                 p,
-                "<float name=\"metallic\" value=\"{}\"/><float name=\"roughness\" value=\"{}\"/>",
-                g.metallic, g.roughness
+                "<float name=\"metallic\" value=\"{}\"/><float name=\"roughness\" value=\"{}\"/>{}",
+                g.metallic,
+                g.roughness,
+                textures::brdf_texture_properties(m, images, prefix)
             );
+            if textures::plugin_handles_sides(m) {
+                let _ = write!(p, "<boolean name=\"two_sided\" value=\"{}\"/>", m.two_sided);
+            }
         }
     }
     p.push_str("</bsdf>");
@@ -329,20 +392,26 @@ fn plugin_bsdf(m: &Material) -> String {
 }
 
 /// A PLY part of the scene mesh, already in world space, by its file name beside the XML.
-fn ply_shape(name: &str, material: u32) -> String {
+fn ply_shape(name: &str, material: u32, emitter: Option<&str>) -> String {
     format!(
-        "  <shape type=\"ply\">\n    <string name=\"filename\" value=\"{}\"/>\n    <ref id=\"mat{material}\"/>\n  </shape>",
-        xml_escape(name)
+        "  <shape type=\"ply\">\n    <string name=\"filename\" value=\"{}\"/>\n    <ref id=\"mat{material}\"/>\n{}  </shape>",
+        xml_escape(name),
+        emitter_line(emitter)
     )
 }
 
-fn shape(mesh: &Path, transform: Mat4, material: u32) -> String {
+fn emitter_line(emitter: Option<&str>) -> String {
+    emitter.map_or_else(String::new, |e| format!("    {e}\n"))
+}
+
+fn shape(mesh: &Path, transform: Mat4, material: u32, emitter: Option<&str>) -> String {
     let path = std::fs::canonicalize(mesh).unwrap_or_else(|_| mesh.to_path_buf());
     let m = transform.transpose().to_cols_array(); // row-major
     let matrix = m.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(" ");
     format!(
-        "  <shape type=\"obj\">\n    <string name=\"filename\" value=\"{}\"/>\n    <transform name=\"to_world\"><matrix value=\"{matrix}\"/></transform>\n    <ref id=\"mat{material}\"/>\n  </shape>",
-        xml_escape(&path.display().to_string())
+        "  <shape type=\"obj\">\n    <string name=\"filename\" value=\"{}\"/>\n    <transform name=\"to_world\"><matrix value=\"{matrix}\"/></transform>\n    <ref id=\"mat{material}\"/>\n{}  </shape>",
+        xml_escape(&path.display().to_string()),
+        emitter_line(emitter)
     )
 }
 
@@ -396,7 +465,7 @@ fn emitter(light: &Light, differences: &mut Vec<String>) -> String {
     }
 }
 
-fn xml_escape(s: &str) -> String {
+pub(super) fn xml_escape(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
@@ -514,5 +583,62 @@ mod tests {
         }
         // The one-material OBJ is referenced as it is.
         assert!(e.scene.contains("tri.obj") && !names.iter().any(|n| n.contains("object1")));
+    }
+
+    #[test]
+    fn emission_is_a_pass_of_its_own_and_normal_mapped_materials_keep_their_sides_in_the_plugin() {
+        use crate::shading::material::{NormalTexture, PbrTextures};
+        use crate::shading::texture::{Filter, TextureRef, Wrap};
+        let mut s = load(&format!(
+            "{CAMERA}[film]\nsampler = \"grid\"\n[[light]]\ntype = \"point\"\nposition = [0.0, 1.0, 2.0]\n[[object]]\nmesh = \"tri.obj\"\n"
+        ));
+        let texture = TextureRef {
+            image: 0,
+            tex_coord: 0,
+            wrap_u: Wrap::Repeat,
+            wrap_v: Wrap::Repeat,
+            filter: Filter::Bilinear,
+        };
+        let mut m = Material::gltf_pbr("glow", [1.0; 3], 0.0, 0.5);
+        if let Specular::GltfPbr(p) = &mut m.specular {
+            p.emissive = [1.0, 0.5, 0.25];
+            p.textures = PbrTextures {
+                normal: Some(NormalTexture { texture, scale: 1.0 }),
+                emissive: Some(texture),
+                ..PbrTextures::default()
+            };
+        }
+        s.materials = vec![m];
+        s.textures = vec![TextureImage {
+            label: "1x1".into(),
+            width: 1,
+            height: 1,
+            texels: vec![[128, 128, 255, 255]],
+        }];
+        let e = export(&s, 1, BsdfChoice::NativeWhereExact, "s");
+        assert_eq!(
+            e.differences,
+            ["material 'glow': emits from both sides (two-sided), Mitsuba's area emitter from the front only"]
+        );
+        let passes: Vec<String> = e.passes().into_iter().map(|(suffix, _)| suffix).collect();
+        assert_eq!(passes, ["light0", "emission"]);
+        let emission = e.emission.as_deref().unwrap();
+        assert!(emission.contains("<bsdf id=\"mat0\" type=\"diffuse\"><rgb name=\"reflectance\" value=\"0, 0, 0\"/>"));
+        assert!(emission.contains("type=\"pointshade_emission\"><rgb name=\"factor\" value=\"1, 0.5, 0.25\"/>"));
+        assert!(!emission.contains("type=\"point\""), "no lights in the emission pass");
+        let lit = &e.per_light[0];
+        assert!(
+            !lit.contains("<emitter type=\"area\"") && lit.contains("<integer name=\"normal_width\" value=\"1\"/>")
+        );
+        assert!(
+            lit.contains("<bsdf id=\"mat0\" type=\"pointshade\">")
+                && lit.contains("<boolean name=\"two_sided\" value=\"true\"/>"),
+            "the plugin turns the mapped normal itself, unwrapped: {lit}"
+        );
+        // The textured OBJ goes out as a PLY with texture coordinates and tangents, and the image
+        // as its texels.
+        let names: Vec<&str> = e.meshes.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, ["s.image0.rgba", "s.object0.mat0.ply"]);
+        assert!(e.meshes[1].1.windows(9).any(|w| w == b"uv0_x\npro"));
     }
 }

@@ -9,3 +9,4 @@ pub mod mitsuba;
 pub mod ply;
 pub mod report;
 pub mod run;
+pub mod textures;

@@ -90,27 +90,53 @@ pub struct MitsubaJob {
 }
 
 impl MitsubaJob {
-    /// Writes `exported`'s per-light scenes as `{stem}.light{k}.xml` and the mesh files they
-    /// reference beside them, for a film of `size`.
+    /// Writes `exported`'s passes as `{stem}.light{k}.xml` (and `{stem}.emission.xml`) and the
+    /// mesh and image files they reference beside them, for a film of `size`.
     pub fn write(exported: &MitsubaExport, stem: &Path, size: (u32, u32)) -> InputResult<Self> {
+        Self::write_with(exported, stem, size, true)
+    }
+
+    /// [`Self::write`] for an export of the same scene with the same file prefix into the same
+    /// folder as one already written (another sample count, other BSDFs): the mesh and image
+    /// files are the same, so only the XML files are written. Fails if one of those files is
+    /// missing.
+    pub fn write_reusing_files(exported: &MitsubaExport, stem: &Path, size: (u32, u32)) -> InputResult<Self> {
+        Self::write_with(exported, stem, size, false)
+    }
+
+    fn write_with(exported: &MitsubaExport, stem: &Path, size: (u32, u32), files: bool) -> InputResult<Self> {
         let dir = stem.parent().unwrap_or(Path::new("."));
         let xmls: Vec<(PathBuf, Vec<u8>)> = exported
-            .per_light
-            .iter()
-            .enumerate()
-            .map(|(k, xml)| {
+            .passes()
+            .into_iter()
+            .map(|(suffix, xml)| {
                 (
-                    PathBuf::from(format!("{}.light{k}.xml", stem.display())),
-                    xml.clone().into_bytes(),
+                    PathBuf::from(format!("{}.{suffix}.xml", stem.display())),
+                    xml.as_bytes().to_vec(),
                 )
             })
             .collect();
         let xml_paths = xmls.iter().map(|(p, _)| p.clone()).collect();
-        let meshes = exported
-            .meshes
-            .iter()
-            .map(|(name, bytes)| (dir.join(name), bytes.clone()));
-        write_all_or_nothing(&xmls.into_iter().chain(meshes).collect::<Vec<_>>())?;
+        if files {
+            let meshes = exported
+                .meshes
+                .iter()
+                .map(|(name, bytes)| (dir.join(name), bytes.clone()));
+            write_all_or_nothing(&xmls.into_iter().chain(meshes).collect::<Vec<_>>())?;
+        } else {
+            if let Some(missing) = exported
+                .meshes
+                .iter()
+                .map(|(name, _)| dir.join(name))
+                .find(|p| !p.is_file())
+            {
+                return Err(InputError::new(
+                    &missing,
+                    "missing: the export it belongs to was not written",
+                ));
+            }
+            write_all_or_nothing(&xmls)?;
+        }
         Ok(Self { xmls: xml_paths, size })
     }
 }
@@ -272,7 +298,7 @@ pub fn validate_scene(
         runs: Vec::new(),
         plugin_check: None,
     };
-    for spp in counts {
+    for (k, spp) in counts.into_iter().enumerate() {
         let scene = load_sampled(path, SamplerKind::Grid, spp)?;
         let exported = export(&scene, spp, BsdfChoice::NativeWhereExact, "mitsuba");
         result.differences = exported.differences.clone();
@@ -282,7 +308,13 @@ pub fn validate_scene(
             exported.scene.clone().into_bytes(),
         )])?;
         let size = (scene.film.width, scene.film.height);
-        let job = MitsubaJob::write(&exported, &dir.join(format!("mitsuba-spp{spp}")), size)?;
+        // The meshes and images are the same at every sample count: written once.
+        let stem = dir.join(format!("mitsuba-spp{spp}"));
+        let job = if k == 0 {
+            MitsubaJob::write(&exported, &stem, size)?
+        } else {
+            MitsubaJob::write_reusing_files(&exported, &stem, size)?
+        };
         let reference_path = dir.join(format!("mitsuba-spp{spp}.exr"));
         let timing = mitsuba.render_job(&job, &reference_path)?;
         let reference = read_linear(&reference_path)?;
@@ -331,7 +363,8 @@ fn plugin_against_native(
 ) -> InputResult<Comparison> {
     let exported = export(scene, 1, BsdfChoice::PluginEverywhere, "mitsuba");
     let size = (scene.film.width, scene.film.height);
-    let job = MitsubaJob::write(&exported, &dir.join("plugin-spp1"), size)?;
+    // Called after the pixel-centre export of the same scene: its meshes and images are there.
+    let job = MitsubaJob::write_reusing_files(&exported, &dir.join("plugin-spp1"), size)?;
     let out = dir.join("plugin-spp1.exr");
     mitsuba.render_job(&job, &out)?;
     Ok(compare(&read_linear(&out)?, native, TOLERANCE, 3))

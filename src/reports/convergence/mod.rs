@@ -318,12 +318,20 @@ impl Config<'_> {
 pub fn run(sweep: &Sweep, reference: &Reference, progress: &mut dyn FnMut(&Point)) -> InputResult<Vec<Point>> {
     let mut configs: Vec<Config> = sweep.ours().into_iter().map(Config::Ours).collect();
     if let Some(mitsuba) = &sweep.mitsuba {
+        let mut files_written = false;
         for sampler in [SamplerKind::Grid, SamplerKind::Independent] {
             for spp in sweep.counts(sampler) {
                 let scene = load(sweep, (sampler, spp, None, None))?;
                 let exported = export(&scene, spp, BsdfChoice::NativeWhereExact, "mitsuba");
                 let stem = sweep.out.join(format!("mitsuba-{}-{spp}", sampler.name()));
-                let job = MitsubaJob::write(&exported, &stem, (scene.film.width, scene.film.height))?;
+                let size = (scene.film.width, scene.film.height);
+                // Every export of the sweep references the same meshes and images: written once.
+                let job = if files_written {
+                    MitsubaJob::write_reusing_files(&exported, &stem, size)?
+                } else {
+                    MitsubaJob::write(&exported, &stem, size)?
+                };
+                files_written = true;
                 configs.push(Config::Mitsuba(sampler, spp, mitsuba, job, stem.with_extension("exr")));
             }
         }
