@@ -69,6 +69,7 @@ pub struct Rendered {
 
 /// The pipeline after loading: builds the BVH the plan asks for (default preset) and renders.
 /// A film's time budget counts from here: BVH build and render.
+#[inline(never)] // a stage boundary that benches/instructions.sh counts
 pub fn render_scene(scene: &Scene, plan: &RenderPlan, on_tile: &(dyn Fn(u64) + Sync)) -> Result<Rendered, String> {
     let start = Instant::now();
     let bvh = plan.trace_rays.then(|| Bvh::build(&scene.mesh, BvhPreset::DEFAULT));

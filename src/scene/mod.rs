@@ -91,6 +91,7 @@ pub fn load(path: &Path) -> InputResult<Scene> {
 }
 
 /// [`load`] with command-line choices.
+#[inline(never)] // a stage boundary that benches/instructions.sh counts
 pub fn load_with(path: &Path, options: LoadOptions) -> InputResult<Scene> {
     let ext = extension(path);
     let is_gltf = matches!(ext.as_deref(), Some("gltf" | "glb"));

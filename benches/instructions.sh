@@ -1,0 +1,133 @@
+#!/usr/bin/env bash
+# Instruction counts of fixed renders, per stage, against a committed baseline: the regression
+# gate for speed that timing cannot be on a shared, noisy 2-core machine. Each case runs once
+# under valgrind's callgrind on one thread (`--threads 1`: the counts are then the same from run
+# to run, to about 1e-5), and the counts are split by stage from callgrind's inclusive costs:
+#   load    pointshade::scene::load_with
+#   bvh     pointshade::accel::Bvh::build
+#   render  pointshade::render::render_scene without the BVH build
+#   output  pointshade::output::encode (reported, not checked: PNG compression)
+# A case fails when load + bvh + render moves by more than TOLERANCE_PERCENT from the baseline,
+# either way: a regression, or a gain the baseline should record (then rerun with --update and
+# commit benches/instructions.baseline with the change that made it).
+#
+# Counts depend on the compiler and on the CPU path the shader picks (AVX2 or SSE2), which the
+# baseline records: when either differs here, the check says SKIPPED and why, and exits 0.
+#   Usage: benches/instructions.sh [--update]      (needs valgrind: installed with apt when missing
+#   and run as root, as in CI)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+TOLERANCE_PERCENT=3
+baseline=benches/instructions.baseline
+update=false
+[ "${1:-}" = "--update" ] && update=true
+
+if ! command -v valgrind >/dev/null; then
+  . validation/apt.sh
+  apt_install valgrind || { echo "FAILED: valgrind is not installed (apt-get install valgrind)" >&2; exit 1; }
+fi
+cargo build --release --quiet
+bin=./target/release/pointshade
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+rustc_version=$(rustc --version)
+avx2=$(grep -qw avx2 /proc/cpuinfo && echo yes || echo no)
+config="rustc=${rustc_version// /_} avx2=$avx2"
+
+# name | scene | extra arguments (all render at one thread into a PNG)
+cases=(
+  "dragon-equal-error|scenes/shared/dragon-copper.toml|--sampler cells --spp 256 --adaptive-threshold 0.0075 --shadow-offset mitsuba"
+  "dragon-default|scenes/shared/dragon-copper.toml|"
+  "cornell-box|scenes/cornell-box.toml|"
+)
+
+# The inclusive count of function $2 in callgrind file $1 (its main entry, the one tagged with
+# the binary's path), or nothing if callgrind did not see it. (awk reads to the end: stopping
+# early would kill callgrind_annotate with SIGPIPE, which pipefail turns into a failure.)
+inclusive() {
+  callgrind_annotate --inclusive=yes --threshold=100 "$1" 2>/dev/null |
+    awk -v fn=":$2 [" '!found && index($0, fn) { gsub(",", "", $1); print $1; found = 1 }'
+}
+
+results="$work/results"
+: > "$results"
+for case in "${cases[@]}"; do
+  IFS='|' read -r name scene args <<< "$case"
+  if [ ! -f "$scene" ]; then
+    echo "FAILED: $scene is missing" >&2
+    exit 1
+  fi
+  if [[ "$scene" == scenes/shared/* ]] && [ ! -d ../shared/data ]; then
+    echo "SKIPPED: $name needs ../shared/data, which is missing" >&2
+    continue
+  fi
+  out="$work/$name.cg"
+  # shellcheck disable=SC2086 # $args is a list of arguments
+  valgrind --tool=callgrind --callgrind-out-file="$out" "$bin" render "$scene" $args \
+    -o "$work/$name.png" --threads 1 --quiet 2>"$work/$name.log" || {
+    cat "$work/$name.log" >&2
+    echo "FAILED: $name did not render" >&2
+    exit 1
+  }
+  load=$(inclusive "$out" pointshade::scene::load_with)
+  bvh=$(inclusive "$out" pointshade::accel::Bvh::build)
+  scene_total=$(inclusive "$out" pointshade::render::render_scene)
+  output=$(inclusive "$out" pointshade::output::encode)
+  for v in load bvh scene_total output; do
+    if [ -z "${!v}" ]; then
+      echo "FAILED: $name: no count for the $v stage (was its function inlined? it must stay #[inline(never)])" >&2
+      exit 1
+    fi
+  done
+  echo "$name load=$load bvh=$bvh render=$((scene_total - bvh)) output=$output" >> "$results"
+done
+
+if $update; then
+  {
+    echo "# benches/instructions.sh --update, $(date -u +%Y-%m-%d) (git log names the commit it belongs to)"
+    echo "config $config"
+    cat "$results"
+  } > "$baseline"
+  echo "wrote $baseline"
+fi
+
+field() { sed -n "s/.*\b$2=\([0-9]*\).*/\1/p" <<< "$1"; }
+echo
+echo "| case | load | bvh | render | load+bvh+render | baseline | change | output (not checked) |"
+echo "|---|---|---|---|---|---|---|---|"
+failed=0
+base_config=$(sed -n 's/^config //p' "$baseline" 2>/dev/null || true)
+comparable=true
+if [ "$base_config" != "$config" ]; then
+  comparable=false
+fi
+while read -r line; do
+  name=${line%% *}
+  sum=$(( $(field "$line" load) + $(field "$line" bvh) + $(field "$line" render) ))
+  base_line=$(grep "^$name " "$baseline" 2>/dev/null || true)
+  if [ -n "$base_line" ]; then
+    base=$(( $(field "$base_line" load) + $(field "$base_line" bvh) + $(field "$base_line" render) ))
+    change=$(awk -v a="$sum" -v b="$base" 'BEGIN { printf "%+.2f%%", 100 * (a - b) / b }')
+    if $comparable && ! awk -v a="$sum" -v b="$base" -v t="$TOLERANCE_PERCENT" 'BEGIN { d = 100 * (a - b) / b; exit !(d <= t && d >= -t) }'; then
+      failed=1
+      change="$change **outside ±$TOLERANCE_PERCENT%**"
+    fi
+  else
+    base="none"
+    change="no baseline"
+    $comparable && failed=1
+  fi
+  g() { awk -v n="$1" 'BEGIN { if (n < 1e8) printf "%.1f M", n / 1e6; else printf "%.3f G", n / 1e9 }'; }
+  echo "| $name | $(g "$(field "$line" load)") | $(g "$(field "$line" bvh)") | $(g "$(field "$line" render)") | $(g "$sum") | $( [ "$base" = none ] && echo none || g "$base") | $change | $(g "$(field "$line" output)") |"
+done < "$results"
+echo
+if ! $comparable; then
+  echo "SKIPPED: the baseline was counted with '$base_config', this machine is '$config': counts not compared" >&2
+  exit 0
+fi
+if [ "$failed" = 1 ]; then
+  echo "FAILED: instruction counts moved by more than ±$TOLERANCE_PERCENT% (a regression, or a gain: rerun with --update and commit the baseline)" >&2
+  exit 1
+fi
+echo "ok: every case within ±$TOLERANCE_PERCENT% of $baseline"
