@@ -2,11 +2,14 @@
 # Instruction counts of fixed renders, per stage, against a committed baseline: the regression
 # gate for speed that timing cannot be on a shared, noisy 2-core machine. Each case runs once
 # under valgrind's callgrind on one thread (`--threads 1`: the counts are then the same from run
-# to run, to about 1e-5), and the counts are split by stage from callgrind's inclusive costs:
-#   load    pointshade::scene::load_with
-#   bvh     pointshade::accel::Bvh::build
-#   render  pointshade::render::render_scene without the BVH build
-#   output  pointshade::output::encode (reported, not checked: PNG compression)
+# to run, to about 1e-5), and callgrind dumps its counters as each stage's function returns, so
+# that each dump counts one stage:
+#   load    start-up and pointshade::scene::load_with
+#   bvh     the plan and pointshade::accel::Bvh::build
+#   render  the rest of pointshade::render::render_scene
+#   output  encoding, writing and exit (reported, not checked: PNG compression)
+# (Inclusive costs from callgrind_annotate split inlined functions across source files
+# unreliably; the dumps do not depend on inlining, only on those three functions existing.)
 # A case fails when load + bvh + render moves by more than TOLERANCE_PERCENT from the baseline,
 # either way: a regression, or a gain the baseline should record (then rerun with --update and
 # commit benches/instructions.baseline with the change that made it).
@@ -14,7 +17,8 @@
 # Counts depend on the compiler and on the CPU path the shader picks (AVX2 or SSE2), which the
 # baseline records: when either differs here, the check says SKIPPED and why, and exits 0.
 #   Usage: benches/instructions.sh [--update]      (needs valgrind: installed with apt when missing
-#   and run as root, as in CI)
+#   and run as root, as in CI). POINTSHADE_BIN=path measures another build (an A/B of two
+#   binaries: copy target/release/pointshade aside first).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 TOLERANCE_PERCENT=3
@@ -26,8 +30,10 @@ if ! command -v valgrind >/dev/null; then
   . validation/apt.sh
   apt_install valgrind || { echo "FAILED: valgrind is not installed (apt-get install valgrind)" >&2; exit 1; }
 fi
-cargo build --release --quiet
-bin=./target/release/pointshade
+if [ -z "${POINTSHADE_BIN:-}" ]; then
+  cargo build --release --quiet
+fi
+bin=${POINTSHADE_BIN:-./target/release/pointshade}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
@@ -42,12 +48,9 @@ cases=(
   "cornell-box|scenes/cornell-box.toml|"
 )
 
-# The inclusive count of function $2 in callgrind file $1 (its main entry, the one tagged with
-# the binary's path), or nothing if callgrind did not see it. (awk reads to the end: stopping
-# early would kill callgrind_annotate with SIGPIPE, which pipefail turns into a failure.)
-inclusive() {
-  callgrind_annotate --inclusive=yes --threshold=100 "$1" 2>/dev/null |
-    awk -v fn=":$2 [" '!found && index($0, fn) { gsub(",", "", $1); print $1; found = 1 }'
+# The instructions counted in callgrind dump file $1.
+counted() {
+  sed -n 's/^summary: \([0-9]*\)$/\1/p' "$1"
 }
 
 results="$work/results"
@@ -64,23 +67,19 @@ for case in "${cases[@]}"; do
   fi
   out="$work/$name.cg"
   # shellcheck disable=SC2086 # $args is a list of arguments
-  valgrind --tool=callgrind --callgrind-out-file="$out" "$bin" render "$scene" $args \
-    -o "$work/$name.png" --threads 1 --quiet 2>"$work/$name.log" || {
+  valgrind --tool=callgrind --callgrind-out-file="$out" \
+    --dump-after='pointshade::scene::load_with' --dump-after='pointshade::accel::Bvh::build' \
+    --dump-after='pointshade::render::render_scene' \
+    "$bin" render "$scene" $args -o "$work/$name.png" --threads 1 --quiet 2>"$work/$name.log" || {
     cat "$work/$name.log" >&2
     echo "FAILED: $name did not render" >&2
     exit 1
   }
-  load=$(inclusive "$out" pointshade::scene::load_with)
-  bvh=$(inclusive "$out" pointshade::accel::Bvh::build)
-  scene_total=$(inclusive "$out" pointshade::render::render_scene)
-  output=$(inclusive "$out" pointshade::output::encode)
-  for v in load bvh scene_total output; do
-    if [ -z "${!v}" ]; then
-      echo "FAILED: $name: no count for the $v stage (was its function inlined? it must stay #[inline(never)])" >&2
-      exit 1
-    fi
-  done
-  echo "$name load=$load bvh=$bvh render=$((scene_total - bvh)) output=$output" >> "$results"
+  if [ ! -f "$out.3" ]; then
+    echo "FAILED: $name: callgrind did not dump at each stage's end (is a stage function inlined? they must stay #[inline(never)])" >&2
+    exit 1
+  fi
+  echo "$name load=$(counted "$out.1") bvh=$(counted "$out.2") render=$(counted "$out.3") output=$(counted "$out")" >> "$results"
 done
 
 if $update; then

@@ -70,7 +70,6 @@ pub fn to_srgb8(linear: f32, exposure_scale: f32) -> u8 {
 }
 
 /// Encodes `image` in `format`.
-#[inline(never)] // a stage boundary that benches/instructions.sh counts
 pub fn encode(image: &Image, format: Format, exposure: f32) -> Result<Vec<u8>, String> {
     let mut bytes = Cursor::new(Vec::new());
     match format {
