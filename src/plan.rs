@@ -9,7 +9,7 @@ use std::path::Path;
 use crate::scene::normal_map::{NormalMapScene, Preset};
 use crate::scene::Scene;
 use crate::shading::convention::ShadingConvention;
-use crate::shading::material::{Material, PbrTextures};
+use crate::shading::material::{Material, PbrTextures, Specular};
 use crate::shading::shadow::{ShadowOffset, ShadowTerminator};
 use crate::surface::normal_image::NormalImage;
 use crate::surface::primary::PointOptions;
@@ -96,6 +96,9 @@ pub struct RenderPlan {
     pub normal_textures: bool,
     /// Add emitted radiance (some rendered material emits).
     pub emission: bool,
+    /// Rays pass through cut-outs (some rendered material has glTF `alphaMode` MASK): the BVH
+    /// gets an [`crate::accel::alpha::AlphaMask`].
+    pub cutouts: bool,
     /// AOV buffers to fill.
     pub aovs: Vec<Aov>,
     /// Every decision, for `--explain`.
@@ -244,6 +247,22 @@ impl RenderPlan {
                 format!("emissive materials: {}", emissive_names.join(", "))
             },
         );
+        let cutout_names = names_where(
+            &used,
+            |m| matches!(&m.specular, Specular::GltfPbr(p) if p.cutout.is_some()),
+        );
+        let cutouts = decide(
+            "cut-outs (alpha mask)",
+            trace_rays && !cutout_names.is_empty(),
+            if cutout_names.is_empty() {
+                "no rendered material has alphaMode MASK".into()
+            } else {
+                format!(
+                    "camera and shadow rays pass where alpha < alphaCutoff: {}",
+                    cutout_names.join(", ")
+                )
+            },
+        );
         let aov_list = aovs.iter().map(|a| a.name()).collect::<Vec<_>>().join(", ");
         decide(
             "AOV buffers",
@@ -268,6 +287,7 @@ impl RenderPlan {
             textures,
             normal_textures,
             emission,
+            cutouts,
             aovs: if trace_rays { aovs.to_vec() } else { Vec::new() },
             stages,
             primary_rays,
@@ -332,6 +352,7 @@ impl RenderPlan {
             textures: false,
             normal_textures: false,
             emission: false,
+            cutouts: false,
             aovs: Vec::new(),
             stages,
             primary_rays: 0,

@@ -11,6 +11,7 @@
 //! - **No lost subtrees.** Deep trees (which PLOC builds for geometric chains) are traversed with
 //!   a growable stack ([`TraversalStack`]); padded leaf boxes keep rays through shared vertices.
 
+pub mod alpha;
 pub mod packet;
 pub mod triangle;
 mod walk;
@@ -25,6 +26,7 @@ use rayon::prelude::*;
 
 use crate::scene::mesh::TriangleMesh;
 use crate::shading::shadow::{Occluder, ShadowRay};
+use alpha::{AlphaMask, HitFilter, Opaque};
 use packet::{RayPacket, PACKET};
 use triangle::WatertightRay;
 pub use wide::TraversalStack;
@@ -92,6 +94,9 @@ pub struct Bvh {
     bounds: Option<(Vec3, Vec3)>,
     /// Time spent building.
     pub build_time: Duration,
+    /// The scene's cut-outs, when it has any ([`Self::set_alpha_mask`]): hits they cut out do
+    /// not count for any query.
+    alpha: Option<Box<AlphaMask>>,
 }
 
 impl Bvh {
@@ -135,7 +140,19 @@ impl Bvh {
             scale,
             bounds,
             build_time: start.elapsed(),
+            alpha: None,
         }
+    }
+
+    /// From now on, hits on the parts of triangles that `mask` cuts out do not count, for every
+    /// query (closest hits and shadow segments, alone or in packets).
+    pub fn set_alpha_mask(&mut self, mask: AlphaMask) {
+        self.alpha = Some(Box::new(mask));
+    }
+
+    /// Whether cut-outs apply.
+    pub fn has_alpha_mask(&self) -> bool {
+        self.alpha.is_some()
     }
 
     /// Depth of the deepest inner node (root = 1); trees deeper than
@@ -154,10 +171,25 @@ impl Bvh {
     /// answer does not depend on the tree's shape (see [`wide::Nearest`]).
     #[inline]
     pub fn intersect(&self, origin: Vec3, direction: Vec3, t_max: f32) -> Option<Hit> {
+        if let Some(mask) = &self.alpha {
+            return self.intersect_masked(origin, direction, t_max, mask);
+        }
+        self.intersect_with(origin, direction, t_max, &Opaque)
+    }
+
+    // The masked variants stay out of line: the opaque walk that nearly every scene takes is
+    // inlined on its own, and the masked copy does not weigh on its inlining.
+    #[inline(never)]
+    fn intersect_masked(&self, origin: Vec3, direction: Vec3, t_max: f32, mask: &AlphaMask) -> Option<Hit> {
+        self.intersect_with(origin, direction, t_max, mask)
+    }
+
+    #[inline(always)]
+    fn intersect_with(&self, origin: Vec3, direction: Vec3, t_max: f32, filter: &impl HitFilter) -> Option<Hit> {
         let origin = Vec3A::from(origin * self.scale);
         let direction = without_negative_zeros(direction);
         let ray = WideRay::new(origin, direction, &WatertightRay::new(origin, direction));
-        let (quad, hit) = self.wide.closest_hit(&ray, t_max * self.scale)?;
+        let (quad, hit) = self.wide.closest_hit(&ray, t_max * self.scale, filter)?;
         Some(self.hit(quad, hit))
     }
 
@@ -167,17 +199,30 @@ impl Bvh {
     /// [`MIN_PACKET`], directions of different signs, a zero direction component, origins far
     /// apart, a tree too deep for the fixed stack) are traced one by one.
     pub fn intersect_packet(&self, rays: &[(Vec3, Vec3, f32)], hits: &mut [Option<Hit>]) {
+        if let Some(mask) = &self.alpha {
+            return self.intersect_packet_masked(rays, hits, mask);
+        }
+        self.intersect_packet_with(rays, hits, &Opaque)
+    }
+
+    #[inline(never)]
+    fn intersect_packet_masked(&self, rays: &[(Vec3, Vec3, f32)], hits: &mut [Option<Hit>], mask: &AlphaMask) {
+        self.intersect_packet_with(rays, hits, mask)
+    }
+
+    #[inline(always)]
+    fn intersect_packet_with(&self, rays: &[(Vec3, Vec3, f32)], hits: &mut [Option<Hit>], filter: &impl HitFilter) {
         assert!(hits.len() == rays.len(), "one hit per ray");
         let traced = self.with_packet(rays, |packet, wide, t_max| {
             let mut best = [None; PACKET];
-            packet.closest_hits(&self.wide, t_max, &mut best[..wide.len()]);
+            packet.closest_hits(&self.wide, t_max, &mut best[..wide.len()], filter);
             for (hit, best) in hits.iter_mut().zip(best) {
                 *hit = best.map(|(quad, h)| self.hit(quad, h));
             }
         });
         if traced.is_none() {
             for (&(o, d, t), hit) in rays.iter().zip(hits) {
-                *hit = self.intersect(o, d, t);
+                *hit = self.intersect_with(o, d, t, filter);
             }
         }
     }
@@ -188,11 +233,26 @@ impl Bvh {
     /// order leaves are visited in). Rays that cannot share a walk are traced one by one, as for
     /// [`Self::intersect_packet`].
     pub fn any_hit_packet(&self, rays: &[(Vec3, Vec3, f32)], occluded: &mut [bool]) {
+        if let Some(mask) = &self.alpha {
+            return self.any_hit_packet_masked(rays, occluded, mask);
+        }
+        self.any_hit_packet_with(rays, occluded, &Opaque)
+    }
+
+    #[inline(never)]
+    fn any_hit_packet_masked(&self, rays: &[(Vec3, Vec3, f32)], occluded: &mut [bool], mask: &AlphaMask) {
+        self.any_hit_packet_with(rays, occluded, mask)
+    }
+
+    #[inline(always)]
+    fn any_hit_packet_with(&self, rays: &[(Vec3, Vec3, f32)], occluded: &mut [bool], filter: &impl HitFilter) {
         assert!(occluded.len() == rays.len(), "one answer per ray");
-        let traced = self.with_packet(rays, |packet, _, t_max| packet.any_hits(&self.wide, t_max, occluded));
+        let traced = self.with_packet(rays, |packet, _, t_max| {
+            packet.any_hits(&self.wide, t_max, occluded, filter)
+        });
         if traced.is_none() {
             for (&(o, d, t), blocked) in rays.iter().zip(occluded) {
-                *blocked = self.any_hit(o, d, t);
+                *blocked = self.any_hit_with(o, d, t, filter);
             }
         }
     }
@@ -256,11 +316,24 @@ impl Bvh {
     /// True if anything lies along `origin + t·direction` for 0 < t < t_max (stops at the first hit).
     #[inline]
     pub fn any_hit(&self, origin: Vec3, direction: Vec3, t_max: f32) -> bool {
+        if let Some(mask) = &self.alpha {
+            return self.any_hit_masked(origin, direction, t_max, mask);
+        }
+        self.any_hit_with(origin, direction, t_max, &Opaque)
+    }
+
+    #[inline(never)]
+    fn any_hit_masked(&self, origin: Vec3, direction: Vec3, t_max: f32, mask: &AlphaMask) -> bool {
+        self.any_hit_with(origin, direction, t_max, mask)
+    }
+
+    #[inline(always)]
+    fn any_hit_with(&self, origin: Vec3, direction: Vec3, t_max: f32, filter: &impl HitFilter) -> bool {
         let origin = Vec3A::from(origin * self.scale);
         let direction = without_negative_zeros(direction);
         let shear = WatertightRay::new(origin, direction);
         self.wide
-            .any_hit(&WideRay::new(origin, direction, &shear), t_max * self.scale)
+            .any_hit(&WideRay::new(origin, direction, &shear), t_max * self.scale, filter)
     }
 
     /// World length of one BVH-space unit (about the scene's size / 200): the unit the

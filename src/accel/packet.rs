@@ -16,6 +16,7 @@
 
 use glam::{Vec3A, Vec4};
 
+use super::alpha::HitFilter;
 use super::walk::{FixedStack, NodeTest};
 use super::wide::{Nearest, Node4, QuadHit, WideBvh, WideRay};
 
@@ -100,7 +101,13 @@ impl<'a> RayPacket<'a> {
     /// Each ray's closest hit with 0 < t < `t_max[k]` in [`Nearest`]'s order, written to
     /// `best[k]` (one entry per ray; `t_max` past the rays must be 0). The tree must be
     /// traversable with the fixed stack ([`WideBvh::stack`]).
-    pub fn closest_hits(&self, bvh: &WideBvh, t_max: &mut [f32; PACKET], best: &mut [Option<(u32, QuadHit)>]) {
+    pub fn closest_hits(
+        &self,
+        bvh: &WideBvh,
+        t_max: &mut [f32; PACKET],
+        best: &mut [Option<(u32, QuadHit)>],
+        filter: &impl HitFilter,
+    ) {
         debug_assert!(best.len() == self.rays.len() && t_max[self.rays.len()..].iter().all(|&t| t == 0.0));
         let mut nearest = [Nearest::before(0.0); PACKET];
         for (nearest, &t) in nearest.iter_mut().zip(&*t_max) {
@@ -111,7 +118,9 @@ impl<'a> RayPacket<'a> {
             let q = quad as usize;
             let mut found = false;
             for k in self.rays_entering(&bvh.quad_bounds[q], t_max) {
-                if let Some(hit) = bvh.quads[q].intersect(&self.rays[k], &bvh.quad_triangles[q], &mut nearest[k]) {
+                if let Some(hit) =
+                    bvh.quads[q].intersect(&self.rays[k], &bvh.quad_triangles[q], &mut nearest[k], filter)
+                {
                     t_max[k] = hit.t;
                     best[k] = Some((quad, hit));
                     found = true;
@@ -129,15 +138,16 @@ impl<'a> RayPacket<'a> {
     /// entry per ray; `t_max` past the rays must be 0): exactly the answer of the ray's own
     /// any-hit walk, since the packet reaches every leaf the ray's walk reaches. The walk ends
     /// when every ray is occluded. The tree must be traversable with the fixed stack ([`WideBvh::stack`]).
-    pub fn any_hits(&self, bvh: &WideBvh, t_max: &[f32; PACKET], occluded: &mut [bool]) {
+    pub fn any_hits(&self, bvh: &WideBvh, t_max: &[f32; PACKET], occluded: &mut [bool], filter: &impl HitFilter) {
         debug_assert!(occluded.len() == self.rays.len() && t_max[self.rays.len()..].iter().all(|&t| t == 0.0));
         occluded.fill(false);
         let packet_t_max = t_max.iter().copied().fold(0.0, f32::max);
         bvh.walk_until(self, packet_t_max, &mut FixedStack::new(), |quad, packet_t_max| {
             let triangles = &bvh.quads[quad as usize];
+            let primitives = || &bvh.quad_triangles[quad as usize];
             let mut found = false;
             for k in self.rays_entering(&bvh.quad_bounds[quad as usize], t_max) {
-                if !occluded[k] && triangles.hits_any(&self.rays[k], t_max[k]) {
+                if !occluded[k] && triangles.hits_any(&self.rays[k], t_max[k], primitives, filter) {
                     occluded[k] = true;
                     found = true;
                 }

@@ -12,6 +12,7 @@
 use glam::{BVec4A, Vec3A, Vec4};
 use rayon::prelude::*;
 
+use super::alpha::HitFilter;
 use super::triangle::WatertightRay;
 use super::walk::{FixedStack, NodeTest, Stack};
 use obvhs::bvh2::Bvh2;
@@ -91,6 +92,30 @@ struct Crossing {
     det: Vec4,
     v: Vec4,
     w: Vec4,
+}
+
+impl Crossing {
+    /// Whether `filter` keeps lane `k`'s hit (always, without asking, when it filters nothing).
+    #[inline(always)]
+    fn kept_by(&self, k: usize, primitives: &[u32; 4], filter: &impl HitFilter) -> bool {
+        if !F_FILTERS(filter) {
+            return true;
+        }
+        // det ≠ 0 on crossed lanes.
+        let inv_det = 1.0 / self.det.to_array()[k];
+        filter.keeps(
+            primitives[k],
+            self.v.to_array()[k] * inv_det,
+            self.w.to_array()[k] * inv_det,
+        )
+    }
+}
+
+/// Whether `filter` can reject hits (its type's [`HitFilter::FILTERS`]), from a value.
+#[allow(non_snake_case)]
+#[inline(always)]
+fn F_FILTERS<F: HitFilter>(_: &F) -> bool {
+    F::FILTERS
 }
 
 /// The closest hit so far, as hits are ordered: by distance, then by the triangle's index in the
@@ -199,15 +224,26 @@ impl TriangleQuad {
     /// Lane by lane this is [`WatertightRay::intersect`]: the same sheared coordinates, the same
     /// edge functions with the same f64 recomputation of exact zeros, the same distance
     /// t = t·|det| / |det| — compared itself with `nearest.t`, so that exact ties are seen — and
-    /// the same barycentrics v/det, w/det, computed for the winning lane only.
+    /// the same barycentrics v/det, w/det, computed for the winning lane only. Hits `filter`
+    /// does not keep (cut-outs) do not count.
     #[inline(always)]
-    pub fn intersect(&self, ray: &WideRay, primitives: &[u32; 4], nearest: &mut Nearest) -> Option<QuadHit> {
+    pub fn intersect(
+        &self,
+        ray: &WideRay,
+        primitives: &[u32; 4],
+        nearest: &mut Nearest,
+        filter: &impl HitFilter,
+    ) -> Option<QuadHit> {
         let c = self.crossed(ray)?;
         // det_abs > 0 on crossed lanes; the others' quotients are never read.
         let t = (c.t_scaled / c.det_abs).to_array();
         let mut lane = None;
         for k in 0..4 {
-            if c.lanes.test(k) && t[k] > 0.0 && nearest.beaten_by(t[k], primitives[k]) {
+            if c.lanes.test(k)
+                && t[k] > 0.0
+                && nearest.beaten_by(t[k], primitives[k])
+                && c.kept_by(k, primitives, filter)
+            {
                 *nearest = Nearest {
                     t: t[k],
                     primitive: primitives[k],
@@ -227,11 +263,26 @@ impl TriangleQuad {
     }
 
     /// Whether the ray hits any of the four triangles with 0 < t < `t_max` (without dividing
-    /// out the distances: t·|det| < `t_max`·|det|).
+    /// out the distances: t·|det| < `t_max`·|det|), counting only hits `filter` keeps. The
+    /// triangles' scene indices come from `primitives`, asked only when the filter filters (an
+    /// unused lookup of them still cost a bounds check per leaf).
     #[inline(always)]
-    pub fn hits_any(&self, ray: &WideRay, t_max: f32) -> bool {
-        self.crossed(ray)
-            .is_some_and(|c| (c.lanes & c.t_scaled.cmplt(c.det_abs * t_max)).any())
+    pub fn hits_any<'p>(
+        &self,
+        ray: &WideRay,
+        t_max: f32,
+        primitives: impl FnOnce() -> &'p [u32; 4],
+        filter: &impl HitFilter,
+    ) -> bool {
+        let Some(c) = self.crossed(ray) else {
+            return false;
+        };
+        let hit = c.lanes & c.t_scaled.cmplt(c.det_abs * t_max);
+        if !F_FILTERS(filter) {
+            return hit.any();
+        }
+        let primitives = primitives();
+        (0..4).any(|k| hit.test(k) && c.kept_by(k, primitives, filter))
     }
 
     /// The lanes whose triangle the ray's line crosses at t > 0 (none: `None`).
@@ -480,33 +531,40 @@ impl WideBvh {
         self.quad_triangles[quad as usize][lane]
     }
 
-    /// The closest hit with 0 < t < `t_max` in [`Nearest`]'s order: (quad, lane, t).
-    #[inline]
-    pub fn closest_hit(&self, ray: &WideRay, t_max: f32) -> Option<(u32, QuadHit)> {
+    /// The closest hit with 0 < t < `t_max` in [`Nearest`]'s order that `filter` keeps:
+    /// (quad, lane, t).
+    #[inline(always)]
+    pub fn closest_hit(&self, ray: &WideRay, t_max: f32, filter: &impl HitFilter) -> Option<(u32, QuadHit)> {
         if self.stack() == TraversalStack::Fixed {
-            self.closest_hit_with(ray, t_max, &mut FixedStack::new())
+            self.closest_hit_with(ray, t_max, &mut FixedStack::new(), filter)
         } else {
-            self.closest_hit_with(ray, t_max, &mut Vec::new())
+            self.closest_hit_with(ray, t_max, &mut Vec::new(), filter)
         }
     }
 
-    /// Whether anything lies at 0 < t < `t_max` (stops at the first hit found).
-    #[inline]
-    pub fn any_hit(&self, ray: &WideRay, t_max: f32) -> bool {
+    /// Whether anything `filter` keeps lies at 0 < t < `t_max` (stops at the first such hit).
+    #[inline(always)]
+    pub fn any_hit(&self, ray: &WideRay, t_max: f32, filter: &impl HitFilter) -> bool {
         if self.stack() == TraversalStack::Fixed {
-            self.any_hit_with(ray, t_max, &mut FixedStack::new())
+            self.any_hit_with(ray, t_max, &mut FixedStack::new(), filter)
         } else {
-            self.any_hit_with(ray, t_max, &mut Vec::new())
+            self.any_hit_with(ray, t_max, &mut Vec::new(), filter)
         }
     }
 
     #[inline(always)]
-    fn closest_hit_with(&self, ray: &WideRay, t_max: f32, stack: &mut impl Stack) -> Option<(u32, QuadHit)> {
+    fn closest_hit_with(
+        &self,
+        ray: &WideRay,
+        t_max: f32,
+        stack: &mut impl Stack,
+        filter: &impl HitFilter,
+    ) -> Option<(u32, QuadHit)> {
         let mut best = None;
         let mut nearest = Nearest::before(t_max);
         self.walk_nearest_first(ray, t_max, stack, |quad, _| {
             let q = quad as usize;
-            if let Some(hit) = self.quads[q].intersect(ray, &self.quad_triangles[q], &mut nearest) {
+            if let Some(hit) = self.quads[q].intersect(ray, &self.quad_triangles[q], &mut nearest, filter) {
                 best = Some((quad, hit));
             }
             nearest.t
@@ -515,9 +573,10 @@ impl WideBvh {
     }
 
     #[inline(always)]
-    fn any_hit_with(&self, ray: &WideRay, t_max: f32, stack: &mut impl Stack) -> bool {
+    fn any_hit_with(&self, ray: &WideRay, t_max: f32, stack: &mut impl Stack, filter: &impl HitFilter) -> bool {
         self.walk_until(ray, t_max, stack, |quad, t_max| {
-            (!self.quads[quad as usize].hits_any(ray, t_max)).then_some(t_max)
+            let q = quad as usize;
+            (!self.quads[q].hits_any(ray, t_max, || &self.quad_triangles[q], filter)).then_some(t_max)
         })
     }
 }

@@ -129,6 +129,19 @@ pub struct GltfPbr {
     pub emissive: [f32; 3],
     /// Textures that modulate the factors.
     pub textures: PbrTextures,
+    /// glTF `alphaMode` MASK: where the surface is cut out (`None`: opaque everywhere).
+    pub cutout: Option<Cutout>,
+}
+
+/// glTF `alphaMode` MASK: the surface is there where its alpha — the base colour factor's alpha
+/// times the base colour texture's (linear) alpha — is at least `cutoff`, and absent elsewhere:
+/// rays pass through the cut-out parts, camera and shadow rays alike (`accel::alpha`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cutout {
+    /// glTF's `alphaCutoff` (0.5 by default).
+    pub cutoff: f32,
+    /// The base colour factor's alpha, in [0, 1].
+    pub alpha: f32,
 }
 
 /// The BRDF parameters of a `gltf-pbr` material at one surface point, textures applied.
@@ -205,6 +218,7 @@ impl Material {
                 roughness,
                 emissive: [0.0; 3],
                 textures: PbrTextures::default(),
+                cutout: None,
             }),
             ..Self::lambert(name, base_color)
         }
@@ -300,6 +314,12 @@ impl Material {
                 check_unit("metallic", p.metallic)?;
                 check_unit("roughness", p.roughness)?;
                 check_color("emissive", p.emissive)?;
+                if let Some(c) = &p.cutout {
+                    check_unit("base colour alpha", c.alpha)?;
+                    if !(c.cutoff >= 0.0 && c.cutoff.is_finite()) {
+                        return Err(format!("alphaCutoff must be a finite number ≥ 0, got {}", c.cutoff));
+                    }
+                }
                 if let Some(n) = &p.textures.normal {
                     if !n.scale.is_finite() {
                         return Err(format!("normal texture scale must be finite, got {}", n.scale));

@@ -89,6 +89,12 @@ pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice, mesh_prefix: &str) -> 
     for (index, m) in scene.materials.iter().enumerate() {
         let (xml, note) = bsdf(index, m, bsdfs, &scene.textures, mesh_prefix);
         material_notes.push(format!("{}: {note}", m.name));
+        if matches!(&m.specular, Specular::GltfPbr(p) if p.cutout.is_some()) {
+            differences.push(format!(
+                "material '{}': alphaMode MASK (Mitsuba's direct integrator does not pass rays through cut-outs)",
+                m.name
+            ));
+        }
         if m.emits() && m.two_sided {
             differences.push(format!(
                 "material '{}': emits from both sides (two-sided), Mitsuba's area emitter from the front only",

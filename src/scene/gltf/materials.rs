@@ -1,15 +1,16 @@
 //! glTF materials → `gltf-pbr` [`Material`]s, and the file's images as [`PendingImage`]s.
 //!
 //! Every factor and texture of `pbrMetallicRoughness` is used, plus the normal texture (with its
-//! scale), the emissive factor and texture, and `doubleSided`. Not used, with a warning or a
-//! note: `alphaMode` MASK/BLEND (rendered opaque), texture-coordinate sets above 1, and the
+//! scale), the emissive factor and texture, `doubleSided`, and `alphaMode` MASK with its
+//! `alphaCutoff` (cut-outs: [`Cutout`]). Not used, with a warning or a note: `alphaMode` BLEND
+//! (rendered opaque: pointshade has no transparency), texture-coordinate sets above 1, and the
 //! occlusion texture, which in glTF darkens indirect light only — pointshade computes direct
 //! light from punctual lights only, so occlusion has nothing to act on and is not decoded.
 
 use crate::error::InputResult;
 use crate::scene::gltf::document::GltfDocument;
 use crate::scene::textures::{ImageSource, PendingImage};
-use crate::shading::material::{GltfPbr, Material, NormalTexture, PbrTextures, Specular};
+use crate::shading::material::{Cutout, GltfPbr, Material, NormalTexture, PbrTextures, Specular};
 use crate::shading::texture::{Filter, TextureRef, Wrap};
 
 /// The materials of a file, converted.
@@ -44,7 +45,7 @@ pub fn convert_materials(d: &GltfDocument) -> InputResult<Materials> {
         let index = m.index().unwrap_or(0);
         let name = m.name().map_or_else(|| format!("material {index}"), str::to_string);
         let pbr = m.pbr_metallic_roughness();
-        let [r, g, b, _alpha] = pbr.base_color_factor();
+        let [r, g, b, alpha] = pbr.base_color_factor();
         let mut tex_warning = |slot: &str, set: u32| {
             out.warnings.push(format!(
                 "{file}: material '{name}': its {slot} texture uses texture coordinates {set} (only sets 0 and 1 are supported): ignored"
@@ -76,15 +77,24 @@ pub fn convert_materials(d: &GltfDocument) -> InputResult<Materials> {
         if m.occlusion_texture().is_some() {
             occlusion.push(name.clone());
         }
-        if m.alpha_mode() != ::gltf::material::AlphaMode::Opaque {
-            translucent.push(format!("'{name}' ({:?})", m.alpha_mode()));
-        }
+        let cutout = match m.alpha_mode() {
+            ::gltf::material::AlphaMode::Opaque => None,
+            ::gltf::material::AlphaMode::Mask => Some(Cutout {
+                cutoff: m.alpha_cutoff().unwrap_or(0.5),
+                alpha,
+            }),
+            ::gltf::material::AlphaMode::Blend => {
+                translucent.push(format!("'{name}'"));
+                None
+            }
+        };
         let material = Material {
             specular: Specular::GltfPbr(GltfPbr {
                 metallic: pbr.metallic_factor(),
                 roughness: pbr.roughness_factor(),
                 emissive: m.emissive_factor(),
                 textures,
+                cutout,
             }),
             two_sided: m.double_sided(),
             ..Material::lambert(&name, [r, g, b])
@@ -96,7 +106,7 @@ pub fn convert_materials(d: &GltfDocument) -> InputResult<Materials> {
     }
     if !translucent.is_empty() {
         out.warnings.push(format!(
-            "{file}: alphaMode MASK/BLEND is not supported, rendered opaque: {}",
+            "{file}: alphaMode BLEND is not supported, rendered opaque: {}",
             translucent.join(", ")
         ));
     }
