@@ -20,6 +20,12 @@ pub trait HitFilter {
     /// False when every hit counts: [`Self::keeps`] is then never called.
     const FILTERS: bool;
 
+    /// [`Self::FILTERS`], asked of a value (the traversal holds `&impl HitFilter`).
+    #[inline(always)]
+    fn filters(&self) -> bool {
+        Self::FILTERS
+    }
+
     /// Whether the hit on scene triangle `triangle` at barycentric weights `b1`, `b2` (of its
     /// vertices 1 and 2) counts.
     fn keeps(&self, triangle: u32, b1: f32, b2: f32) -> bool;

@@ -150,11 +150,6 @@ impl Bvh {
         self.alpha = Some(Box::new(mask));
     }
 
-    /// Whether cut-outs apply.
-    pub fn has_alpha_mask(&self) -> bool {
-        self.alpha.is_some()
-    }
-
     /// Depth of the deepest inner node (root = 1); trees deeper than
     /// [`wide::FIXED_STACK_DEPTH`] are traversed with a growable stack.
     pub fn depth(&self) -> u32 {

@@ -98,7 +98,7 @@ impl Crossing {
     /// Whether `filter` keeps lane `k`'s hit (always, without asking, when it filters nothing).
     #[inline(always)]
     fn kept_by(&self, k: usize, primitives: &[u32; 4], filter: &impl HitFilter) -> bool {
-        if !F_FILTERS(filter) {
+        if !filter.filters() {
             return true;
         }
         // det ≠ 0 on crossed lanes.
@@ -109,13 +109,6 @@ impl Crossing {
             self.w.to_array()[k] * inv_det,
         )
     }
-}
-
-/// Whether `filter` can reject hits (its type's [`HitFilter::FILTERS`]), from a value.
-#[allow(non_snake_case)]
-#[inline(always)]
-fn F_FILTERS<F: HitFilter>(_: &F) -> bool {
-    F::FILTERS
 }
 
 /// The closest hit so far, as hits are ordered: by distance, then by the triangle's index in the
@@ -278,7 +271,7 @@ impl TriangleQuad {
             return false;
         };
         let hit = c.lanes & c.t_scaled.cmplt(c.det_abs * t_max);
-        if !F_FILTERS(filter) {
+        if !filter.filters() {
             return hit.any();
         }
         let primitives = primitives();
