@@ -462,6 +462,28 @@ fn emission_is_added_and_single_sided_backs_stay_dark() {
         "{} vs {e}",
         img.get(4, 4)
     );
+    // KHR_materials_emissive_strength scales the factor past 1.
+    let mut strong = matte(json!({"emissiveFactor": [1.0, 0.5, 0.0]}));
+    strong["extensions"] = json!({"KHR_materials_emissive_strength": {"emissiveStrength": 4.0}});
+    let rest = json!({
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0}, camera_node(0, [0.0, 0.0, 5.0], Quat::IDENTITY)],
+        "cameras": [ortho(1.0)],
+        "meshes": [mesh],
+        "materials": [strong],
+        "extensionsUsed": ["KHR_materials_emissive_strength"],
+        "extensionsRequired": ["KHR_materials_emissive_strength"]
+    });
+    let scene = scene::load(&b.write_gltf(&dir, "strong", rest)).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let lights = scene.lights.len();
+    let img = render_at(scene, 8, 8);
+    // The default lights (the file has none) add reflected light: compare what the emission adds.
+    let glow = img.get(4, 4);
+    assert!(
+        lights > 0 && (glow.x - glow.z - 4.0).abs() < 1e-4 && (glow.y - glow.z - 2.0).abs() < 1e-4,
+        "{glow}"
+    );
     let _ = std::fs::remove_dir_all(dir);
 }
 

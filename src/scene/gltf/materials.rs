@@ -1,7 +1,8 @@
 //! glTF materials → `gltf-pbr` [`Material`]s, and the file's images as [`PendingImage`]s.
 //!
 //! Every factor and texture of `pbrMetallicRoughness` is used, plus the normal texture (with its
-//! scale), the emissive factor and texture, `doubleSided`, and `alphaMode` MASK with its
+//! scale), the emissive factor (times `KHR_materials_emissive_strength`) and texture,
+//! `doubleSided`, and `alphaMode` MASK with its
 //! `alphaCutoff` (cut-outs: [`Cutout`]). Not used, with a warning or a note: `alphaMode` BLEND
 //! (rendered opaque: pointshade has no transparency), texture-coordinate sets above 1, and the
 //! occlusion texture, which in glTF darkens indirect light only — pointshade computes direct
@@ -92,7 +93,8 @@ pub fn convert_materials(d: &GltfDocument) -> InputResult<Materials> {
             specular: Specular::GltfPbr(GltfPbr {
                 metallic: pbr.metallic_factor(),
                 roughness: pbr.roughness_factor(),
-                emissive: m.emissive_factor(),
+                // KHR_materials_emissive_strength scales the factor (HDR emission).
+                emissive: m.emissive_factor().map(|e| e * m.emissive_strength().unwrap_or(1.0)),
                 textures,
                 cutout,
             }),
