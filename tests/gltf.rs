@@ -349,6 +349,66 @@ fn base_colour_texture_is_upright_srgb_decoded_and_sampled_with_its_wrap_mode() 
 }
 
 #[test]
+fn texture_transforms_move_the_texels_and_reach_the_normal_texture() {
+    let dir = temp_dir("texture-transform");
+    // 2×2: red, green / blue, grey, as above.
+    let code = 188u8;
+    write_png(
+        &dir.join("quads.png"),
+        2,
+        2,
+        &[
+            [code, 0, 0, 255],
+            [0, code, 0, 255],
+            [0, 0, code, 255],
+            [code, code, code, 255],
+        ],
+    );
+    let transform = |t: serde_json::Value| json!({"KHR_texture_transform": t});
+    let material = matte(json!({
+        "pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": transform(json!({"offset": [0.5, 0.0]}))}},
+        "normalTexture": {"index": 0, "extensions": transform(json!({"scale": [2.0, 2.0], "texCoord": 0}))}
+    }));
+    let extra = |material: serde_json::Value| {
+        json!({
+            "images": [{"uri": "quads.png"}],
+            "samplers": [{"magFilter": 9728}],
+            "textures": [{"source": 0, "sampler": 0}],
+            "materials": [material],
+            "extensionsUsed": ["KHR_lights_punctual", "KHR_texture_transform"]
+        })
+    };
+    let path = lit_square(&dir, "transformed", json!({}), extra(material.clone()));
+    let scene = scene::load(&path).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let textures = scene.materials[0].pbr_textures().unwrap();
+    assert_eq!(
+        textures.normal.unwrap().texture.transform.map(|t| t.m),
+        Some([2.0, 0.0, 0.0, 0.0, 2.0, 0.0]),
+        "the normal texture's transform, read from its JSON"
+    );
+    // Offset u by ½ (repeat): the top-left quarter of the square shows the top-right texel.
+    let mut flat = scene.clone();
+    flat.materials[0].pbr_textures_mut().unwrap().normal = None;
+    let img = render_at(flat, 64, 64);
+    let (on, off) = (matte_at_normal_incidence(0.502_886), matte_at_normal_incidence(0.0));
+    for (x, y, e) in [(4, 4, Vec3::new(off, on, off)), (59, 4, Vec3::new(on, off, off))] {
+        let v = img.get(x, y);
+        assert!((v - e).abs().max_element() < 1e-5, "pixel ({x}, {y}): {v} vs {e}");
+    }
+    // A malformed transform is an error naming the slot.
+    let mut bad = material;
+    bad["normalTexture"]["extensions"] = transform(json!({"rotation": "quarter"}));
+    let path = lit_square(&dir, "bad", json!({}), extra(bad));
+    let e = scene::load(&path).unwrap_err().to_string();
+    assert!(
+        e.contains("KHR_texture_transform of its normal texture: rotation is not a number"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
 fn second_texture_coordinate_set_selects_the_texels() {
     let dir = temp_dir("texcoord1");
     // The base colour texture is read through TEXCOORD_1, which is (0.75, 0.75) everywhere:

@@ -9,7 +9,9 @@ conventions (README.md, "Textures"; written here from those rules, not from the 
   at ((i + 1/2)/W, (j + 1/2)/H);
 * sRGB textures (base colour, emissive) are decoded per texel *before* filtering;
 * bilinear filtering of the four nearest texels, or the nearest texel; wrap modes repeat,
-  mirrored repeat and clamp to edge, per axis; non-finite coordinates read as 0.
+  mirrored repeat and clamp to edge, per axis; non-finite coordinates read as 0;
+* KHR_texture_transform as a 2x3 matrix applied to the coordinates first (`{slot}_transform`:
+  u' = m0 u + m1 v + m2, v' = m3 u + m4 v + m5).
 
 Texture coordinates come from the mesh attributes `vertex_uv0` / `vertex_uv1` that pointshade
 writes into its PLY parts (`uv0_x, uv0_y, uv0_z`; Mitsuba reads groups of one or three values),
@@ -45,6 +47,8 @@ class Image:
         self.attribute = f"vertex_uv{int(props[f'{slot}_set'])}"
         self.wrap = props[f"{slot}_wrap"].split()
         self.filter = props[f"{slot}_filter"]
+        key = f"{slot}_transform"
+        self.transform = [float(v) for v in props[key].split()] if props.has_property(key) else None
 
     @staticmethod
     def present(props, slot):
@@ -56,8 +60,12 @@ class Image:
     def sample(self, si, active=True):
         """RGB at the hit `si` (a Color3f)."""
         uv = self.uv(si, active)
-        x = self._texel_coordinate(uv.x, self.width)
-        y = self._texel_coordinate(uv.y, self.height)
+        u, v = uv.x, uv.y
+        if self.transform is not None:
+            m = self.transform
+            u, v = m[0] * u + m[1] * v + m[2], m[3] * u + m[4] * v + m[5]
+        x = self._texel_coordinate(u, self.width)
+        y = self._texel_coordinate(v, self.height)
         if self.filter == "nearest":
             return self._texel(dr.floor(x + 0.5), dr.floor(y + 0.5), active)
         x0, y0 = dr.floor(x), dr.floor(y)

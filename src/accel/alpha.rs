@@ -166,6 +166,7 @@ mod tests {
                 wrap_u: Wrap::ClampToEdge,
                 wrap_v: Wrap::ClampToEdge,
                 filter: Filter::Nearest,
+                transform: None,
             });
         }
         m

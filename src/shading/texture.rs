@@ -78,8 +78,41 @@ pub enum ColorSpace {
     Linear,
 }
 
+/// `KHR_texture_transform`: texture coordinates mapped by an affine transform before the lookup,
+/// uv' = T·R·S·uv with S = diag(scale), R the rotation by `rotation` radians (counter-clockwise
+/// in uv space: [cos, sin; −sin, cos]) and T the translation by `offset`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UvTransform {
+    /// Rows of the 2×3 matrix: u' = m[0]·u + m[1]·v + m[2], v' = m[3]·u + m[4]·v + m[5].
+    pub m: [f32; 6],
+}
+
+impl UvTransform {
+    /// The extension's transform from its offset, rotation (radians) and scale.
+    pub fn new(offset: [f32; 2], rotation: f32, scale: [f32; 2]) -> Self {
+        let (sin, cos) = rotation.sin_cos();
+        Self {
+            m: [
+                cos * scale[0],
+                sin * scale[1],
+                offset[0],
+                -sin * scale[0],
+                cos * scale[1],
+                offset[1],
+            ],
+        }
+    }
+
+    /// `uv` mapped.
+    #[inline]
+    pub fn apply(&self, uv: Vec2) -> Vec2 {
+        let m = &self.m;
+        Vec2::new(m[0] * uv.x + m[1] * uv.y + m[2], m[3] * uv.x + m[4] * uv.y + m[5])
+    }
+}
+
 /// A material's use of an image: which image, which texture-coordinate set, and the sampler.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TextureRef {
     /// Index into the scene's decoded images (`Scene::textures`).
     pub image: u32,
@@ -91,6 +124,8 @@ pub struct TextureRef {
     pub wrap_v: Wrap,
     /// Magnification filter.
     pub filter: Filter,
+    /// `KHR_texture_transform`, applied to the coordinates first.
+    pub transform: Option<UvTransform>,
 }
 
 /// sRGB → linear for every 8-bit code (IEC 61966-2-1):
@@ -115,6 +150,7 @@ impl TextureRef {
     #[inline]
     pub fn sample(&self, images: &[TextureImage], uv: Vec2, space: ColorSpace) -> Vec4 {
         let image = &images[self.image as usize];
+        let uv = self.transform.map_or(uv, |t| t.apply(uv));
         let (w, h) = (image.width as i64, image.height as i64);
         // Continuous texel coordinates (texel centres at integer + ½), kept within ±1e9 so that
         // the fractional part below is finite (u·W can overflow to infinity).
@@ -181,6 +217,7 @@ mod tests {
             wrap_u: wrap,
             wrap_v: wrap,
             filter,
+            transform: None,
         }
     }
 
@@ -227,6 +264,22 @@ mod tests {
         let v = r.sample(&images, Vec2::new(0.5, 0.5), ColorSpace::Srgb);
         assert!((v.x - 0.502_886 / 2.0).abs() < 1e-5, "{v}");
         assert!((v.w - 0.5).abs() < 1e-6, "alpha is linear: {v}");
+    }
+
+    #[test]
+    fn uv_transforms_follow_the_extension_matrix() {
+        // Rotation by a quarter turn maps (1, 0) to (cos, −sin) = (0, −1), then scale and offset.
+        let t = UvTransform::new([0.5, 0.25], std::f32::consts::FRAC_PI_2, [1.0, 1.0]);
+        let p = t.apply(Vec2::new(1.0, 0.0));
+        assert!((p - Vec2::new(0.5, -0.75)).abs().max_element() < 1e-6, "{p}");
+        let s = UvTransform::new([0.0, 0.0], 0.0, [2.0, 3.0]).apply(Vec2::new(0.25, 0.5));
+        assert_eq!(s, Vec2::new(0.5, 1.5));
+        // A lookup goes through it: offset u by ½ turns the left (red) texel into the right one.
+        let images = image();
+        let mut r = reference(Wrap::Repeat, Filter::Nearest);
+        r.transform = Some(UvTransform::new([0.5, 0.0], 0.0, [1.0, 1.0]));
+        let v = r.sample(&images, Vec2::new(0.25, 0.25), ColorSpace::Linear);
+        assert_eq!(v, Vec4::new(0.0, 1.0, 0.0, 1.0), "green, the texel right of red");
     }
 
     #[test]

@@ -89,6 +89,7 @@ mod tests {
                         wrap_u: Wrap::Repeat,
                         wrap_v: Wrap::Repeat,
                         filter: Filter::Bilinear,
+                        transform: None,
                     },
                     scale,
                 }),

@@ -604,6 +604,7 @@ mod tests {
             wrap_u: Wrap::Repeat,
             wrap_v: Wrap::Repeat,
             filter: Filter::Bilinear,
+            transform: None,
         };
         let mut m = Material::gltf_pbr("glow", [1.0; 3], 0.0, 0.5);
         if let Specular::GltfPbr(p) = &mut m.specular {

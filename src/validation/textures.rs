@@ -5,7 +5,8 @@
 //!   8 bits per channel, row 0 at the top), so both renderers start from the same texels whatever
 //!   JPEG or PNG decoder Mitsuba would have used.
 //! - A texture slot becomes plugin properties `{slot}_file`, `_width`, `_height`, `_set`
-//!   (texture-coordinate set), `_wrap` ("u v") and `_filter`.
+//!   (texture-coordinate set), `_wrap` ("u v"), `_filter` and, with `KHR_texture_transform`,
+//!   `_transform` (the six numbers of [`crate::shading::texture::UvTransform::m`]).
 //! - The parts of a textured material carry the texture coordinates and tangents the plugin
 //!   interpolates ([`super::ply::VertexAttributes`]).
 //! - An emissive material's surfaces get an `area` emitter whose radiance is the plugin's
@@ -68,8 +69,12 @@ fn slot_properties(slot: &str, r: &TextureRef, images: &[TextureImage], prefix: 
         Filter::Nearest => "nearest",
         Filter::Bilinear => "bilinear",
     };
+    let transform = r.transform.map_or_else(String::new, |t| {
+        let m = t.m.map(|v| v.to_string()).join(" ");
+        format!("<string name=\"{slot}_transform\" value=\"{m}\"/>")
+    });
     format!(
-        "<string name=\"{slot}_file\" value=\"{}\"/><integer name=\"{slot}_width\" value=\"{}\"/><integer name=\"{slot}_height\" value=\"{}\"/><integer name=\"{slot}_set\" value=\"{}\"/><string name=\"{slot}_wrap\" value=\"{} {}\"/><string name=\"{slot}_filter\" value=\"{filter}\"/>",
+        "<string name=\"{slot}_file\" value=\"{}\"/><integer name=\"{slot}_width\" value=\"{}\"/><integer name=\"{slot}_height\" value=\"{}\"/><integer name=\"{slot}_set\" value=\"{}\"/><string name=\"{slot}_wrap\" value=\"{} {}\"/><string name=\"{slot}_filter\" value=\"{filter}\"/>{transform}",
         super::mitsuba::xml_escape(&image_file(prefix, r.image as usize)),
         image.width,
         image.height,
@@ -130,6 +135,7 @@ mod tests {
 
     use super::*;
     use crate::shading::material::{NormalTexture, PbrTextures};
+    use crate::shading::texture::UvTransform;
 
     fn reference(image: u32, tex_coord: u8) -> TextureRef {
         TextureRef {
@@ -138,6 +144,7 @@ mod tests {
             wrap_u: Wrap::Repeat,
             wrap_v: Wrap::MirroredRepeat,
             filter: Filter::Bilinear,
+            transform: None,
         }
     }
 
@@ -149,7 +156,10 @@ mod tests {
                 base_color: Some(reference(0, 0)),
                 metallic_roughness: None,
                 normal: Some(NormalTexture {
-                    texture: reference(1, 1),
+                    texture: TextureRef {
+                        transform: Some(UvTransform::new([0.5, 0.0], 0.0, [1.0, 1.0])),
+                        ..reference(1, 1)
+                    },
                     scale: 0.5,
                 }),
                 emissive: Some(reference(1, 0)),
@@ -206,6 +216,10 @@ mod tests {
         assert!(p.contains("<string name=\"normal_wrap\" value=\"repeat mirrored-repeat\"/>"));
         assert!(p.contains("<integer name=\"normal_set\" value=\"1\"/>"));
         assert!(p.contains("<float name=\"normal_scale\" value=\"0.5\"/>"));
+        assert!(
+            p.contains("<string name=\"normal_transform\" value=\"1 0 0.5 -0 1 0\"/>"),
+            "{p}"
+        );
         assert!(!p.contains("metallic_roughness") && !p.contains("emissive"), "{p}");
         let e = area_emitter(&m, &images(), "s").unwrap();
         assert!(e.starts_with("<emitter type=\"area\"><texture name=\"radiance\" type=\"pointshade_emission\"><rgb name=\"factor\" value=\"0.5, 1, 2\"/>"), "{e}");

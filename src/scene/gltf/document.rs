@@ -9,7 +9,11 @@ use std::path::{Path, PathBuf};
 use crate::error::{InputError, InputResult};
 
 /// Extensions pointshade implements (everything else in `extensionsRequired` is an error).
-pub const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_lights_punctual", "KHR_materials_emissive_strength"];
+pub const SUPPORTED_EXTENSIONS: &[&str] = &[
+    "KHR_lights_punctual",
+    "KHR_materials_emissive_strength",
+    "KHR_texture_transform",
+];
 
 /// A parsed, validated glTF document with its buffers loaded.
 pub struct GltfDocument {

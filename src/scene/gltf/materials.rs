@@ -1,7 +1,8 @@
 //! glTF materials → `gltf-pbr` [`Material`]s, and the file's images as [`PendingImage`]s.
 //!
 //! Every factor and texture of `pbrMetallicRoughness` is used, plus the normal texture (with its
-//! scale), the emissive factor (times `KHR_materials_emissive_strength`) and texture,
+//! scale), the emissive factor (times `KHR_materials_emissive_strength`) and texture, each
+//! texture's `KHR_texture_transform`,
 //! `doubleSided`, and `alphaMode` MASK with its
 //! `alphaCutoff` (cut-outs: [`Cutout`]). Not used, with a warning or a note: `alphaMode` BLEND
 //! (rendered opaque: pointshade has no transparency), texture-coordinate sets above 1, and the
@@ -10,9 +11,10 @@
 
 use crate::error::InputResult;
 use crate::scene::gltf::document::GltfDocument;
+use crate::scene::gltf::texture_transform::{self, SlotTransform};
 use crate::scene::textures::{ImageSource, PendingImage};
 use crate::shading::material::{Cutout, GltfPbr, Material, NormalTexture, PbrTextures, Specular};
-use crate::shading::texture::{Filter, TextureRef, Wrap};
+use crate::shading::texture::{Filter, TextureRef, UvTransform, Wrap};
 
 /// The materials of a file, converted.
 pub struct Materials {
@@ -52,28 +54,34 @@ pub fn convert_materials(d: &GltfDocument) -> InputResult<Materials> {
                 "{file}: material '{name}': its {slot} texture uses texture coordinates {set} (only sets 0 and 1 are supported): ignored"
             ))
         };
-        let mut reference = |slot: &str, info: Option<(::gltf::Texture, u32)>| -> Option<TextureRef> {
-            let (texture, set) = info?;
+        let transform_error = |slot: &str, e: String| {
+            d.error(format!(
+                "material '{name}': KHR_texture_transform of its {slot} texture: {e}"
+            ))
+        };
+        let base_color = info_slot(pbr.base_color_texture()).map_err(|e| transform_error("base colour", e))?;
+        let metallic_roughness =
+            info_slot(pbr.metallic_roughness_texture()).map_err(|e| transform_error("metallic-roughness", e))?;
+        let emissive = info_slot(m.emissive_texture()).map_err(|e| transform_error("emissive", e))?;
+        let normal_transform = texture_transform::of_normal(&d.doc, index).map_err(|e| transform_error("normal", e))?;
+        let mut reference = |slot: &str, slot_info: Option<Slot>| -> Option<TextureRef> {
+            let (texture, set, transform) = slot_info?;
+            let set = transform.and_then(|t| t.tex_coord).unwrap_or(set);
             if set > 1 {
                 tex_warning(slot, set);
                 return None;
             }
-            Some(texture_ref(&texture, set as u8))
+            Some(texture_ref(&texture, set as u8, transform.map(|t| t.transform)))
         };
         let textures = PbrTextures {
-            base_color: reference(
-                "base colour",
-                pbr.base_color_texture().map(|i| (i.texture(), i.tex_coord())),
-            ),
-            metallic_roughness: reference(
-                "metallic-roughness",
-                pbr.metallic_roughness_texture().map(|i| (i.texture(), i.tex_coord())),
-            ),
+            base_color: reference("base colour", base_color),
+            metallic_roughness: reference("metallic-roughness", metallic_roughness),
             normal: m.normal_texture().and_then(|n| {
                 let scale = n.scale();
-                reference("normal", Some((n.texture(), n.tex_coord()))).map(|texture| NormalTexture { texture, scale })
+                reference("normal", Some((n.texture(), n.tex_coord(), normal_transform)))
+                    .map(|texture| NormalTexture { texture, scale })
             }),
-            emissive: reference("emissive", m.emissive_texture().map(|i| (i.texture(), i.tex_coord()))),
+            emissive: reference("emissive", emissive),
         };
         if m.occlusion_texture().is_some() {
             occlusion.push(name.clone());
@@ -123,7 +131,7 @@ pub fn convert_materials(d: &GltfDocument) -> InputResult<Materials> {
 
 /// A texture as pointshade samples it: its image, coordinate set, wrap modes and magnification
 /// filter (minification filters are not used: there are no mipmaps).
-fn texture_ref(texture: &::gltf::Texture, tex_coord: u8) -> TextureRef {
+fn texture_ref(texture: &::gltf::Texture, tex_coord: u8, transform: Option<UvTransform>) -> TextureRef {
     use ::gltf::texture::{MagFilter, WrappingMode};
     let sampler = texture.sampler();
     let wrap = |mode| match mode {
@@ -140,7 +148,17 @@ fn texture_ref(texture: &::gltf::Texture, tex_coord: u8) -> TextureRef {
             Some(MagFilter::Nearest) => Filter::Nearest,
             _ => Filter::Bilinear,
         },
+        transform,
     }
+}
+
+/// A texture slot as the file gives it: the texture, its coordinate set and its transform.
+type Slot<'a> = (::gltf::Texture<'a>, u32, Option<SlotTransform>);
+
+/// The slot of a `textureInfo`, if the material has that texture.
+fn info_slot(info: Option<::gltf::texture::Info<'_>>) -> Result<Option<Slot<'_>>, String> {
+    info.map(|i| Ok((i.texture(), i.tex_coord(), texture_transform::of_info(&i)?)))
+        .transpose()
 }
 
 /// The file's images, not decoded: embedded ones copied out of their buffer views (checked),

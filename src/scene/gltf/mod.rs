@@ -16,6 +16,7 @@ pub mod materials;
 pub mod meshes;
 pub mod nodes;
 pub mod tangents;
+pub mod texture_transform;
 
 use std::path::Path;
 

@@ -485,6 +485,7 @@ mod tests {
             wrap_u: Wrap::Repeat,
             wrap_v: Wrap::Repeat,
             filter: Filter::Bilinear,
+            transform: None,
         });
         let pbr = [pbr];
         let textured = Shader {
