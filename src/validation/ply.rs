@@ -94,26 +94,25 @@ fn write(mesh: &TriangleMesh, chosen: &[[u32; 3]], attributes: VertexAttributes)
     let mut bytes = header.into_bytes();
     bytes.reserve(vertices.len() * 4 * (6 + extra.len()) + faces.len() * 13);
     let at = |set: &Option<Vec<Vec2>>, v: usize| set.as_ref().map_or(Vec2::ZERO, |uvs| uvs[v]);
+    let put = |bytes: &mut Vec<u8>, values: &[f32]| {
+        for c in values {
+            bytes.extend_from_slice(&c.to_le_bytes());
+        }
+    };
     for &v in &vertices {
         let v = v as usize;
-        let mut values = Vec::with_capacity(6 + extra.len());
-        values.extend(
-            mesh.positions[v]
-                .to_array()
-                .into_iter()
-                .chain(mesh.normals[v].to_array()),
-        );
+        put(&mut bytes, &mesh.positions[v].to_array());
+        put(&mut bytes, &mesh.normals[v].to_array());
         for (k, set) in [&mesh.uvs, &mesh.uvs1].into_iter().enumerate() {
             if attributes.uv[k] {
-                values.extend(at(set, v).extend(0.0).to_array());
+                put(&mut bytes, &at(set, v).extend(0.0).to_array());
             }
         }
         if attributes.tangent {
-            let t = mesh.tangents.as_ref().map_or(Vec4::ZERO, |t| t[v]);
-            values.extend(t.to_array());
-        }
-        for c in values {
-            bytes.extend_from_slice(&c.to_le_bytes());
+            put(
+                &mut bytes,
+                &mesh.tangents.as_ref().map_or(Vec4::ZERO, |t| t[v]).to_array(),
+            );
         }
     }
     for face in &faces {
