@@ -293,10 +293,9 @@ fn lit_square(dir: &Path, name: &str, material: serde_json::Value, extra: serde_
     b.write_gltf(dir, name, rest)
 }
 
-#[test]
-fn base_colour_texture_is_upright_srgb_decoded_and_sampled_with_its_wrap_mode() {
-    let dir = temp_dir("texture");
-    // 2×2: red, green / blue, grey — each channel at sRGB code 188 (linear 0.50289).
+/// Writes `dir/quads.png`, 2×2: red, green / blue, grey — each channel at sRGB code 188 (linear
+/// 0.50289); returns the code.
+fn write_quads_png(dir: &Path) -> u8 {
     let code = 188u8;
     write_png(
         &dir.join("quads.png"),
@@ -309,6 +308,13 @@ fn base_colour_texture_is_upright_srgb_decoded_and_sampled_with_its_wrap_mode() 
             [code, code, code, 255],
         ],
     );
+    code
+}
+
+#[test]
+fn base_colour_texture_is_upright_srgb_decoded_and_sampled_with_its_wrap_mode() {
+    let dir = temp_dir("texture");
+    let code = write_quads_png(&dir);
     let material = matte(json!({"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}));
     let extra = json!({
         "images": [{"uri": "quads.png"}],
@@ -351,19 +357,7 @@ fn base_colour_texture_is_upright_srgb_decoded_and_sampled_with_its_wrap_mode() 
 #[test]
 fn texture_transforms_move_the_texels_and_reach_the_normal_texture() {
     let dir = temp_dir("texture-transform");
-    // 2×2: red, green / blue, grey, as above.
-    let code = 188u8;
-    write_png(
-        &dir.join("quads.png"),
-        2,
-        2,
-        &[
-            [code, 0, 0, 255],
-            [0, code, 0, 255],
-            [0, 0, code, 255],
-            [code, code, code, 255],
-        ],
-    );
+    write_quads_png(&dir);
     let transform = |t: serde_json::Value| json!({"KHR_texture_transform": t});
     let material = matte(json!({
         "pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": transform(json!({"offset": [0.5, 0.0]}))}},

@@ -120,17 +120,10 @@ fn decode(p: &PendingImage) -> InputResult<TextureImage> {
 mod tests {
     use super::*;
     use crate::shading::material::{PbrTextures, Specular};
-    use crate::shading::texture::{Filter, TextureRef, Wrap};
+    use crate::shading::texture::TextureRef;
 
     fn reference(image: u32) -> Option<TextureRef> {
-        Some(TextureRef {
-            image,
-            tex_coord: 0,
-            wrap_u: Wrap::Repeat,
-            wrap_v: Wrap::Repeat,
-            filter: Filter::Bilinear,
-            transform: None,
-        })
+        Some(TextureRef::gltf_default(image))
     }
 
     fn textured(name: &str, base: u32, emissive: u32, emits: bool) -> Material {

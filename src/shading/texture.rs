@@ -145,6 +145,19 @@ pub fn srgb_decode_table() -> &'static [f32; 256] {
 }
 
 impl TextureRef {
+    /// Image `image` read through glTF's default sampler: coordinate set 0, repeating on both
+    /// axes, bilinear, no transform.
+    pub fn gltf_default(image: u32) -> Self {
+        Self {
+            image,
+            tex_coord: 0,
+            wrap_u: Wrap::Repeat,
+            wrap_v: Wrap::Repeat,
+            filter: Filter::Bilinear,
+            transform: None,
+        }
+    }
+
     /// The texture at `uv`, RGBA in [0, 1]; RGB decoded to linear when `space` is sRGB.
     /// Non-finite coordinates read the texel at (0, 0) so NaN never leaves a texture lookup.
     #[inline]

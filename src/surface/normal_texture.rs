@@ -64,7 +64,7 @@ pub fn apply_normal_texture(
 mod tests {
     use super::*;
     use crate::shading::material::{NormalTexture, PbrTextures, Specular};
-    use crate::shading::texture::{Filter, TextureRef, Wrap};
+    use crate::shading::texture::TextureRef;
     use glam::Vec4;
 
     /// A quad in the xy plane facing +z, u along +x and v along −y (the image's top row at
@@ -83,14 +83,7 @@ mod tests {
         if let Specular::GltfPbr(p) = &mut m.specular {
             p.textures = PbrTextures {
                 normal: Some(NormalTexture {
-                    texture: TextureRef {
-                        image: 0,
-                        tex_coord: 0,
-                        wrap_u: Wrap::Repeat,
-                        wrap_v: Wrap::Repeat,
-                        filter: Filter::Bilinear,
-                        transform: None,
-                    },
+                    texture: TextureRef::gltf_default(0),
                     scale,
                 }),
                 ..Default::default()

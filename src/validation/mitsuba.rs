@@ -594,18 +594,11 @@ mod tests {
     #[test]
     fn emission_is_a_pass_of_its_own_and_normal_mapped_materials_keep_their_sides_in_the_plugin() {
         use crate::shading::material::{NormalTexture, PbrTextures};
-        use crate::shading::texture::{Filter, TextureRef, Wrap};
+        use crate::shading::texture::TextureRef;
         let mut s = load(&format!(
             "{CAMERA}[film]\nsampler = \"grid\"\n[[light]]\ntype = \"point\"\nposition = [0.0, 1.0, 2.0]\n[[object]]\nmesh = \"tri.obj\"\n"
         ));
-        let texture = TextureRef {
-            image: 0,
-            tex_coord: 0,
-            wrap_u: Wrap::Repeat,
-            wrap_v: Wrap::Repeat,
-            filter: Filter::Bilinear,
-            transform: None,
-        };
+        let texture = TextureRef::gltf_default(0);
         let mut m = Material::gltf_pbr("glow", [1.0; 3], 0.0, 0.5);
         if let Specular::GltfPbr(p) = &mut m.specular {
             p.emissive = [1.0, 0.5, 0.25];

@@ -381,7 +381,7 @@ mod tests {
     use crate::shading::convention::ShadingConvention;
     use crate::shading::material::{Material, Specular};
     use crate::shading::shadow::{NoOcclusion, SceneExtent};
-    use crate::shading::texture::{Filter, TextureRef, Wrap};
+    use crate::shading::texture::TextureRef;
     use crate::surface::SurfacePoint;
 
     #[test]
@@ -479,14 +479,7 @@ mod tests {
         let Specular::GltfPbr(p) = &mut pbr.specular else {
             unreachable!("made as glTF PBR")
         };
-        p.textures.base_color = Some(TextureRef {
-            image: 0,
-            tex_coord: 0,
-            wrap_u: Wrap::Repeat,
-            wrap_v: Wrap::Repeat,
-            filter: Filter::Bilinear,
-            transform: None,
-        });
+        p.textures.base_color = Some(TextureRef::gltf_default(0));
         let pbr = [pbr];
         let textured = Shader {
             textures: Some(&[]),
