@@ -24,11 +24,16 @@ use super::wide::{Nearest, Node4, QuadHit, WideBvh, WideRay};
 pub const PACKET: usize = 16;
 
 /// Widest spread of a packet's origins on any axis, in BVH units (the scene is ~256 across).
-/// The samples of a pixel that land on one surface start within a pixel's footprint (well under
-/// one unit at ordinary resolutions) and share most of their walk; samples split across a
-/// silhouette start metres apart, and the packet's bounds then enclose everything between
-/// them: the adaptive sampler's edge pixels shaded at half speed with such packets.
-const MAX_ORIGIN_SPREAD: f32 = 1.0;
+/// A perspective camera's rays share its origin (an orthographic block's spread is its
+/// footprint); this bounds shadow packets above all, whose origins are the hit points of a
+/// block's samples. Samples on one surface start within a block's footprint and
+/// share most of their walk; samples split across a silhouette start far apart, and the
+/// packet's bounds then enclose everything between them: the adaptive sampler's edge pixels
+/// shaded at half speed with such packets. Instruction counts (`benches/instructions.sh`,
+/// 2026-11-24) against the earlier 1.0: 2 and 3 units −0.6% on both dragon renders, 3 units
+/// −4.4% on the Cornell box (whose walls spread a block's points wide), 8 units +0.3% on the
+/// dragon, 64 units +32%.
+const MAX_ORIGIN_SPREAD: f32 = 3.0;
 
 /// The rays of a packet and the bounds of their origins and inverse directions, per axis.
 pub struct RayPacket<'a> {
