@@ -91,6 +91,8 @@ if $update; then
   echo "wrote $baseline"
 fi
 
+# A count in G (or M below 0.1 G), for the table.
+g() { awk -v n="$1" 'BEGIN { if (n < 1e8) printf "%.1f M", n / 1e6; else printf "%.3f G", n / 1e9 }'; }
 field() { sed -n "s/.*\b$2=\([0-9]*\).*/\1/p" <<< "$1"; }
 echo
 echo "| case | load | bvh | render | load+bvh+render | baseline | change | output (not checked) |"
@@ -117,7 +119,6 @@ while read -r line; do
     change="no baseline"
     $comparable && failed=1
   fi
-  g() { awk -v n="$1" 'BEGIN { if (n < 1e8) printf "%.1f M", n / 1e6; else printf "%.3f G", n / 1e9 }'; }
   echo "| $name | $(g "$(field "$line" load)") | $(g "$(field "$line" bvh)") | $(g "$(field "$line" render)") | $(g "$sum") | $( [ "$base" = none ] && echo none || g "$base") | $change | $(g "$(field "$line" output)") |"
 done < "$results"
 echo
