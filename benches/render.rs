@@ -11,7 +11,7 @@ use common::median;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use pointshade::accel::{Bvh, BvhPreset};
+use pointshade::accel::Bvh;
 use pointshade::plan::RenderPlan;
 use pointshade::render::render;
 use pointshade::scene;
@@ -50,7 +50,7 @@ fn main() {
         scene.film.height = SIZE;
         scene.film.spp = 1;
         let plan = RenderPlan::new(&scene, &[]);
-        let bvh = Bvh::build(&scene.mesh, BvhPreset::DEFAULT);
+        let bvh = Bvh::for_scene(&scene);
         let (mut surface, mut shading, mut wall) = (Vec::new(), Vec::new(), Vec::new());
         for _ in 0..runs {
             let t = Instant::now();

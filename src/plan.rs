@@ -9,7 +9,7 @@ use std::path::Path;
 use crate::scene::normal_map::{NormalMapScene, Preset};
 use crate::scene::Scene;
 use crate::shading::convention::ShadingConvention;
-use crate::shading::material::{Material, PbrTextures, Specular};
+use crate::shading::material::{Material, PbrTextures};
 use crate::shading::shadow::{ShadowOffset, ShadowTerminator};
 use crate::surface::normal_image::NormalImage;
 use crate::surface::primary::PointOptions;
@@ -171,19 +171,10 @@ impl RenderPlan {
                     .into()
             },
         );
-        let used: Vec<_> = {
-            let mut seen = vec![false; scene.materials.len()];
-            for &m in &scene.mesh.material_of_triangle {
-                seen[m as usize] = true;
-            }
-            scene
-                .materials
-                .iter()
-                .zip(seen)
-                .filter(|(_, s)| *s)
-                .map(|(m, _)| m)
-                .collect()
-        };
+        let used: Vec<_> = (scene.materials.iter())
+            .zip(scene.mesh.materials_used(scene.materials.len()))
+            .filter_map(|(m, used)| used.then_some(m))
+            .collect();
         let specular_names: Vec<_> = used
             .iter()
             .filter(|m| m.has_specular())
@@ -247,10 +238,7 @@ impl RenderPlan {
                 format!("emissive materials: {}", emissive_names.join(", "))
             },
         );
-        let cutout_names = names_where(
-            &used,
-            |m| matches!(&m.specular, Specular::GltfPbr(p) if p.cutout.is_some()),
-        );
+        let cutout_names = names_where(&used, |m| m.cutout().is_some());
         let cutouts = decide(
             "cut-outs (alpha mask)",
             trace_rays && !cutout_names.is_empty(),

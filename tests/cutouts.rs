@@ -1,15 +1,16 @@
 //! Cut-outs (glTF `alphaMode` MASK) on a file the test writes: a square whose left half is cut
 //! out by its base colour texture's alpha, in front of a larger opaque square, under a tilted
 //! directional light. Camera rays see the back square through the cut-out half, shadow rays pass
-//! through it too, and the opaque half still hides and shadows; packets answer as single rays.
+//! through it too, and the opaque half still hides and shadows; packets answer as single rays, and
+//! a bake of camera-space normals sees through the cut-out too.
 
 mod support;
 
 use glam::{Quat, Vec3};
 use serde_json::json;
 
-use pointshade::accel::alpha::AlphaMask;
 use pointshade::accel::{Bvh, BvhPreset};
+use pointshade::bake::bake_normals;
 use pointshade::film::{Image, SamplerKind};
 use pointshade::plan::RenderPlan;
 use pointshade::render::render_scene;
@@ -121,8 +122,8 @@ fn scene_with_mode(mode: &str) -> Scene {
 #[test]
 fn packets_and_single_rays_agree_on_cut_out_hits() {
     let scene = scene("MASK");
-    let mut bvh = Bvh::build(&scene.mesh, BvhPreset::DEFAULT);
-    bvh.set_alpha_mask(AlphaMask::new(&scene.mesh, &scene.materials, &scene.textures).unwrap());
+    let bvh = Bvh::for_scene(&scene);
+    assert!(bvh.has_alpha_mask());
     // 16 rays fanning from one origin (so that they travel as one packet: origins together,
     // direction signs alike) across both halves of the front square.
     let origin = Vec3::new(-3.0, 0.1, 5.0);
@@ -172,4 +173,23 @@ fn packets_and_single_rays_agree_on_cut_out_hits() {
         through_cut >= 4 && blocked >= 4,
         "{through_cut} through the cut-out, {blocked} blocked"
     );
+}
+
+#[test]
+fn a_bake_sees_through_cut_outs() {
+    // The front square alone: through its cut-out half a camera ray then hits nothing.
+    let mut scene = scene("MASK");
+    let front: Vec<usize> = (0..scene.mesh.triangle_count())
+        .filter(|&t| scene.mesh.material_of_triangle[t] == 0)
+        .collect();
+    scene.mesh.triangles = front.iter().map(|&t| scene.mesh.triangles[t]).collect();
+    scene.mesh.material_of_triangle = vec![0; front.len()];
+    let baked = bake_normals(&scene, &Bvh::for_scene(&scene)).unwrap();
+    let normal_at = |x: f32| baked.normals[32 * 64 + ((x + 2.0) / 4.0 * 64.0 - 0.5).round() as usize];
+    assert_eq!(normal_at(-0.5), None, "the cut-out half");
+    assert_eq!(normal_at(0.5), Some(Vec3::Z), "the opaque half, facing the camera");
+    assert_eq!(normal_at(1.5), None, "beside the square");
+    // Without the mask the whole square is there.
+    let opaque = bake_normals(&scene, &Bvh::build(&scene.mesh, BvhPreset::DEFAULT)).unwrap();
+    assert_eq!(opaque.hits(), 2 * baked.hits());
 }

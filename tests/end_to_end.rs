@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
-use pointshade::accel::{Bvh, BvhPreset};
+use pointshade::accel::Bvh;
 use pointshade::film::Image;
 use pointshade::plan::RenderPlan;
 use pointshade::render::render;
@@ -64,7 +64,7 @@ fn render_scene(dir: &Path) -> Image {
     let scene = scene::load(&dir.join("scene.toml")).expect("scene loads");
     let plan = RenderPlan::new(&scene, &[]);
     assert!(plan.shadows && !plan.specular);
-    let bvh = Bvh::build(&scene.mesh, BvhPreset::DEFAULT);
+    let bvh = Bvh::for_scene(&scene);
     render(&scene, &plan, Some(&bvh), &|_| {}).unwrap().image
 }
 

@@ -10,7 +10,7 @@ use std::path::Path;
 use glam::{Quat, Vec3};
 use serde_json::json;
 
-use pointshade::accel::{Bvh, BvhPreset};
+use pointshade::accel::Bvh;
 use pointshade::film::{Image, SamplerKind};
 use pointshade::plan::RenderPlan;
 use pointshade::render::render;
@@ -25,7 +25,7 @@ fn render_at(mut scene: Scene, width: u32, height: u32) -> Image {
     scene.film.spp = 1;
     scene.film.sampler = SamplerKind::Grid;
     let plan = RenderPlan::new(&scene, &[]);
-    let bvh = Bvh::build(&scene.mesh, BvhPreset::DEFAULT);
+    let bvh = Bvh::for_scene(&scene);
     render(&scene, &plan, Some(&bvh), &|_| {}).unwrap().image
 }
 

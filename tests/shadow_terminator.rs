@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU32, Ordering};
 
 use glam::Vec3;
-use pointshade::accel::{Bvh, BvhPreset};
+use pointshade::accel::Bvh;
 use pointshade::film::Image;
 use pointshade::plan::{Aov, RenderPlan};
 use pointshade::render::render;
@@ -76,7 +76,7 @@ fn render_dir(dir: &Path) -> (Image, Image, Image, bool) {
     let scene = scene::load(&dir.join("scene.toml")).expect("scene loads");
     let _ = std::fs::remove_dir_all(dir);
     let plan = RenderPlan::new(&scene, &[Aov::Normal, Aov::Position]);
-    let bvh = Bvh::build(&scene.mesh, BvhPreset::DEFAULT);
+    let bvh = Bvh::for_scene(&scene);
     let mut rendered = render(&scene, &plan, Some(&bvh), &|_| {}).unwrap();
     let position = rendered.aovs.pop().unwrap().1;
     let normal = rendered.aovs.pop().unwrap().1;

@@ -12,7 +12,7 @@
 use glam::Vec2;
 
 use crate::scene::mesh::TriangleMesh;
-use crate::shading::material::{Material, Specular};
+use crate::shading::material::Material;
 use crate::shading::texture::{ColorSpace, TextureImage, TextureRef};
 
 /// Decides, hit by hit, whether the triangle is there where a ray crosses it.
@@ -71,27 +71,24 @@ impl AlphaMask {
     /// The cut-outs of `mesh` with `materials` (whose textures index `images`), or `None` when no
     /// material that a triangle uses has one.
     pub fn new(mesh: &TriangleMesh, materials: &[Material], images: &[TextureImage]) -> Option<Self> {
-        let mut used = vec![false; materials.len()];
-        for &m in &mesh.material_of_triangle {
-            used[m as usize] = true;
-        }
+        let used = mesh.materials_used(materials.len());
         let mut kept_images: Vec<TextureImage> = Vec::new();
-        let mut cutouts = Vec::with_capacity(materials.len());
-        for (material, used) in materials.iter().zip(used) {
-            let cutout = match &material.specular {
-                Specular::GltfPbr(p) if used => p.cutout.map(|c| MaterialCutout {
-                    cutoff: c.cutoff,
-                    alpha: c.alpha,
-                    texture: p.textures.base_color.map(|mut t| {
+        let cutouts: Vec<Option<MaterialCutout>> = materials
+            .iter()
+            .zip(used)
+            .map(|(material, used)| {
+                let (cutout, texture) = material.cutout().filter(|_| used)?;
+                Some(MaterialCutout {
+                    cutoff: cutout.cutoff,
+                    alpha: cutout.alpha,
+                    texture: texture.map(|mut t| {
                         kept_images.push(images[t.image as usize].clone());
                         t.image = kept_images.len() as u32 - 1;
                         t
                     }),
-                }),
-                _ => None,
-            };
-            cutouts.push(cutout);
-        }
+                })
+            })
+            .collect();
         if cutouts.iter().all(Option::is_none) {
             return None;
         }
@@ -141,7 +138,7 @@ mod tests {
     use glam::Vec3;
 
     use super::*;
-    use crate::shading::material::Cutout;
+    use crate::shading::material::{Cutout, Specular};
     use crate::shading::texture::{Filter, Wrap};
 
     /// One triangle with u running 0 → 1 from vertex 0 to vertex 1, material `material`.

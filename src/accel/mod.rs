@@ -25,6 +25,7 @@ use obvhs::BvhBuildParams;
 use rayon::prelude::*;
 
 use crate::scene::mesh::TriangleMesh;
+use crate::scene::Scene;
 use crate::shading::shadow::{Occluder, ShadowRay};
 use alpha::{AlphaMask, HitFilter, Opaque};
 use packet::{RayPacket, PACKET};
@@ -144,10 +145,26 @@ impl Bvh {
         }
     }
 
+    /// The BVH that a render of `scene` traces (and a bake, and anything else that looks at the
+    /// scene as rendered): [`Self::build`] with the default preset, with the cut-outs of the
+    /// MASK materials that triangles use ([`AlphaMask`]), when there are any.
+    pub fn for_scene(scene: &Scene) -> Bvh {
+        let mut bvh = Bvh::build(&scene.mesh, BvhPreset::DEFAULT);
+        if let Some(mask) = AlphaMask::new(&scene.mesh, &scene.materials, &scene.textures) {
+            bvh.set_alpha_mask(mask);
+        }
+        bvh
+    }
+
     /// From now on, hits on the parts of triangles that `mask` cuts out do not count, for every
     /// query (closest hits and shadow segments, alone or in packets).
     pub fn set_alpha_mask(&mut self, mask: AlphaMask) {
         self.alpha = Some(Box::new(mask));
+    }
+
+    /// Whether hits are filtered by cut-outs ([`Self::set_alpha_mask`]).
+    pub fn has_alpha_mask(&self) -> bool {
+        self.alpha.is_some()
     }
 
     /// Depth of the deepest inner node (root = 1); trees deeper than

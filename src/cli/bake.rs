@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use crate::accel::{Bvh, BvhPreset};
+use crate::accel::Bvh;
 use crate::bake::bake_normals;
 use crate::cli::worker_pool;
 use crate::error::InputError;
@@ -53,7 +53,7 @@ pub fn run(args: BakeArgs) -> Result<(), InputError> {
         eprintln!("warning: {w}");
     }
     let baked = pool.install(|| {
-        let bvh = Bvh::build(&scene.mesh, BvhPreset::DEFAULT);
+        let bvh = Bvh::for_scene(&scene);
         bake_normals(&scene, &bvh)
     });
     let baked = baked.map_err(|e| InputError::new(&args.scene, e))?;

@@ -22,8 +22,7 @@ use std::time::{Duration, Instant};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-use crate::accel::alpha::AlphaMask;
-use crate::accel::{Bvh, BvhPreset};
+use crate::accel::Bvh;
 use crate::film::{sampler::pixel_offsets, Image, PixelRect};
 use crate::plan::{Aov, RenderPlan};
 use crate::scene::Scene;
@@ -73,15 +72,9 @@ pub struct Rendered {
 #[inline(never)] // a stage boundary that benches/instructions.sh counts
 pub fn render_scene(scene: &Scene, plan: &RenderPlan, on_tile: &(dyn Fn(u64) + Sync)) -> Result<Rendered, String> {
     let start = Instant::now();
-    let bvh = plan.trace_rays.then(|| {
-        let mut bvh = Bvh::build(&scene.mesh, BvhPreset::DEFAULT);
-        if plan.cutouts {
-            if let Some(mask) = AlphaMask::new(&scene.mesh, &scene.materials, &scene.textures) {
-                bvh.set_alpha_mask(mask);
-            }
-        }
-        bvh
-    });
+    // The plan's cut-out stage and `Bvh::for_scene`'s mask look at the same materials.
+    let bvh = plan.trace_rays.then(|| Bvh::for_scene(scene));
+    debug_assert!(bvh.as_ref().is_none_or(|b| b.has_alpha_mask() == plan.cutouts));
     let mut rendered = render_from(start, scene, plan, bvh.as_ref(), on_tile)?;
     rendered.stats.bvh_time = bvh.map_or(Duration::ZERO, |b| b.build_time);
     Ok(rendered)

@@ -52,6 +52,15 @@ impl TriangleMesh {
         })
     }
 
+    /// Per material of a `material_count`-long list: whether some triangle uses it.
+    pub fn materials_used(&self, material_count: usize) -> Vec<bool> {
+        let mut used = vec![false; material_count];
+        for &m in &self.material_of_triangle {
+            used[m as usize] = true;
+        }
+        used
+    }
+
     /// Axis-aligned bounds `(min, max)` of all vertices referenced by a triangle, or `None` if empty.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
         let mut it = self.triangles.iter().flatten().map(|&i| self.positions[i as usize]);

@@ -245,6 +245,15 @@ impl Material {
         matches!(&self.specular, Specular::GltfPbr(p) if p.emissive.iter().any(|&e| e > 0.0))
     }
 
+    /// The cut-out of an `alphaMode` MASK material and the base colour texture whose alpha
+    /// multiplies its factor; `None` for a surface that is there everywhere.
+    pub fn cutout(&self) -> Option<(Cutout, Option<TextureRef>)> {
+        match &self.specular {
+            Specular::GltfPbr(p) => p.cutout.map(|c| (c, p.textures.base_color)),
+            _ => None,
+        }
+    }
+
     /// Emitted radiance at texture coordinates `uvs` (sets 0 and 1): the emissive factor times
     /// the emissive texture when `images` are given (the plan samples textures), else the factor.
     #[inline]

@@ -9,7 +9,7 @@
 use glam::Vec3;
 
 use super::{num, Case};
-use crate::accel::{Bvh, BvhPreset};
+use crate::accel::Bvh;
 use crate::film::{FilmSettings, Image, SamplerKind};
 use crate::plan::RenderPlan;
 use crate::scene::mesh::TriangleMesh;
@@ -106,7 +106,7 @@ pub fn contact_scene(scale: f32, offset: f32) -> Scene {
 
 fn render(scene: &Scene) -> Image {
     let plan = RenderPlan::new(scene, &[]);
-    let bvh = Bvh::build(&scene.mesh, BvhPreset::DEFAULT);
+    let bvh = Bvh::for_scene(scene);
     crate::render::render(scene, &plan, Some(&bvh), &|_| {})
         .expect("the stability scene is valid")
         .image
