@@ -72,7 +72,7 @@ pub fn run(args: ValidateArgs) -> Result<(), InputError> {
         eprintln!(
             "{:<28} {:>9} within {:.0e}, mean rel. error {:.1e}{}",
             r.name,
-            format!("{:.3}%", 100.0 * run.ours[0].comparison.within_tolerance),
+            crate::validation::report::within(&run.ours[0].comparison),
             crate::validation::run::TOLERANCE,
             run.ours[0].comparison.mean_relative_error,
             if r.is_exact() {

@@ -47,6 +47,10 @@ pub struct Comparison {
     pub within_tolerance: f64,
     /// The tolerance used.
     pub tolerance: f32,
+    /// Share of pixels within tolerance when renders with the texture coordinates one ulp up
+    /// and down count too (`validation::rounding`); `None` when not measured (no texture is
+    /// sampled, or the caller did not ask).
+    pub within_rounding_band: Option<f64>,
     /// Pixels with a NaN or infinite channel in our image.
     pub non_finite_ours: usize,
     /// Pixels with a NaN or infinite channel in the reference.
@@ -118,6 +122,7 @@ pub fn compare(ours: &Image, reference: &Image, tolerance: f32, worst: usize) ->
         mean_relative_error: rel_sum / finite_pixels.max(1) as f64,
         within_tolerance: within as f64 / ours.pixels.len().max(1) as f64,
         tolerance,
+        within_rounding_band: None,
         non_finite_ours: bad_ours,
         non_finite_reference: bad_ref,
         worst,

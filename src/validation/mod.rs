@@ -8,5 +8,6 @@ pub mod compare;
 pub mod mitsuba;
 pub mod ply;
 pub mod report;
+pub mod rounding;
 pub mod run;
 pub mod textures;

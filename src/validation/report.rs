@@ -4,6 +4,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use crate::validation::compare::Comparison;
 use crate::validation::run::{
     meets_thresholds, SceneValidation, REQUIRED_MEAN_RELATIVE_ERROR, REQUIRED_WITHIN, TOLERANCE,
 };
@@ -31,6 +32,18 @@ fn percent(share: f64) -> String {
     format!("{:.3}%", 100.0 * share)
 }
 
+/// The like-for-like share within tolerance, and with the rounding band where it was measured.
+pub fn within(c: &Comparison) -> String {
+    match c.within_rounding_band {
+        Some(band) => format!(
+            "{} ({} with the ±1 ulp uv band)",
+            percent(c.within_tolerance),
+            percent(band)
+        ),
+        None => percent(c.within_tolerance),
+    }
+}
+
 fn escape(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
 }
@@ -51,7 +64,7 @@ pub fn markdown(results: &[SceneValidation]) -> String {
                 "| {} | {} | {} | {:.1e} | {} | {:.3} | {:.3} | {} |",
                 r.name,
                 run.spp,
-                percent(compat.comparison.within_tolerance),
+                within(&compat.comparison),
                 compat.comparison.mean_relative_error,
                 percent(own.comparison.within_tolerance),
                 compat.time.as_secs_f64(),
@@ -111,7 +124,9 @@ pub fn html(results: &[SceneValidation]) -> String {
          </style></head><body>\n\
          <h1>pointshade vs Mitsuba 3</h1>\n\
          <p>{passed} of {exact} scenes with an exact Mitsuba equivalent agree (≥ {} of pixels within {TOLERANCE:.0e} \
-         relative, mean relative error ≤ {REQUIRED_MEAN_RELATIVE_ERROR:.0e}). Mitsuba variant: {variant}. \
+         relative, mean relative error ≤ {REQUIRED_MEAN_RELATIVE_ERROR:.0e}; where textures are sampled, a pixel also \
+         agrees when pointshade's render with the texture coordinates one ulp up or down agrees: the ±1 ulp uv band, \
+         see <code>validation::rounding</code>). Mitsuba variant: {variant}. \
          Relative error = |ours − ref| / max(|ref|, 1e-4 · max ref). pointshade is compared with Mitsuba's \
          fixed-epsilon shadow offset (like for like) and, for information, with its own error-bound offset \
          (and smooth shadow origins on smooth-shaded meshes).</p>\n\
@@ -131,7 +146,7 @@ pub fn html(results: &[SceneValidation]) -> String {
                 "<tr><td><a href=\"#{0}\">{0}</a></td><td>{1}</td><td>{2}</td><td>{3:.2e}</td><td>{4:.2e}</td><td>{5}</td><td>{6:.3}</td><td>{7:.3}</td><td class=\"{8}\">{9}</td></tr>",
                 r.name,
                 run.spp,
-                percent(c.within_tolerance),
+                within(c),
                 c.mean_relative_error,
                 c.rmse,
                 percent(own.within_tolerance),

@@ -4,7 +4,8 @@
 //! rendered by Mitsuba through `validation/render.py` (the lights summed), and rendered by
 //! pointshade twice: with Mitsuba's fixed-epsilon shadow offset (the like-for-like comparison)
 //! and with pointshade's default error-bound offset and smooth shadow origins (to show what
-//! those choices change).
+//! those choices change). Where the render samples textures, the like-for-like comparison also
+//! counts the rounding band ([`rounding`]).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -19,6 +20,7 @@ use crate::scene::{self, Scene};
 use crate::shading::shadow::ShadowOffset;
 use crate::validation::compare::{compare, Comparison};
 use crate::validation::mitsuba::{export, BsdfChoice, MitsubaExport};
+use crate::validation::rounding;
 
 /// Agreement every exact scene must reach at the like-for-like setting.
 pub const REQUIRED_WITHIN: f64 = 0.999;
@@ -245,9 +247,26 @@ impl SceneValidation {
     }
 }
 
-/// Whether a comparison meets [`REQUIRED_WITHIN`] and [`REQUIRED_MEAN_RELATIVE_ERROR`].
+/// Whether a comparison meets [`REQUIRED_WITHIN`] (counting the rounding band where it was
+/// measured: [`rounding`]) and [`REQUIRED_MEAN_RELATIVE_ERROR`].
 pub fn meets_thresholds(c: &Comparison) -> bool {
-    c.within_tolerance >= REQUIRED_WITHIN && c.mean_relative_error <= REQUIRED_MEAN_RELATIVE_ERROR
+    c.within_rounding_band.unwrap_or(c.within_tolerance) >= REQUIRED_WITHIN
+        && c.mean_relative_error <= REQUIRED_MEAN_RELATIVE_ERROR
+}
+
+/// [`rounding::within_band`] of `c`, pointshade's render of `scene` against `reference` with
+/// Mitsuba's shadow offset: `scene` rendered again with its texture coordinates one ulp up and
+/// one ulp down. `None` when the render samples no texture.
+pub fn rounding_band(scene: &Scene, reference: &Image, c: &Comparison) -> InputResult<Option<f64>> {
+    let mut nudged = Vec::new();
+    for up in [true, false] {
+        let Some(s) = rounding::nudged_texture_coordinates(scene, up) else {
+            return Ok(None);
+        };
+        let image = render_ours(&s, ShadowOffset::Mitsuba)?.0.image;
+        nudged.push(compare(&image, reference, c.tolerance, 0));
+    }
+    Ok(Some(rounding::within_band(c, &nudged)))
 }
 
 /// Loads `path` with its sampler and spp replaced (and checked).
@@ -325,7 +344,10 @@ pub fn validate_scene(
         let mut heat = Vec::new();
         for offset in [ShadowOffset::Mitsuba, ShadowOffset::ErrorBound] {
             let (Rendered { image, .. }, time) = render_ours(&scene, offset)?;
-            let comparison = compare(&image, &reference, TOLERANCE, 8);
+            let mut comparison = compare(&image, &reference, TOLERANCE, 8);
+            if offset == ShadowOffset::Mitsuba {
+                comparison.within_rounding_band = rounding_band(&scene, &reference, &comparison)?;
+            }
             let stem = format!("ours-spp{spp}-{}", offset.name());
             write_image(&dir.join(format!("{stem}.exr")), &image)?;
             write_image(&dir.join(format!("{stem}.png")), &image)?;
