@@ -245,6 +245,18 @@ fn malformed_gltf_and_glb_files() {
         r#"{"asset": {"version": "2.0"}, "scenes": [{"nodes": [3]}], "nodes": []}"#,
     );
     c.fails(&bad_index, &[], &["index.gltf", "invalid glTF"]);
+    // An out-of-range POSITION accessor: the gltf crate's own validation indexes with it
+    // unchecked and panicked (found by mutating shared assets).
+    let position = c.file(
+        "position.gltf",
+        r#"{"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 5}}]}]}"#,
+    );
+    c.fails(
+        &position,
+        &[],
+        &["position.gltf", "POSITION", "accessor 5 does not exist"],
+    );
     let cycle = c.file(
         "cycle.gltf",
         r#"{"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"children": [1]}, {"children": [0]}]}"#,

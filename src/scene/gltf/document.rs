@@ -60,6 +60,7 @@ pub fn read_document(path: &Path) -> InputResult<GltfDocument> {
             unsupported.join(", ")
         )));
     }
+    check_position_accessors(&json).map_err(err)?;
     let doc = ::gltf::Document::from_json(json).map_err(|e| err(describe(e)))?;
     let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let buffers = load_buffers(&doc, &dir, blob).map_err(err)?;
@@ -69,6 +70,28 @@ pub fn read_document(path: &Path) -> InputResult<GltfDocument> {
         dir,
         path: path.to_path_buf(),
     })
+}
+
+/// Every primitive's POSITION names an existing accessor. The gltf crate's validation (1.4.1)
+/// looks that accessor up before checking the index and panics on one out of range, so the
+/// check comes first.
+fn check_position_accessors(json: &::gltf::json::Root) -> Result<(), String> {
+    use ::gltf::json::validation::Checked;
+    let count = json.accessors.len();
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let position = primitive
+                .attributes
+                .get(&Checked::Valid(::gltf::json::mesh::Semantic::Positions));
+            if let Some(index) = position.filter(|i| i.value() >= count) {
+                return Err(format!(
+                    "invalid glTF: meshes[{m}].primitives[{p}].attributes.POSITION: accessor {} does not exist (the file has {count})",
+                    index.value()
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The 12-byte GLB header: magic "glTF", version 2, total length = the file's length.
