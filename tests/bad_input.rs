@@ -142,6 +142,11 @@ fn nan_and_negative_parameters() {
         "{CAMERA}[[object]]\nmesh = \"tri.obj\"\ntransform = {{ scale = 0.0 }}\n"
     ));
     c.fails(&zero_scale, &[], &["scale"]);
+    // Finite parameters whose product overflows f32: an error, never an image with ∞ in it.
+    let overflow = c.scene(&format!(
+        "{CAMERA}[[light]]\ntype = \"directional\"\ndirection = [0.0, 0.0, -1.0]\nintensity = 3e38\n[material.m]\nalbedo = [1e30, 1.0, 1.0]\n[[object]]\nmesh = \"tri.obj\"\nmaterial = \"m\"\n"
+    ));
+    c.fails(&overflow, &[], &["scene.toml", "radiance overflowed at pixel"]);
 }
 
 #[test]
@@ -296,6 +301,13 @@ fn gltf_data_out_of_range_or_not_finite() {
     c.fails(&short_buffer, &[], &["buffer.gltf", "fewer than its byteLength"]);
     let wrong_type = write("type.gltf", &|d| d["accessors"][0]["type"] = json!("VEC2"));
     c.fails(&wrong_type, &[], &["type.gltf", "POSITION"]);
+    // glTF keeps baseColorFactor in [0, 1]; 1e30 made a metal's diffuse weight 1 − F hugely
+    // negative and the pixel −∞ (found by tests/gltf_mutations.rs with another seed).
+    let base = write("base.gltf", &|d| {
+        d["materials"] = json!([{"pbrMetallicRoughness": {"baseColorFactor": [1e30, 1.0, 1.0, 1.0]}}]);
+        d["meshes"][0]["primitives"][0]["material"] = json!(0);
+    });
+    c.fails(&base, &[], &["base.gltf", "base colour factor must be in [0, 1]"]);
 
     // Index 7 of 4 vertices.
     let mut b2 = GltfBuilder::default();

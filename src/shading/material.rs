@@ -320,6 +320,11 @@ impl Material {
                 check_color("k", ct.k)?;
             }
             Specular::GltfPbr(p) => {
+                // glTF keeps baseColorFactor in [0, 1]; above 1 the diffuse weight 1 − F turns
+                // negative (a metal's F0 is the base colour) and base · (1 − F) can overflow to −∞.
+                if !self.albedo.iter().all(|v| (0.0..=1.0).contains(v)) {
+                    return Err(format!("base colour factor must be in [0, 1], got {:?}", self.albedo));
+                }
                 check_unit("metallic", p.metallic)?;
                 check_unit("roughness", p.roughness)?;
                 check_color("emissive", p.emissive)?;
