@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use crate::cli::{option_error, worker_pool};
 use crate::error::InputError;
+use crate::film::overflow_error;
 use crate::normal_map::{image_surface, shade_image};
 use crate::output::assignment::encode_min_max_png;
 use crate::output::{encode, write_all_or_nothing, Format};
@@ -111,6 +112,9 @@ pub fn run(args: NormalMapArgs) -> Result<(), InputError> {
         print!("{}", plan.explain_normal_map(&scene, &image));
     }
     let (shaded, stats) = pool.install(|| shade_image(&scene, &plan, &image, &surface));
+    if let Some((x, y, p)) = shaded.first_non_finite() {
+        return Err(InputError::new(&args.input, overflow_error(x, y, p)));
+    }
 
     let t_out = Instant::now();
     let bytes = match (scene.preset, format) {

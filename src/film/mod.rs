@@ -215,6 +215,13 @@ pub struct Image {
 }
 
 impl Image {
+    /// The first pixel, row-major, with a non-finite channel: its column, row and value. A
+    /// renderer returns an error instead of such an image ([`overflow_error`]).
+    pub fn first_non_finite(&self) -> Option<(u32, u32, Vec3)> {
+        let i = self.pixels.iter().position(|p| !p.is_finite())?;
+        Some((i as u32 % self.width, i as u32 / self.width, self.pixels[i]))
+    }
+
     /// An image made row by row in parallel: `row(state, y, pixels)` writes row `y`, whose pixels
     /// start black; `init` makes each worker's scratch `state` (as rayon's `for_each_init`).
     ///
@@ -260,9 +267,30 @@ impl Image {
     }
 }
 
+/// The error for radiance past f32's range at pixel (`x`, `y`): every guard in the shading path
+/// keeps NaN out, but a product of finite values near 3.4e38 (a light's intensity, an albedo)
+/// can still overflow, and an image with ∞ in it is no answer.
+pub fn overflow_error(x: u32, y: u32, p: Vec3) -> String {
+    format!(
+        "radiance overflowed at pixel ({x}, {y}): [{:.3e}, {:.3e}, {:.3e}] (light intensities or material parameters too large for 32-bit floats)",
+        p.x, p.y, p.z
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_first_non_finite_pixel_is_found_by_column_and_row() {
+        let mut image = Image::new(4, 3);
+        assert_eq!(image.first_non_finite(), None);
+        image.pixels[2 * 4 + 1] = Vec3::new(1.0, f32::NEG_INFINITY, 0.0);
+        image.pixels[2 * 4 + 3] = Vec3::splat(f32::NAN);
+        let (x, y, p) = image.first_non_finite().unwrap();
+        assert_eq!((x, y), (1, 2));
+        assert!(overflow_error(x, y, p).starts_with("radiance overflowed at pixel (1, 2): [1.000e0, -inf, 0.000e0]"));
+    }
 
     #[test]
     fn rows_made_in_parallel_start_black_and_keep_what_was_written() {

@@ -23,7 +23,7 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 use crate::accel::Bvh;
-use crate::film::{sampler::pixel_offsets, Image, PixelRect};
+use crate::film::{overflow_error, sampler::pixel_offsets, Image, PixelRect};
 use crate::plan::{Aov, RenderPlan};
 use crate::scene::Scene;
 use tile::{block_order, Context, PixelSums, SampleJob};
@@ -128,19 +128,8 @@ fn render_from(
         pixels: sums.iter().enumerate().map(|(i, &v)| v / count(i)).collect(),
     };
     let image = average(&sums.radiance);
-    // Radiance past f32's range (lights or material parameters near 3.4e38: every guard in the
-    // shading path keeps NaN out, but a product of finite values can still overflow) is an
-    // error, not an image with infinite pixels.
-    if let Some(i) = image.pixels.iter().position(|p| !p.is_finite()) {
-        let (x, y) = (
-            region.x0 + i as u32 % region.width(),
-            region.y0 + i as u32 / region.width(),
-        );
-        let p = image.pixels[i];
-        return Err(format!(
-            "radiance overflowed at pixel ({x}, {y}): [{:.3e}, {:.3e}, {:.3e}] (light intensities or material parameters too large for 32-bit floats)",
-            p.x, p.y, p.z
-        ));
+    if let Some((x, y, p)) = image.first_non_finite() {
+        return Err(overflow_error(region.x0 + x, region.y0 + y, p));
     }
     let sample_counts = || Image {
         pixels: (0..image.pixels.len()).map(|i| Vec3::splat(count(i))).collect(),
