@@ -163,7 +163,7 @@ pub fn load_obj_underived(path: &Path) -> InputResult<(ObjContents, Vec<DerivedN
 /// A plain file (positions and faces only) goes to the parallel [`plain`] parser, which gives the
 /// same models; any other file, and every error, to tobj itself.
 fn parse_with_tobj_semantics(bytes: &[u8], dir: &Path) -> tobj::LoadResult {
-    let load_mtl = |mtl: &Path| tobj::load_mtl(dir.join(mtl));
+    let load_mtl = |mtl: &Path| load_mtl(&dir.join(mtl));
     let options = |single_index| tobj::LoadOptions {
         triangulate: true,
         single_index,
@@ -179,6 +179,25 @@ fn parse_with_tobj_semantics(bytes: &[u8], dir: &Path) -> tobj::LoadResult {
     // positions needs no tuple matching: its position indices are the vertex indices, and tobj's
     // per-attribute mode (2–3× faster on the dragon) returns exactly those.
     tobj::load_obj_buf(&mut &bytes[..], &options(has_vertex_attributes(bytes)), load_mtl)
+}
+
+/// `tobj::load_mtl`, except that a colour line (`Ka`, `Kd`, `Ks`, `Ke`) with fewer than three
+/// values is a parse error: tobj 4.0.5 unwraps it and panics. (The error makes the library's
+/// materials a warning, as every MTL error does.)
+fn load_mtl(path: &Path) -> tobj::MTLLoadResult {
+    use std::io::Read;
+    // tobj's two errors: the file does not open, or it opens and does not read (a directory).
+    let mut file = std::fs::File::open(path).map_err(|_| tobj::LoadError::OpenFileFailed)?;
+    let mut bytes = Vec::new();
+    file.read_to_end(&mut bytes).map_err(|_| tobj::LoadError::ReadError)?;
+    let short_colour = String::from_utf8_lossy(&bytes).lines().any(|line| {
+        let mut words = line.split_whitespace();
+        matches!(words.next(), Some("Ka" | "Kd" | "Ks" | "Ke")) && words.count() < 3
+    });
+    if short_colour {
+        return Err(tobj::LoadError::MaterialParseError);
+    }
+    tobj::load_mtl_buf(&mut &bytes[..])
 }
 
 /// Whether an OBJ file has texture coordinates or normals (`vt` or `vn` lines, maybe indented).
@@ -319,6 +338,31 @@ mod tests {
         let shiny = c.materials.iter().position(|m| m.name == "shiny").unwrap() as u32;
         assert_eq!(c.mesh.material_of_triangle, vec![shiny]);
         assert!(c.material_warning.is_none());
+    }
+
+    #[test]
+    fn a_colour_line_with_fewer_than_three_values_is_a_warning_not_a_panic() {
+        // tobj 4.0.5 unwraps the short list (found by mutating MTL files).
+        for (k, line) in ["Kd 0.5 0.5", "Ka 0.1", "Ks", "  Ke 1 1  "].iter().enumerate() {
+            let mtl = format!("newmtl m\nKd 0.5 0.5 0.5\n{line}\n");
+            // Both parsers: a plain file (positions and faces) and one with normals.
+            for obj in [
+                "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n",
+                "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nusemtl m\nf 1//1 2//1 3//1\n",
+            ] {
+                let c = load(&format!("short-colour-{k}"), obj, &mtl);
+                let warning = c.material_warning.expect("a warning");
+                assert!(warning.contains("material parse error"), "{warning}");
+                assert_eq!(c.mesh.material_of_triangle, vec![NO_MATERIAL]);
+            }
+        }
+        // Three values or more (tobj reads the first three) still load.
+        let c = load(
+            "long-colour",
+            "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n",
+            "newmtl m\nKd 0.5 0.25 0.125 9\n",
+        );
+        assert_eq!(c.materials[0].albedo, [0.5, 0.25, 0.125]);
     }
 
     #[test]
