@@ -35,6 +35,23 @@ fn run(args: &[&std::ffi::OsStr]) -> (Option<i32>, String, String) {
     )
 }
 
+/// `exr` (whose data window starts at (0, 0)) with its dataWindow attribute saying
+/// `width`×`height` (the attribute: name, type "box2i", size 16, then x_min, y_min, x_max, y_max
+/// as little-endian i32).
+fn with_data_window(exr: &[u8], width: i32, height: i32) -> Vec<u8> {
+    let key = b"dataWindow\0box2i\0";
+    let at = exr
+        .windows(key.len())
+        .position(|w| w == key)
+        .expect("a dataWindow attribute")
+        + key.len()
+        + 4;
+    let mut out = exr.to_vec();
+    out[at + 8..at + 12].copy_from_slice(&(width - 1).to_le_bytes());
+    out[at + 12..at + 16].copy_from_slice(&(height - 1).to_le_bytes());
+    out
+}
+
 /// `compare OURS REFERENCE OPTION PATH`.
 fn run_with(ours: &Path, reference: &Path, option: &str, path: &Path) -> (Option<i32>, String, String) {
     run(&[
@@ -74,10 +91,15 @@ fn size_mismatch_and_unreadable_files_are_one_line_errors() {
     write(&a, &[1.0; 4], 2);
     write(&b, &[1.0; 6], 3);
     std::fs::write(&junk, b"not an image").unwrap();
+    // A header whose data window claims 2^28 × 2^20 pixels: refused from the header, where the
+    // decoder tried to allocate them and aborted the process (found by corrupting EXR bytes).
+    let huge = d.join("huge.exr");
+    std::fs::write(&huge, with_data_window(&std::fs::read(&a).unwrap(), 1 << 28, 1 << 20)).unwrap();
     for (x, y, expect) in [
         (&a, &b, "differs"),
         (&a, &junk, "junk.exr"),
         (&a, &d.join("missing.exr"), "missing.exr"),
+        (&huge, &a, "huge.exr: its data window of 268435456×1048576 is too large"),
     ] {
         let (code, _, stderr) = run(&[x.as_os_str(), y.as_os_str()]);
         assert_eq!(code, Some(2));

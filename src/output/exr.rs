@@ -16,7 +16,7 @@ use exr::prelude::*;
 use glam::Vec3;
 
 use crate::error::{InputError, InputResult};
-use crate::film::{Image, PixelRect};
+use crate::film::{Image, PixelRect, MAX_PIXELS};
 
 /// A crop read back: its pixels, where they go, and the frame's size.
 #[derive(Clone, Debug, PartialEq)]
@@ -48,9 +48,33 @@ pub fn encode_exr(image: &Image, region: PixelRect, frame: (u32, u32)) -> std::r
     Ok(bytes.into_inner())
 }
 
+/// Checks an OpenEXR file's header before decoding: each layer's data window and the display
+/// window must hold at most [`MAX_PIXELS`] pixels (as for PNG inputs). The exr crate allocates the
+/// pixels, and `merge` the frame, from these sizes, and a corrupted header asked for 64 GB and
+/// aborted the process. An unreadable header passes: decoding then reports it.
+pub fn check_exr_size(bytes: &[u8]) -> std::result::Result<(), String> {
+    let Ok(meta) = exr::meta::MetaData::read_from_buffered(Cursor::new(bytes), false) else {
+        return Ok(());
+    };
+    for header in &meta.headers {
+        let display = header.shared_attributes.display_window.size;
+        for (what, size) in [("data window", header.layer_size), ("display window", display)] {
+            if size.width() as u64 * size.height() as u64 > MAX_PIXELS {
+                return Err(format!(
+                    "its {what} of {}×{} is too large (at most {MAX_PIXELS} pixels)",
+                    size.width(),
+                    size.height()
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Reads a crop written by [`encode_exr`] (or any RGB(A) EXR: a full frame is a crop of itself).
 pub fn read_crop(path: &Path) -> InputResult<Crop> {
     let bytes = std::fs::read(path).map_err(|e| InputError::new(path, format!("cannot read: {e}")))?;
+    check_exr_size(&bytes).map_err(|e| InputError::new(path, e))?;
     let image = read()
         .no_deep_data()
         .largest_resolution_level()
