@@ -399,11 +399,15 @@ fn without_negative_zeros(direction: Vec3) -> Vec3A {
 }
 
 /// Fewest rays worth a packet walk. The interval box test costs about two single-ray tests, and
-/// every ray is tried at every leaf the packet reaches: on the dragon, a pixel's 4 samples as a
-/// packet ran at 0.51× their single-ray rate, 9 at 0.85×, 16 at 1.14× (one run, 2026-11-22;
-/// others gave 1.3–1.56× at 16). To repeat: set this to 1 and run `cargo bench --bench rays`,
-/// whose second table has 4, 9 and 16 samples per pixel.
-const MIN_PACKET: usize = 12;
+/// every ray is tried at every leaf the packet reaches: on 2026-11-22 a pixel's 4 samples as a
+/// packet ran at 0.51× their single-ray rate, hence 12. The packets have since become cheaper
+/// (leaf box tests per ray, `t_max` loaded four at a time, origins and 1/d computed once), and
+/// on 2026-11-24 the threshold was measured again in instruction counts
+/// (`benches/instructions.sh`, binaries with 2, 4, 6, 8, 12 and 16): the dragon at equal error
+/// −1.18%, −1.17%, −1.06%, −0.90%, 0, +0.17%; the other cases within ±0.2% except 16 (Cornell
+/// box −1.4%). In time, 4 against 12: render stage 0.148 against 0.150 s (medians of 15
+/// alternating runs); images byte-identical (packets answer exactly as single rays).
+const MIN_PACKET: usize = 4;
 
 /// Padding added to every triangle's box, in BVH units (the scene is ~256 of them across).
 ///
