@@ -13,6 +13,7 @@ use pointshade::output::read_linear;
 use pointshade::shading::shadow::ShadowOffset;
 use pointshade::validation::compare::compare;
 use pointshade::validation::mitsuba::{export, BsdfChoice};
+use pointshade::validation::rounding::nudged_texture_coordinates;
 use pointshade::validation::run::{load_sampled, meets_thresholds, render_ours, rounding_band, TOLERANCE};
 
 fn root() -> &'static Path {
@@ -80,5 +81,35 @@ fn shared_mesh_scenes_agree_with_committed_mitsuba_references() {
     }
     for s in scenes(&root().join("scenes/validation/shared")) {
         assert!(check(&s));
+    }
+}
+
+/// Why the rounding band exists (`validation::rounding`, README "Rounding band"): pointshade
+/// against itself, with DamagedHelmet's texture coordinates one ulp up and one ulp down, moves a
+/// share of the pixels past 1e-3 comparable to the 0.1% that 99.9% allows. Prints the shares.
+#[test]
+fn one_ulp_of_texture_coordinates_moves_a_textured_scene_past_the_tolerance() {
+    if !root().join("../shared/data/gltf").is_dir() {
+        eprintln!("SKIPPED: ../shared/data is missing; DamagedHelmet is needed");
+        return;
+    }
+    let path = root().join("scenes/validation/shared/damaged-helmet.toml");
+    let s = load_sampled(&path, SamplerKind::Grid, 1).unwrap();
+    let ours = render_ours(&s, ShadowOffset::Mitsuba).unwrap().0.image;
+    for up in [true, false] {
+        let nudged = nudged_texture_coordinates(&s, up).expect("the helmet samples textures");
+        let image = render_ours(&nudged, ShadowOffset::Mitsuba).unwrap().0.image;
+        let c = compare(&image, &ours, TOLERANCE, 0);
+        let moved = 1.0 - c.within_tolerance;
+        eprintln!(
+            "texture coordinates one ulp {}: {:.3}% of the pixels past {TOLERANCE:.0e}",
+            if up { "up" } else { "down" },
+            100.0 * moved
+        );
+        assert!(
+            moved > 0.0005,
+            "a one-ulp nudge moved only {:.4}% of the pixels",
+            100.0 * moved
+        );
     }
 }
