@@ -1,0 +1,37 @@
+#!/usr/bin/env python3
+"""Mutated scene files (values, dropped and doubled lines) of scenes/ through `pointshade render`;
+the mutant is written beside its original (so that its relative paths resolve) and removed.
+   Usage: tools/mutations/toml.py SEED COUNT
+"""
+import random, subprocess, os, sys, re, glob, shutil
+import os, sys, tempfile
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+SHARED = os.path.join(os.path.dirname(ROOT), 'shared', 'data')
+WORK = tempfile.mkdtemp(prefix='pointshade-mutations-')
+random.seed(int(sys.argv[1]))
+P=os.path.join(ROOT,'target/release/pointshade')
+scenes=[s for s in glob.glob(os.path.join(ROOT,'scenes/*.toml'))+glob.glob(os.path.join(ROOT,'scenes/validation/*.toml'))]
+weird=['nan','inf','-inf','-1','0','1e39','-1e39','4294967296','"x"','[]','[1,2]','[nan, 0, 0]','true','1e-45','65537','100000']
+bad=0
+for it in range(int(sys.argv[2])):
+    src=random.choice(scenes)
+    lines=open(src).read().splitlines()
+    for _ in range(random.randint(1,3)):
+        i=random.randrange(len(lines)); l=lines[i]
+        r=random.random()
+        if '=' in l and not l.strip().startswith('#') and r<0.7:
+            k=l.split('=')[0]; lines[i]=k+'= '+random.choice(weird)
+        elif r<0.85: del lines[i]
+        else: lines.insert(i, lines[i])
+    d=os.path.dirname(src); f=os.path.join(d,'_fuzz_case.toml')
+    open(f,'w').write('\n'.join(lines)+'\n')
+    try:
+        r=subprocess.run([P,'render',f,'-o',os.path.join(WORK,'out.png'),'--quiet'],capture_output=True,timeout=30)
+        code=r.returncode; err=r.stderr.decode(errors='replace')
+    except subprocess.TimeoutExpired:
+        code='TIMEOUT'; err=''
+    lines_err=[l for l in err.splitlines() if l.strip() and not l.startswith('warning')]
+    if code not in (0,2) or (code!=0 and len(lines_err)!=1) or 'panick' in err:
+        bad+=1; keep=fos.path.join(WORK,'tbad{sys.argv[1]}-{it}.toml'); shutil.copy(f,keep); print('BAD',code,keep,src,err[:300].replace('\n',' | '))
+    os.remove(f)
+print('done, bad',bad)
