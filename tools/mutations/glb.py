@@ -3,11 +3,8 @@
 ../shared's assets through `pointshade render`.
    Usage: tools/mutations/glb.py SEED COUNT
 """
-import random, subprocess, os, sys, shutil, struct
-import os, sys, tempfile
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-SHARED = os.path.join(os.path.dirname(ROOT), 'shared', 'data')
-WORK = tempfile.mkdtemp(prefix='pointshade-mutations-')
+import random, os, sys, shutil, struct
+from common import SHARED, ROOT, WORK, POINTSHADE as P, verdict
 random.seed(int(sys.argv[1]))
 P=os.path.join(ROOT,'target/release/pointshade')
 srcs=[os.path.join(SHARED,'gltf/Box/glTF-Binary/Box.glb'),os.path.join(SHARED,'gltf/BoxTextured/glTF-Binary/BoxTextured.glb'),os.path.join(SHARED,'gltf/Duck/glTF-Binary/Duck.glb')]
@@ -28,11 +25,7 @@ for it in range(int(sys.argv[2])):
     else:
         b=b[:random.randrange(len(b))]
     open(d+'/m.glb','wb').write(bytes(b))
-    try:
-        rr=subprocess.run([P,'render',d+'/m.glb','-o',d+'/o.png','--width','24','--height','16','--spp','1','--quiet'],capture_output=True,timeout=30); code=rr.returncode; err=rr.stderr.decode(errors='replace')
-    except subprocess.TimeoutExpired:
-        code='TIMEOUT'; err=''
-    el=[l for l in err.splitlines() if l.strip() and not l.startswith('warning')]
-    if code not in (0,2) or (code!=0 and len(el)!=1) or 'panick' in err:
-        bad+=1; shutil.copy(d+'/m.glb', f'{d}/bad{sys.argv[1]}-{it}.glb'); print('BAD',code,it,err[:300].replace('\n',' | '))
+    problem=verdict(['render',d+'/m.glb','-o',d+'/o.png','--width','24','--height','16','--spp','1','--quiet'], 30)
+    if problem:
+        bad+=1; shutil.copy(d+'/m.glb', f'{d}/bad{sys.argv[1]}-{it}.glb'); print('BAD',it,problem)
 print('done bad',bad)

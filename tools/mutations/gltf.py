@@ -3,11 +3,8 @@
 `pointshade render`: each must render or fail with one error line, never panic or hang.
    Usage: tools/mutations/gltf.py SEED COUNT   (after cargo build --release)
 """
-import json, random, subprocess, shutil, os, sys, copy
-import os, sys, tempfile
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-SHARED = os.path.join(os.path.dirname(ROOT), 'shared', 'data')
-WORK = tempfile.mkdtemp(prefix='pointshade-mutations-')
+import json, random, shutil, os, sys, copy
+from common import SHARED, ROOT, WORK, POINTSHADE as P, verdict
 random.seed(int(sys.argv[1]) if len(sys.argv)>1 else 1)
 P=os.path.join(ROOT,'target/release/pointshade')
 srcs=[os.path.join(SHARED,'gltf/BoxTextured/glTF'),os.path.join(SHARED,'gltf/Box/glTF'),os.path.join(SHARED,'gltf/LightsPunctualLamp/glTF'),os.path.join(SHARED,'gltf/Cameras/glTF')]
@@ -59,14 +56,9 @@ for it in range(int(sys.argv[2]) if len(sys.argv)>2 else 100):
             for _ in range(20): 
                 if b: b[random.randrange(len(b))]=random.randrange(256)
         open(os.path.join(d,bins[0]),'wb').write(bytes(b))
-    try:
-        r=subprocess.run([P,'render',os.path.join(d,gl),'-o',os.path.join(WORK,'out.png'),'--width','32','--height','24','--spp','1','--quiet'],capture_output=True,timeout=20)
-        code=r.returncode; err=r.stderr.decode(errors='replace')
-    except subprocess.TimeoutExpired:
-        code='TIMEOUT'; err=''
-    lines=[l for l in err.splitlines() if l.strip() and not l.startswith('warning')]
-    if code not in (0,1,2) or (code!=0 and len(lines)!=1) or 'panick' in err:
+    problem=verdict(['render',os.path.join(d,gl),'-o',os.path.join(WORK,'out.png'),'--width','32','--height','24','--spp','1','--quiet'], 20)
+    if problem:
         bad+=1
-        keep=fos.path.join(WORK,'bad{sys.argv[1]}-{it}'); shutil.copytree(d, keep)
-        print('BAD', code, keep, err[:300].replace('\n',' | '))
+        keep=os.path.join(WORK,f'bad{sys.argv[1]}-{it}'); shutil.copytree(d, keep)
+        print('BAD', keep, problem)
 print('done, bad', bad)

@@ -4,10 +4,7 @@ and `merge`.
    Usage: tools/mutations/images.py SEED COUNT
 """
 import random, subprocess, os, sys, shutil
-import os, sys, tempfile
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-SHARED = os.path.join(os.path.dirname(ROOT), 'shared', 'data')
-WORK = tempfile.mkdtemp(prefix='pointshade-mutations-')
+from common import SHARED, ROOT, WORK, POINTSHADE as P, verdict
 random.seed(int(sys.argv[1]))
 P=os.path.join(ROOT,'target/release/pointshade')
 d=WORK
@@ -36,14 +33,10 @@ for it in range(int(sys.argv[2])):
     else:
         open(d+'/m0.exr','wb').write(mut(c0))
         cmd=[P,'merge',d+'/m0.exr',d+'/c1.exr','-o',d+'/mm.exr']
-    try:
-        r=subprocess.run(cmd,capture_output=True,timeout=30); code=r.returncode; err=r.stderr.decode(errors='replace')
-    except subprocess.TimeoutExpired:
-        code='TIMEOUT'; err=''
-    el=[l for l in err.splitlines() if l.strip() and not l.startswith('warning')]
-    if code not in (0,2) or (code!=0 and len(el)!=1) or 'panick' in err:
+    problem=verdict(cmd[1:])
+    if problem:
         bad+=1; k=f'{d}/bad{sys.argv[1]}-{it}'; os.makedirs(k,exist_ok=True)
         for f in ['n.png','m.exr','m0.exr']:
             if os.path.exists(d+'/'+f): shutil.copy(d+'/'+f,k)
-        print('BAD',kind,code,k,err[:300].replace('\n',' | '))
+        print('BAD',kind,k,problem)
 print('done bad',bad)

@@ -2,11 +2,8 @@
 """Mutated OBJ and MTL files (meshes/ of this repository) through `pointshade render`.
    Usage: tools/mutations/obj.py SEED COUNT
 """
-import random, subprocess, os, sys, shutil
-import os, sys, tempfile
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-SHARED = os.path.join(os.path.dirname(ROOT), 'shared', 'data')
-WORK = tempfile.mkdtemp(prefix='pointshade-mutations-')
+import random, os, sys, shutil
+from common import SHARED, ROOT, WORK, POINTSHADE as P, verdict
 random.seed(int(sys.argv[1]))
 P=os.path.join(ROOT,'target/release/pointshade')
 srcs=[os.path.join(ROOT,'meshes/cornell-box.obj'),os.path.join(ROOT,'meshes/icosphere-no-normals.obj'),os.path.join(ROOT,'meshes/uv-sphere-coarse.obj'),os.path.join(ROOT,'meshes/plane.obj')]
@@ -34,14 +31,9 @@ for it in range(int(sys.argv[2])):
         else: target[i]=target[i][:random.randrange(len(target[i])+1)]
     open(os.path.join(d,'m.obj'),'w').write('\n'.join(lines)+'\n')
     open(os.path.join(d,'m.mtl'),'w').write('\n'.join(ml)+'\n')
-    try:
-        r=subprocess.run([P,'render',os.path.join(d,'s.toml'),'-o',os.path.join(d,'o.exr'),'--quiet'],capture_output=True,timeout=20)
-        code=r.returncode; err=r.stderr.decode(errors='replace')
-    except subprocess.TimeoutExpired:
-        code='TIMEOUT'; err=''
-    el=[l for l in err.splitlines() if l.strip() and not l.startswith('warning')]
-    if code not in (0,2) or (code!=0 and len(el)!=1) or 'panick' in err:
+    problem=verdict(['render',os.path.join(d,'s.toml'),'-o',os.path.join(d,'o.exr'),'--quiet'], 20)
+    if problem:
         bad+=1; k=f'{d}/bad{sys.argv[1]}-{it}'; os.makedirs(k,exist_ok=True)
         for f in ['m.obj','m.mtl','s.toml']: shutil.copy(os.path.join(d,f),k)
-        print('BAD',code,k,err[:300].replace('\n',' | '))
+        print('BAD',k,problem)
 print('done bad',bad)

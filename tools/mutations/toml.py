@@ -3,11 +3,8 @@
 the mutant is written beside its original (so that its relative paths resolve) and removed.
    Usage: tools/mutations/toml.py SEED COUNT
 """
-import random, subprocess, os, sys, re, glob, shutil
-import os, sys, tempfile
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-SHARED = os.path.join(os.path.dirname(ROOT), 'shared', 'data')
-WORK = tempfile.mkdtemp(prefix='pointshade-mutations-')
+import random, os, sys, re, glob, shutil
+from common import SHARED, ROOT, WORK, POINTSHADE as P, verdict
 random.seed(int(sys.argv[1]))
 P=os.path.join(ROOT,'target/release/pointshade')
 scenes=[s for s in glob.glob(os.path.join(ROOT,'scenes/*.toml'))+glob.glob(os.path.join(ROOT,'scenes/validation/*.toml'))]
@@ -25,13 +22,8 @@ for it in range(int(sys.argv[2])):
         else: lines.insert(i, lines[i])
     d=os.path.dirname(src); f=os.path.join(d,'_fuzz_case.toml')
     open(f,'w').write('\n'.join(lines)+'\n')
-    try:
-        r=subprocess.run([P,'render',f,'-o',os.path.join(WORK,'out.png'),'--quiet'],capture_output=True,timeout=30)
-        code=r.returncode; err=r.stderr.decode(errors='replace')
-    except subprocess.TimeoutExpired:
-        code='TIMEOUT'; err=''
-    lines_err=[l for l in err.splitlines() if l.strip() and not l.startswith('warning')]
-    if code not in (0,2) or (code!=0 and len(lines_err)!=1) or 'panick' in err:
-        bad+=1; keep=fos.path.join(WORK,'tbad{sys.argv[1]}-{it}.toml'); shutil.copy(f,keep); print('BAD',code,keep,src,err[:300].replace('\n',' | '))
+    problem=verdict(['render',f,'-o',os.path.join(WORK,'out.png'),'--quiet'], 30)
+    if problem:
+        bad+=1; keep=os.path.join(WORK,f'tbad{sys.argv[1]}-{it}.toml'); shutil.copy(f,keep); print('BAD',keep,src,problem)
     os.remove(f)
 print('done, bad',bad)
