@@ -51,7 +51,7 @@ pub fn encode_exr(image: &Image, region: PixelRect, frame: (u32, u32)) -> std::r
 /// Checks an OpenEXR file's header before decoding: each layer's data window and the display
 /// window must hold at most [`MAX_PIXELS`] pixels (as for PNG inputs). The exr crate allocates the
 /// pixels, and `merge` the frame, from these sizes, and a corrupted header asked for 64 GB and
-/// aborted the process. An unreadable header passes: decoding then reports it.
+/// aborted the process. An unreadable header (or another format) passes: decoding then reports it.
 pub fn check_exr_size(bytes: &[u8]) -> std::result::Result<(), String> {
     let Ok(meta) = exr::meta::MetaData::read_from_buffered(Cursor::new(bytes), false) else {
         return Ok(());
