@@ -28,4 +28,4 @@ for it in range(int(sys.argv[2])):
     problem=verdict(['render',d+'/m.glb','-o',d+'/o.png','--width','24','--height','16','--spp','1','--quiet'], 30)
     if problem:
         bad+=1; shutil.copy(d+'/m.glb', f'{d}/bad{sys.argv[1]}-{it}.glb'); print('BAD',it,problem)
-print('done bad',bad)
+print('done, bad', bad)

@@ -39,4 +39,4 @@ for it in range(int(sys.argv[2])):
         for f in ['n.png','m.exr','m0.exr']:
             if os.path.exists(d+'/'+f): shutil.copy(d+'/'+f,k)
         print('BAD',kind,k,problem)
-print('done bad',bad)
+print('done, bad', bad)

@@ -36,4 +36,4 @@ for it in range(int(sys.argv[2])):
         bad+=1; k=f'{d}/bad{sys.argv[1]}-{it}'; os.makedirs(k,exist_ok=True)
         for f in ['m.obj','m.mtl','s.toml']: shutil.copy(os.path.join(d,f),k)
         print('BAD',k,problem)
-print('done bad',bad)
+print('done, bad', bad)

@@ -26,4 +26,4 @@ for it in range(int(sys.argv[2])):
     if problem:
         bad+=1; keep=os.path.join(WORK,f'tbad{sys.argv[1]}-{it}.toml'); shutil.copy(f,keep); print('BAD',keep,src,problem)
     os.remove(f)
-print('done, bad',bad)
+print('done, bad', bad)
