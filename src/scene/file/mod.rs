@@ -4,7 +4,7 @@
 //! and column. Each section is kept with its span so that checks made after parsing (a NaN, an
 //! unknown material name) also point at the right place. Normal-map scene files (a
 //! `[normal_map]` section) share the light and material sections and are read by
-//! [`super::normal_map`].
+//! [`super::normal_map`]; their sections are `lights` and `materials`.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -22,10 +22,17 @@ use crate::scene::mesh::TriangleMesh;
 use crate::scene::obj::{load_obj_underived, NO_MATERIAL};
 use crate::scene::textures::{decode_used_images, offset_images, PendingImage};
 use crate::scene::{extension, Scene, SceneObject};
-use crate::shading::light::{Falloff, Light, LightKind};
-use crate::shading::material::{BlinnPhong, CookTorrance, Material, Specular};
+use crate::shading::light::Falloff;
+use crate::shading::material::Material;
 use crate::shading::shadow::{ShadowOffset, ShadowTerminator};
 use crate::surface::camera::{CameraSpec, FovAxis, Projection};
+
+mod lights;
+mod materials;
+
+pub(in crate::scene) use lights::{light, LightSection};
+pub(in crate::scene) use materials::{material, MaterialSection};
+pub use materials::{MaterialDefaults, ModelName};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -107,149 +114,6 @@ struct RenderSection {
     shadows: Option<bool>,
     shadow_offset: Option<Spanned<String>>,
     shadow_terminator: Option<Spanned<String>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct LightSection {
-    #[serde(rename = "type")]
-    kind: LightType,
-    position: Option<[f32; 3]>,
-    direction: Option<[f32; 3]>,
-    #[serde(default = "white")]
-    color: [f32; 3],
-    #[serde(default = "one")]
-    intensity: f32,
-    falloff: Option<FalloffName>,
-    inner_cone: Option<f32>,
-    outer_cone: Option<f32>,
-}
-
-fn white() -> [f32; 3] {
-    [1.0; 3]
-}
-fn one() -> f32 {
-    1.0
-}
-
-#[derive(Deserialize)]
-#[serde(rename_all = "kebab-case")]
-enum LightType {
-    Point,
-    Directional,
-    Spot,
-}
-
-#[derive(Deserialize)]
-#[serde(rename_all = "kebab-case")]
-enum FalloffName {
-    InverseSquare,
-    None,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct MaterialSection {
-    #[serde(default)]
-    model: ModelName,
-    albedo: Option<[f32; 3]>,
-    kd: Option<f32>,
-    two_sided: Option<bool>,
-    // Blinn-Phong
-    ks: Option<f32>,
-    shininess: Option<f32>,
-    specular_color: Option<[f32; 3]>,
-    // Cook-Torrance
-    roughness: Option<f32>,
-    metallic: Option<bool>,
-    ior: Option<f32>,
-    d: Option<Spanned<String>>,
-    g: Option<Spanned<String>>,
-    fresnel: Option<Spanned<String>>,
-    eta: Option<[f32; 3]>,
-    k: Option<[f32; 3]>,
-}
-
-/// A material model, as named in scene files and on the command line.
-#[derive(Deserialize, Default, PartialEq, Eq, Clone, Copy, Debug)]
-#[serde(rename_all = "kebab-case")]
-pub enum ModelName {
-    /// Lambert diffuse only.
-    #[default]
-    Lambert,
-    /// Lambert + Blinn-Phong.
-    BlinnPhong,
-    /// Lambert + Cook-Torrance.
-    CookTorrance,
-}
-
-impl ModelName {
-    /// Every model, in documentation order.
-    pub const ALL: [ModelName; 3] = [ModelName::Lambert, ModelName::BlinnPhong, ModelName::CookTorrance];
-
-    /// The name used in scene files and on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            ModelName::Lambert => "lambert",
-            ModelName::BlinnPhong => "blinn-phong",
-            ModelName::CookTorrance => "cook-torrance",
-        }
-    }
-}
-
-impl std::str::FromStr for ModelName {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        ModelName::ALL
-            .into_iter()
-            .find(|m| m.name() == s)
-            .ok_or_else(|| format!("unknown BRDF '{s}' (expected lambert, blinn-phong or cook-torrance)"))
-    }
-}
-
-/// What the keys a material section leaves out default to.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MaterialDefaults {
-    /// Diffuse colour.
-    pub albedo: [f32; 3],
-    /// Diffuse weight.
-    pub kd: f32,
-    /// Two-sided or one-sided.
-    pub two_sided: bool,
-    /// The Blinn-Phong lobe of a `blinn-phong` material.
-    pub blinn_phong: BlinnPhong,
-    /// The Cook-Torrance lobe of a `cook-torrance` material.
-    pub cook_torrance: CookTorrance,
-}
-
-impl MaterialDefaults {
-    /// The defaults of mesh scene files (README.md, "Scene files").
-    pub const SCENE: MaterialDefaults = MaterialDefaults {
-        albedo: [0.8; 3],
-        kd: 1.0,
-        two_sided: true,
-        blinn_phong: BlinnPhong {
-            ks: 1.0,
-            shininess: 32.0,
-            color: [1.0; 3],
-        },
-        cook_torrance: CookTorrance::ASSIGNMENT,
-    };
-
-    /// A material of `model` with every parameter at its default.
-    pub fn material(&self, name: &str, model: ModelName) -> Material {
-        Material {
-            name: name.to_string(),
-            albedo: self.albedo,
-            kd: self.kd,
-            two_sided: self.two_sided,
-            specular: match model {
-                ModelName::Lambert => Specular::None,
-                ModelName::BlinnPhong => Specular::BlinnPhong(self.blinn_phong),
-                ModelName::CookTorrance => Specular::CookTorrance(self.cook_torrance),
-            },
-        }
-    }
 }
 
 #[derive(Deserialize)]
@@ -580,124 +444,6 @@ fn camera(c: &CameraSection) -> Result<CameraSpec, String> {
     // Build once at a nominal size to check the frame and projection now, with the file's span.
     crate::surface::camera::Camera::new(spec, 1, 1)?;
     Ok(spec)
-}
-
-/// The light a `[[light]]` section describes; `falloff` when the section does not say.
-pub(super) fn light(l: &LightSection, default_falloff: Falloff) -> Result<Light, String> {
-    let color = vec3("color", l.color)?;
-    if color.min_element() < 0.0 {
-        return Err(format!("light color must be ≥ 0, got {color}"));
-    }
-    if !(l.intensity.is_finite() && l.intensity >= 0.0) {
-        return Err(format!("light intensity must be finite and ≥ 0, got {}", l.intensity));
-    }
-    let direction = |name| -> Result<Vec3, String> {
-        let d = vec3(name, l.direction.ok_or(format!("this light needs {name}"))?)?;
-        d.try_normalize()
-            .ok_or_else(|| "direction must not be zero".to_string())
-    };
-    let position = || vec3("position", l.position.ok_or("this light needs position")?);
-    let kind = match l.kind {
-        LightType::Point => LightKind::Point { position: position()? },
-        LightType::Directional => LightKind::Directional {
-            direction: direction("direction")?,
-        },
-        LightType::Spot => {
-            let inner = l.inner_cone.unwrap_or(0.0);
-            let outer = l.outer_cone.unwrap_or(45.0);
-            if !(0.0..=90.0).contains(&inner) || !(0.0..=90.0).contains(&outer) || inner >= outer {
-                return Err(format!(
-                    "spot cones must satisfy 0 ≤ inner_cone < outer_cone ≤ 90 degrees, got {inner} and {outer}"
-                ));
-            }
-            LightKind::Spot {
-                position: position()?,
-                direction: direction("direction")?,
-                cos_inner: inner.to_radians().cos(),
-                cos_outer: outer.to_radians().cos(),
-            }
-        }
-    };
-    let falloff = match l.falloff {
-        None => default_falloff,
-        Some(FalloffName::InverseSquare) => Falloff::InverseSquare,
-        Some(FalloffName::None) => Falloff::None,
-    };
-    Ok(Light {
-        kind,
-        power: color * l.intensity,
-        falloff,
-    })
-}
-
-/// An error with the span of the value it is about, when narrower than the section.
-pub(super) type Located = (Option<std::ops::Range<usize>>, String);
-
-/// The material a `[material.NAME]` section describes, missing keys taken from `defaults`.
-pub(super) fn material(name: &str, m: &MaterialSection, defaults: &MaterialDefaults) -> Result<Material, Located> {
-    let plain = |msg: String| (None, msg);
-    let mut material = defaults.material(name, m.model);
-    material.albedo = m.albedo.unwrap_or(material.albedo);
-    material.kd = m.kd.unwrap_or(material.kd);
-    material.two_sided = m.two_sided.unwrap_or(material.two_sided);
-    let unused_for = |keys: &[(&str, bool)], model: &str| -> Result<(), Located> {
-        match keys.iter().find(|(_, present)| *present) {
-            Some((key, _)) => Err(plain(format!("key '{key}' does not apply to the {model} model"))),
-            None => Ok(()),
-        }
-    };
-    let ct_keys = [
-        ("roughness", m.roughness.is_some()),
-        ("metallic", m.metallic.is_some()),
-        ("ior", m.ior.is_some()),
-        ("d", m.d.is_some()),
-        ("g", m.g.is_some()),
-        ("fresnel", m.fresnel.is_some()),
-        ("eta", m.eta.is_some()),
-        ("k", m.k.is_some()),
-    ];
-    let bp_keys = [("ks", m.ks.is_some()), ("shininess", m.shininess.is_some())];
-    match m.model {
-        ModelName::Lambert => {
-            unused_for(&ct_keys, "lambert")?;
-            unused_for(&bp_keys, "lambert")?;
-            unused_for(&[("specular_color", m.specular_color.is_some())], "lambert")?;
-        }
-        ModelName::BlinnPhong => {
-            unused_for(&ct_keys, "blinn-phong")?;
-            let d = defaults.blinn_phong;
-            material.specular = Specular::BlinnPhong(BlinnPhong {
-                ks: m.ks.unwrap_or(d.ks),
-                shininess: m.shininess.unwrap_or(d.shininess),
-                color: m.specular_color.unwrap_or(d.color),
-            });
-        }
-        ModelName::CookTorrance => {
-            unused_for(&bp_keys, "cook-torrance")?;
-            let d = defaults.cook_torrance;
-            let mut ct = CookTorrance {
-                alpha: m.roughness.unwrap_or(d.alpha),
-                metallic: m.metallic.unwrap_or(d.metallic),
-                specular_color: m.specular_color.unwrap_or(d.specular_color),
-                ior: m.ior.unwrap_or(d.ior),
-                eta: m.eta.unwrap_or(d.eta),
-                k: m.k.unwrap_or(d.k),
-                ..d
-            };
-            if let Some(v) = &m.d {
-                ct.d = v.get_ref().parse().map_err(|e| (Some(v.span()), format!("{e}")))?;
-            }
-            if let Some(v) = &m.g {
-                ct.g = v.get_ref().parse().map_err(|e| (Some(v.span()), format!("{e}")))?;
-            }
-            if let Some(v) = &m.fresnel {
-                ct.f = v.get_ref().parse().map_err(|e| (Some(v.span()), format!("{e}")))?;
-            }
-            material.specular = Specular::CookTorrance(ct);
-        }
-    }
-    material.validate().map_err(plain)?;
-    Ok(material)
 }
 
 fn transform_matrix(t: &TransformSection) -> Result<Mat4, String> {

@@ -1,0 +1,94 @@
+//! `[[light]]` sections: the point, directional and spot lights of mesh and normal-map scene
+//! files, checked (finite, non-negative, non-zero directions, ordered cones) as they are read.
+
+use glam::Vec3;
+use serde::Deserialize;
+
+use super::vec3;
+use crate::shading::light::{Falloff, Light, LightKind};
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(in crate::scene) struct LightSection {
+    #[serde(rename = "type")]
+    kind: LightType,
+    position: Option<[f32; 3]>,
+    direction: Option<[f32; 3]>,
+    #[serde(default = "white")]
+    color: [f32; 3],
+    #[serde(default = "one")]
+    intensity: f32,
+    falloff: Option<FalloffName>,
+    inner_cone: Option<f32>,
+    outer_cone: Option<f32>,
+}
+
+fn white() -> [f32; 3] {
+    [1.0; 3]
+}
+fn one() -> f32 {
+    1.0
+}
+
+#[derive(Deserialize)]
+#[serde(rename_all = "kebab-case")]
+enum LightType {
+    Point,
+    Directional,
+    Spot,
+}
+
+#[derive(Deserialize)]
+#[serde(rename_all = "kebab-case")]
+enum FalloffName {
+    InverseSquare,
+    None,
+}
+
+/// The light a `[[light]]` section describes; `falloff` when the section does not say.
+pub(in crate::scene) fn light(l: &LightSection, default_falloff: Falloff) -> Result<Light, String> {
+    let color = vec3("color", l.color)?;
+    if color.min_element() < 0.0 {
+        return Err(format!("light color must be ≥ 0, got {color}"));
+    }
+    if !(l.intensity.is_finite() && l.intensity >= 0.0) {
+        return Err(format!("light intensity must be finite and ≥ 0, got {}", l.intensity));
+    }
+    let direction = |name| -> Result<Vec3, String> {
+        let d = vec3(name, l.direction.ok_or(format!("this light needs {name}"))?)?;
+        d.try_normalize()
+            .ok_or_else(|| "direction must not be zero".to_string())
+    };
+    let position = || vec3("position", l.position.ok_or("this light needs position")?);
+    let kind = match l.kind {
+        LightType::Point => LightKind::Point { position: position()? },
+        LightType::Directional => LightKind::Directional {
+            direction: direction("direction")?,
+        },
+        LightType::Spot => {
+            let inner = l.inner_cone.unwrap_or(0.0);
+            let outer = l.outer_cone.unwrap_or(45.0);
+            if !(0.0..=90.0).contains(&inner) || !(0.0..=90.0).contains(&outer) || inner >= outer {
+                return Err(format!(
+                    "spot cones must satisfy 0 ≤ inner_cone < outer_cone ≤ 90 degrees, got {inner} and {outer}"
+                ));
+            }
+            LightKind::Spot {
+                position: position()?,
+                direction: direction("direction")?,
+                cos_inner: inner.to_radians().cos(),
+                cos_outer: outer.to_radians().cos(),
+            }
+        }
+    };
+    let falloff = match l.falloff {
+        None => default_falloff,
+        Some(FalloffName::InverseSquare) => Falloff::InverseSquare,
+        Some(FalloffName::None) => Falloff::None,
+    };
+    Ok(Light {
+        kind,
+        power: color * l.intensity,
+        falloff,
+    })
+}
