@@ -208,7 +208,7 @@ impl Bvh {
     /// The closest hits of up to [`PACKET`] rays `(origin, direction, t_max)` at once, into
     /// `hits` (one per ray): one walk of the tree for the packet ([`packet`]). Each ray's hit is
     /// exactly the one [`Self::intersect`] finds. Rays that cannot share a walk (fewer than
-    /// [`MIN_PACKET`], directions of different signs, a zero direction component, origins far
+    /// `MIN_PACKET`, directions of different signs, a zero direction component, origins far
     /// apart, a tree too deep for the fixed stack) are traced one by one.
     pub fn intersect_packet(&self, rays: &[(Vec3, Vec3, f32)], hits: &mut [Option<Hit>]) {
         if let Some(mask) = &self.alpha {

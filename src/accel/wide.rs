@@ -7,7 +7,7 @@
 //! ray/triangle test (Woop et al.) on four triangles at once ([`TriangleQuad::intersect`]),
 //! bit-identical per lane to the scalar test in [`super::triangle`].
 //!
-//! Traversal (the loops, the stack) is in [`super::walk`].
+//! Traversal (the loops, the stack) is in `walk.rs`.
 
 use glam::{BVec4A, Vec3A, Vec4};
 use rayon::prelude::*;

@@ -118,7 +118,7 @@ pub(super) fn render(
 pub const COARSEST_THRESHOLD: f32 = 0.04;
 
 /// The thresholds of an adaptive render's passes, coarse to fine, ending at `finest`: `finest`
-/// times the powers of two from the largest not above [`COARSEST_THRESHOLD`] down to one.
+/// times the powers of two from the largest not above `COARSEST_THRESHOLD` down to one.
 pub fn threshold_ladder(finest: f32) -> Vec<f32> {
     let mut ladder = vec![finest];
     while ladder[0] * 2.0 <= COARSEST_THRESHOLD {

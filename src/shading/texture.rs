@@ -83,7 +83,7 @@ pub enum ColorSpace {
 /// in uv space: [cos, sin; −sin, cos]) and T the translation by `offset`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct UvTransform {
-    /// Rows of the 2×3 matrix: u' = m[0]·u + m[1]·v + m[2], v' = m[3]·u + m[4]·v + m[5].
+    /// Rows of the 2×3 matrix: u' = `m[0]·u + m[1]·v + m[2]`, v' = `m[3]·u + m[4]·v + m[5]`.
     pub m: [f32; 6],
 }
 

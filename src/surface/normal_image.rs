@@ -112,7 +112,7 @@ impl Sample for u8 {
     }
 
     /// Each pixel read as one word, its channels shifted out and divided by 255 in lanes: the
-    /// same correctly rounded v/255 as [`UNIT8`], without 24 table lookups.
+    /// same correctly rounded v/255 as `UNIT8`, without 24 table lookups.
     #[inline(always)]
     fn unit_lanes(samples: &[[u8; 4]], cols: [u32; LANES]) -> [F32x8; 3] {
         let mut words = [0u32; LANES];

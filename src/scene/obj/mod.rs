@@ -6,7 +6,7 @@
 //! Lambert. A missing MTL file is a warning, not an error (many OBJ files name one they lack).
 //!
 //! Plain files (positions and triangles only, like the scanned meshes) are parsed on all cores by
-//! [`plain`], which returns exactly what tobj would; everything else goes to tobj.
+//! `plain.rs`, which returns exactly what tobj would; everything else goes to tobj.
 
 mod plain;
 

@@ -169,7 +169,7 @@ pub trait Real:
     /// `a` where `mask`, else `b`.
     fn select(mask: Self::Mask, a: Self, b: Self) -> Self;
     /// The exact conductor Fresnel term ([`fresnel_conductor`]) of the three colour channels.
-    /// One channel after another by default; f32 runs them as three lanes of one [`F32x4`]
+    /// One channel after another by default; f32 runs them as three lanes of one `F32x4`
     /// (each lane the f32 bits of its channel, in a third of the instructions: the term takes
     /// two square roots and three divisions, and showed as 6% of a copper render's profile).
     #[inline(always)]
@@ -317,7 +317,7 @@ pub type F32x8 = Lanes<LANES>;
 /// Four lanes (one SSE register): the three colour channels of one point, and a spare.
 pub type F32x4 = Lanes<4>;
 
-/// A per-lane condition of [`Lanes`]: all bits set for true, clear for false (the layout SIMD
+/// A per-lane condition of `Lanes`: all bits set for true, clear for false (the layout SIMD
 /// comparisons produce).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LaneMask<const N: usize>(pub [u32; N]);

@@ -103,7 +103,7 @@ impl<O: Occluder> Shader<'_, O> {
     /// [`Shader::shade`] of the points of one batch — the samples of one pixel or of a pixel
     /// block — into `out` (one entry per point): what `shade` gives each point, the same terms
     /// added in the same (light) order. What differs is that each light's shadow rays from up to
-    /// [`BATCH`] points go to the occluder together ([`Occluder::occluded_batch`]: the BVH walks
+    /// `BATCH` points go to the occluder together ([`Occluder::occluded_batch`]: the BVH walks
     /// them as a packet), and that the points are shaded on lanes where they can be
     /// (`lanes.rs`), eight of one material at a time.
     pub fn shade_batch<P: Borrow<SurfacePoint>>(&self, points: &[P], out: &mut [Vec3], shadow_rays: &mut u64) {
