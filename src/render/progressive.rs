@@ -16,8 +16,9 @@
 //! the fixed render at the count reached (`--spp n`): the budget decides only the count. The
 //! count depends on the machine; the image for a given count does not.
 //!
-//! **Thresholds.** An adaptive render is a whole render at each threshold of a ladder, halving
-//! down to the film's (`render_adaptive`). A sample is a pure function of its film position and
+//! **Thresholds.** An adaptive render is a whole render at thresholds of a ladder, halving
+//! down to the film's: the coarsest first, then straight to the finest one predicted to fit if
+//! that reaches further than rung by rung, then rung by rung (`render_adaptive`). A sample is a pure function of its film position and
 //! a finer threshold revisits nearly every position a coarser one took, so each tile keeps its
 //! samples by position ([`SampleCache`]) and traces only new ones. The image is bit for bit the
 //! render at the threshold reached.
@@ -134,11 +135,11 @@ pub fn threshold_ladder(finest: f32) -> Vec<f32> {
 /// for the render at that threshold alone).
 const MAX_KEPT_SAMPLES: usize = 1 << 23;
 
-/// The predicted time of the next adaptive pass after passes that took `passes`. The first
-/// pass traces every sample it needs; later ones mostly reuse them and trace what the finer
-/// threshold adds (on the dragon the second took 0.6× the first, and the later ones 1.35–1.5×
-/// the one before). So: the second as long as the first, the third 1.5× the second, then the
-/// last scaled by its growth over the one before, within 1× to 3×.
+/// The predicted time of the next adaptive pass, a rung finer than the last of `passes` (their
+/// wall times). The first pass traces every sample it needs; later ones mostly reuse them and
+/// trace what the finer threshold adds (on the dragon the second took 0.75× the first, and the
+/// later ones 1.33–1.5× the one before). So: the second as long as the first, the third 1.5×
+/// the second, then the last scaled by its growth over the one before, within 1× to 3×.
 fn next_adaptive_pass(passes: &[Duration]) -> Duration {
     match passes {
         [] => Duration::ZERO,
@@ -148,9 +149,47 @@ fn next_adaptive_pass(passes: &[Duration]) -> Duration {
     }
 }
 
-/// Renders `region` adaptively to `deadline`: a full adaptive render at each threshold of the
-/// ladder down to the film's, coarse to fine, while the next one is predicted
-/// ([`next_adaptive_pass`]) to end in time; the first always runs. Each tile keeps the samples
+/// How much an adaptive render's time grows, at most, from one rung of the ladder to the next
+/// finer one: 1.29–1.49× on the dragon, 1.1–1.45× on the Cornell box with either sampler
+/// (README, "Time budgets").
+const RUNG_GROWTH: f64 = 1.5;
+
+/// How many rungs past the first pass (which took `first`) the passes after it can go within
+/// `remaining`, and whether to go there in one pass. Rung by rung, each pass predicted by
+/// [`next_adaptive_pass`] and the ones after it 1.5× the one before ([`RUNG_GROWTH`]); or one
+/// pass straight to a rung k finer, as long as a render at that threshold from scratch
+/// (`first` × 1.5^k: nothing is reused from the passes skipped, and the first pass's samples
+/// little). Jumping wins when it reaches finer, or the film's threshold sooner (two rungs or
+/// more away): rung by rung, each pass repeats the decisions
+/// of the one before (on the dragon, 1/1024 by six passes took 2.0× the render at 1/1024
+/// alone; by the first pass and a jump, 1.3×). `None` when not even the next rung fits.
+fn rungs_after_first(first: Duration, remaining: Duration, rungs_left: usize) -> Option<(usize, bool)> {
+    let mut step = next_adaptive_pass(&[first]);
+    let mut by_steps = 0;
+    let mut spent = Duration::ZERO;
+    while by_steps < rungs_left && spent + step < remaining {
+        spent += step;
+        step = step.mul_f64(RUNG_GROWTH);
+        by_steps += 1;
+    }
+    let by_jump = (1..=rungs_left)
+        .rev()
+        .find(|&k| first.mul_f64(RUNG_GROWTH.powi(k as i32)) < remaining)
+        .unwrap_or(0);
+    // A tie short of the film's threshold goes rung by rung: each pass re-predicts from the
+    // last one measured, and passes that reuse samples often end sooner than predicted.
+    let jump = by_jump > by_steps || (by_jump == rungs_left && by_jump >= 2);
+    match by_steps.max(by_jump) {
+        0 => None,
+        k => Some((k, jump)),
+    }
+}
+
+/// Renders `region` adaptively to `deadline`: a full adaptive render at the coarsest threshold
+/// of the ladder (down to the film's); then, after it and after every jump, a jump straight to
+/// a finer threshold if that is predicted to reach further than going rung by rung
+/// ([`rungs_after_first`]); otherwise rung by rung while the next pass is predicted
+/// ([`next_adaptive_pass`]) to end in time. The first always runs. Each tile keeps the samples
 /// its passes traced, by film position, and a finer pass traces only the positions not seen
 /// yet. Returns the sums and counts of the finest pass that ran, and its threshold: bit for bit
 /// the render with that `adaptive_threshold`.
@@ -163,19 +202,37 @@ pub(super) fn render_adaptive(
     let room = AtomicUsize::new(MAX_KEPT_SAMPLES);
     let mut caches: Vec<Option<SampleCache>> = tiles(region).iter().map(|_| Some(SampleCache::new(&room))).collect();
     let centres = Centres::new(ctx, region);
-    let mut finished: Option<((PixelSums, Vec<u32>), f32)> = None;
+    let ladder = threshold_ladder(ctx.scene.film.adaptive_threshold);
     let mut passes = Vec::new();
-    for threshold in threshold_ladder(ctx.scene.film.adaptive_threshold) {
-        let now = Instant::now();
-        if finished.is_some() && next_adaptive_pass(&passes) >= deadline.saturating_duration_since(now) {
-            break;
+    let mut rung = 0;
+    loop {
+        let start = Instant::now();
+        let pass = adaptive::refine(ctx, &centres, ladder[rung], &mut caches, on_tile);
+        passes.push(start.elapsed());
+        let remaining = deadline.saturating_duration_since(Instant::now());
+        let rungs_left = ladder.len() - 1 - rung;
+        let next = match passes[..] {
+            // Rung by rung, the next pass goes one rung down and decides again.
+            [first] => {
+                rungs_after_first(first, remaining, rungs_left).map(|(k, jump)| (if jump { k } else { 1 }, jump))
+            }
+            _ => (rungs_left > 0 && next_adaptive_pass(&passes) < remaining).then_some((1, false)),
+        };
+        match next {
+            Some((k, jump)) => {
+                rung += k;
+                // A pass straight to a finer rung traced nearly all it needed, as a first pass
+                // does: the passes after it are predicted from it alone.
+                if jump {
+                    passes.clear();
+                }
+            }
+            None => {
+                let (sums, counts) = pass;
+                return (sums, counts, ladder[rung]);
+            }
         }
-        let pass = adaptive::refine(ctx, &centres, threshold, &mut caches, on_tile);
-        passes.push(now.elapsed());
-        finished = Some((pass, threshold));
     }
-    let ((sums, counts), threshold) = finished.expect("the ladder has at least one threshold");
-    (sums, counts, threshold)
 }
 
 /// The samples one tile's passes traced, by film position: a sample is a pure function of its
@@ -354,6 +411,23 @@ mod tests {
         );
         assert_eq!(next_adaptive_pass(&[100 * MS, 80 * MS, 60 * MS]), 60 * MS);
         assert_eq!(next_adaptive_pass(&[100 * MS, 10 * MS, 60 * MS]), 180 * MS);
+    }
+
+    #[test]
+    fn after_the_first_pass_a_render_jumps_when_that_reaches_a_finer_rung() {
+        // Rung by rung the passes are predicted 100, 150, 225, 337.5 ms (cumulative 100, 250,
+        // 475, 812.5); straight to k rungs finer, 150, 225, 337.5, 506.25 ms for k = 1 … 4.
+        let first = 100 * MS;
+        assert_eq!(rungs_after_first(first, 99 * MS, 5), None);
+        assert_eq!(rungs_after_first(first, 101 * MS, 5), Some((1, false)));
+        // 240 ms: two rungs straight (225) against one rung by rung (100 + 150 > 240).
+        assert_eq!(rungs_after_first(first, 240 * MS, 5), Some((2, true)));
+        // 260 ms: two either way (100 + 150; 225), so rung by rung, which reuses more.
+        assert_eq!(rungs_after_first(first, 260 * MS, 5), Some((2, false)));
+        assert_eq!(rungs_after_first(first, 600 * MS, 5), Some((4, true)));
+        // Never past the film's threshold.
+        assert_eq!(rungs_after_first(first, 10_000 * MS, 5), Some((5, true)));
+        assert_eq!(rungs_after_first(first, 10_000 * MS, 0), None);
     }
 
     /// An analytic trace: adds f(position) to each job's slot (hits where x < 3, surface 2),
