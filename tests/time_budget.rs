@@ -97,6 +97,9 @@ fn an_adaptive_budget_render_is_the_render_at_the_threshold_it_reached() {
         // An ample budget reaches the finest; one spent at once stops at the coarsest.
         assert_eq!(equals_the_render_at_its_threshold(sampler, 64, 0.005, 3600.0), 0.005);
         assert_eq!(equals_the_render_at_its_threshold(sampler, 64, 0.005, 1e-9), 0.04);
+        // A ladder down to a tiny threshold (over a hundred rungs) predicts its passes without
+        // overflowing a duration.
+        equals_the_render_at_its_threshold(sampler, 64, 1e-40, 0.1);
     }
 }
 
