@@ -159,16 +159,17 @@ const RUNG_GROWTH: f64 = 1.5;
 /// fills the tiles' sample tables (1.01–1.10× on the dragon).
 const JUMP_OVERHEAD: f64 = 1.1;
 
-/// How many rungs past the first pass (which took `first`) the passes after it can go within
-/// `remaining`, and whether to go there in one pass. Rung by rung, each pass predicted by
-/// [`next_adaptive_pass`] and the ones after it 1.5× the one before ([`RUNG_GROWTH`]); or one
-/// pass straight to a rung k finer, as long as a render at that threshold from scratch and the
-/// tables (`first` × 1.5^k × [`JUMP_OVERHEAD`]: nothing is reused from the passes skipped, and
-/// the first pass's samples little). Jumping is chosen when it reaches finer, or the film's threshold sooner (two rungs
-/// or more away): rung by rung, each pass repeats the decisions of the one before (on the
-/// dragon, 1/1024 by six passes took 2.0× the render at 1/1024 alone; by the first pass and a
-/// jump, 1.3×). `None` when not even the next rung fits.
-fn rungs_after_first(first: Duration, remaining: Duration, rungs_left: usize) -> Option<(usize, bool)> {
+/// How many rungs down the ladder the pass after the first (which took `first`) goes: 1, rung
+/// by rung, or k > 1, straight to a threshold k rungs finer; `None` when not even the next rung
+/// is predicted to end within `remaining`. Rung by rung, each pass is predicted by
+/// [`next_adaptive_pass`] and the ones after it 1.5× the one before ([`RUNG_GROWTH`]); a pass
+/// straight to k rungs finer as a render at that threshold from scratch, and its tables
+/// (`first` × 1.5^k × [`JUMP_OVERHEAD`]: nothing is reused from the passes skipped, and little
+/// from the first). It jumps when that reaches finer, or the film's threshold sooner (two rungs
+/// or more away): rung by rung, each pass repeats the decisions of the one before (on the dragon,
+/// 1/1024 by six passes took 2.0× the render at 1/1024 alone; by the first pass and a jump,
+/// 1.3×).
+fn rungs_after_first(first: Duration, remaining: Duration, rungs_left: usize) -> Option<usize> {
     let mut step = next_adaptive_pass(&[first]);
     let mut by_steps = 0;
     let mut spent = Duration::ZERO;
@@ -185,10 +186,10 @@ fn rungs_after_first(first: Duration, remaining: Duration, rungs_left: usize) ->
         .unwrap_or(0);
     // A tie short of the film's threshold goes rung by rung: each pass re-predicts from the
     // last one measured, and passes that reuse samples often end sooner than predicted.
-    let jump = by_jump > by_steps || (by_jump == rungs_left && by_jump >= 2);
-    match by_steps.max(by_jump) {
-        0 => None,
-        k => Some((k, jump)),
+    if by_jump > by_steps || (by_jump == rungs_left && by_jump >= 2) {
+        Some(by_jump)
+    } else {
+        (by_steps > 0).then_some(1)
     }
 }
 
@@ -222,16 +223,17 @@ pub(super) fn render_adaptive(
             // Only from the first pass: 1.5× per rung is typical, not a bound, and a chain of
             // jumps would compound the error where the growth speeds up (README, "Time budgets").
             (0, &[first]) => rungs_after_first(first, remaining, rungs_left),
-            _ => (rungs_left > 0 && next_adaptive_pass(&passes) < remaining).then_some((1, false)),
+            _ => (rungs_left > 0 && next_adaptive_pass(&passes) < remaining).then_some(1),
         };
         match next {
-            Some((k, true)) => {
-                rung += k;
+            Some(rungs) => {
+                rung += rungs;
                 // A pass straight to a finer rung traces nearly all it needs, as a first pass
                 // does: the passes after it are predicted from it alone.
-                passes.clear();
+                if rungs > 1 {
+                    passes.clear();
+                }
             }
-            Some((_, false)) => rung += 1,
             None => {
                 let (sums, counts) = pass;
                 return (sums, counts, ladder[rung]);
@@ -424,20 +426,20 @@ mod tests {
         // 475, 812.5); straight to k rungs finer, 165, 247.5, 371.25, 556.875 ms for k = 1 … 4.
         let first = 100 * MS;
         assert_eq!(rungs_after_first(first, 99 * MS, 5), None);
-        assert_eq!(rungs_after_first(first, 101 * MS, 5), Some((1, false)));
+        assert_eq!(rungs_after_first(first, 101 * MS, 5), Some(1));
         // 249 ms: two rungs straight (247.5) against one rung by rung (100 + 150 > 249).
-        assert_eq!(rungs_after_first(first, 249 * MS, 5), Some((2, true)));
+        assert_eq!(rungs_after_first(first, 249 * MS, 5), Some(2));
         // 260 ms: two either way (100 + 150; 247.5), so rung by rung, which reuses more.
-        assert_eq!(rungs_after_first(first, 260 * MS, 5), Some((2, false)));
-        assert_eq!(rungs_after_first(first, 600 * MS, 5), Some((4, true)));
+        assert_eq!(rungs_after_first(first, 260 * MS, 5), Some(1));
+        assert_eq!(rungs_after_first(first, 600 * MS, 5), Some(4));
         // Never past the film's threshold.
-        assert_eq!(rungs_after_first(first, 10_000 * MS, 5), Some((5, true)));
+        assert_eq!(rungs_after_first(first, 10_000 * MS, 5), Some(5));
         assert_eq!(rungs_after_first(first, 10_000 * MS, 0), None);
         // A ladder down to the smallest f32 (about 150 rungs) predicts without overflowing:
         // 100 ms × 1.5^11 × 1.1 < 10 s < 100 ms × 1.5^12 × 1.1.
         let rungs = threshold_ladder(f32::from_bits(1)).len() - 1;
         assert!(rungs > 140);
-        assert_eq!(rungs_after_first(first, 10_000 * MS, rungs), Some((11, true)));
+        assert_eq!(rungs_after_first(first, 10_000 * MS, rungs), Some(11));
     }
 
     /// An analytic trace: adds f(position) to each job's slot (hits where x < 3, surface 2),
