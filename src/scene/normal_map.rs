@@ -18,9 +18,9 @@ use glam::Vec3;
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::error::{InputError, InputResult};
+use crate::error::InputResult;
 pub use crate::scene::file::ModelName;
-use crate::scene::file::{light, line_col, material, resolve, vec3, LightSection, MaterialDefaults, MaterialSection};
+use crate::scene::file::{light, material, resolve, vec3, LightSection, MaterialDefaults, MaterialSection, TomlSource};
 use crate::shading::convention::ShadingConvention;
 use crate::shading::light::{Falloff, Light, LightKind};
 use crate::shading::material::{BlinnPhong, CookTorrance, Material};
@@ -180,15 +180,9 @@ impl NormalMapScene {
     /// Reads a scene file with a `[normal_map]` section. `brdf`, from the command line, replaces
     /// the file's `brdf` (and may not be combined with a file that names its own material).
     pub fn load(path: &Path, brdf: Option<ModelName>) -> InputResult<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| InputError::new(path, format!("cannot read: {e}")))?;
-        let at = |span: std::ops::Range<usize>, problem: String| {
-            let (line, col) = line_col(&text, span.start);
-            InputError::new(path, format!("line {line}, column {col}: {problem}"))
-        };
-        let file: NormalMapFile = toml::from_str(&text).map_err(|e| match e.span() {
-            Some(span) => at(span, e.message().to_string()),
-            None => InputError::new(path, e.message()),
-        })?;
+        let source = TomlSource::read(path)?;
+        let at = |span, problem| source.at(span, problem);
+        let file: NormalMapFile = source.parse()?;
         let nm_span = file.normal_map.span();
         let nm = file.normal_map.into_inner();
         let preset = nm.preset;

@@ -143,15 +143,9 @@ enum ScaleValue {
 
 /// Reads a scene file and everything it references.
 pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
-    let text = std::fs::read_to_string(path).map_err(|e| InputError::new(path, format!("cannot read: {e}")))?;
-    let at = |span: std::ops::Range<usize>, problem: String| {
-        let (line, col) = line_col(&text, span.start);
-        InputError::new(path, format!("line {line}, column {col}: {problem}"))
-    };
-    let file: SceneFile = toml::from_str(&text).map_err(|e| match e.span() {
-        Some(span) => at(span, e.message().to_string()),
-        None => InputError::new(path, e.message()),
-    })?;
+    let source = TomlSource::read(path)?;
+    let at = |span, problem| source.at(span, problem);
+    let file: SceneFile = source.parse()?;
     let dir = path.parent().unwrap_or(Path::new("."));
 
     if let Some(nm) = &file.normal_map {
@@ -349,8 +343,38 @@ fn load_object(path: &Path) -> Result<ObjectContents, ObjectError> {
     }
 }
 
+/// The text of a TOML scene file, kept so that errors found after parsing can name the line
+/// and column of the value they are about.
+pub(in crate::scene) struct TomlSource<'a> {
+    path: &'a Path,
+    text: String,
+}
+
+impl<'a> TomlSource<'a> {
+    /// Reads `path`; a missing or unreadable file is an error naming it.
+    pub(in crate::scene) fn read(path: &'a Path) -> InputResult<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| InputError::new(path, format!("cannot read: {e}")))?;
+        Ok(TomlSource { path, text })
+    }
+
+    /// The file parsed as `T` (strictly, as the sections' serde attributes say), or the parser's
+    /// error at its line and column.
+    pub(in crate::scene) fn parse<T: serde::de::DeserializeOwned>(&self) -> InputResult<T> {
+        toml::from_str(&self.text).map_err(|e| match e.span() {
+            Some(span) => self.at(span, e.message().to_string()),
+            None => InputError::new(self.path, e.message()),
+        })
+    }
+
+    /// `problem` at the start of byte range `span`: "FILE: line L, column C: problem".
+    pub(in crate::scene) fn at(&self, span: std::ops::Range<usize>, problem: String) -> InputError {
+        let (line, col) = line_col(&self.text, span.start);
+        InputError::new(self.path, format!("line {line}, column {col}: {problem}"))
+    }
+}
+
 /// 1-based line and column of byte `offset`.
-pub(super) fn line_col(text: &str, offset: usize) -> (usize, usize) {
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
     let before = &text[..offset.min(text.len())];
     let line = before.matches('\n').count() + 1;
     let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
