@@ -18,9 +18,10 @@
 //!
 //! **Thresholds.** An adaptive render is a whole render at thresholds of a ladder, halving
 //! down to the film's: the coarsest first, then, once, straight to the finest one predicted to
-//! fit if that reaches further than rung by rung, then rung by rung (`render_adaptive`). A sample is a pure function of its film position and
-//! a finer threshold revisits nearly every position a coarser one took, so each tile keeps its
-//! samples by position ([`SampleCache`]) and traces only new ones. The image is bit for bit the
+//! fit if that reaches further than rung by rung, then rung by rung (`render_adaptive`). A
+//! sample is a pure function of its film position and a finer threshold revisits nearly every
+//! position a coarser one took, so each tile keeps its samples by position ([`SampleCache`])
+//! and traces only new ones. The image is bit for bit the
 //! render at the threshold reached.
 
 use std::collections::hash_map::{Entry, HashMap};
@@ -219,11 +220,12 @@ pub(super) fn render_adaptive(
         passes.push(start.elapsed());
         let remaining = deadline.saturating_duration_since(Instant::now());
         let rungs_left = ladder.len() - 1 - rung;
-        let next = match (rung, &passes[..]) {
-            // Only from the first pass: 1.5× per rung is typical, not a bound, and a chain of
-            // jumps would compound the error where the growth speeds up (README, "Time budgets").
-            (0, &[first]) => rungs_after_first(first, remaining, rungs_left),
-            _ => (rungs_left > 0 && next_adaptive_pass(&passes) < remaining).then_some(1),
+        // A jump only from the first pass: 1.5× per rung is typical, not a bound, and a chain of
+        // jumps would compound the error where the growth speeds up (README, "Time budgets").
+        let next = if rung == 0 {
+            rungs_after_first(passes[0], remaining, rungs_left)
+        } else {
+            (rungs_left > 0 && next_adaptive_pass(&passes) < remaining).then_some(1)
         };
         match next {
             Some(rungs) => {
