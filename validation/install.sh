@@ -18,9 +18,13 @@ else
   "$venv/bin/pip" install --quiet -r "$here/requirements.txt"
 fi
 
-if ldconfig -p 2>/dev/null | grep -q 'libLLVM.so.19\|libLLVM-19'; then
-  echo "libLLVM 19 present"
-elif ! apt_install libllvm19; then
-  echo "WARNING: libLLVM 19 is missing and cannot be installed here: references will use scalar_rgb (slower)" >&2
+# One check with render.py (validation/libllvm.py). The `ldconfig -p | grep -q` this replaces
+# failed under pipefail when the listing outgrew the pipe: grep exits at its match, ldconfig gets
+# SIGPIPE (status 141), and an installed libLLVM 19 was reported missing.
+if ! python3 "$here/libllvm.py" >/dev/null; then
+  apt_install libllvm19 || true
+fi
+if ! python3 "$here/libllvm.py"; then
+  echo "WARNING: libLLVM 19 is missing and cannot be installed here: the references are rendered with scalar_rgb" >&2
 fi
 echo "validation environment ready in $(( $(date +%s) - start )) s"

@@ -4,41 +4,37 @@
 
 pointshade exports one XML per light (Mitsuba samples one light per sample, so a deterministic
 reference renders each light alone and sums: the render is linear in the lights). The pointshade
-BSDF plugin is registered first. Prints one JSON line: variant, seconds to load and to render.
+BSDF plugin is registered first. The variant is llvm_ad_rgb where libLLVM 19 is installed and
+scalar_rgb elsewhere (validation/libllvm.py decides, as it does for install.sh), unless --variant or
+POINTSHADE_MITSUBA_VARIANT names one. Prints one JSON line: the variant, the libLLVM it loaded,
+seconds to load and to render.
 """
 
 import argparse
-import ctypes.util
-import glob
 import json
 import os
 import sys
 import time
 
 
-def pick_llvm():
-    """Points Dr.Jit at libLLVM 19 when present (LLVM 15 aborts on conductor kernels)."""
-    if "DRJIT_LIBLLVM_PATH" in os.environ:
-        return True
-    for pattern in ("/usr/lib/x86_64-linux-gnu/libLLVM.so.19*", "/usr/lib/*/libLLVM-19.so*", "/usr/lib/llvm-19/lib/libLLVM*.so*"):
-        found = sorted(glob.glob(pattern))
-        if found:
-            os.environ["DRJIT_LIBLLVM_PATH"] = found[0]
-            return True
-    return False
-
-
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--out", required=True)
-    parser.add_argument("--variant", default=None, help="default: llvm_ad_rgb with LLVM 19, else scalar_rgb")
+    parser.add_argument(
+        "--variant",
+        default=os.environ.get("POINTSHADE_MITSUBA_VARIANT"),
+        help="default: $POINTSHADE_MITSUBA_VARIANT, else llvm_ad_rgb with libLLVM 19, else scalar_rgb",
+    )
     parser.add_argument("scenes", nargs="+")
     args = parser.parse_args()
 
-    variant = args.variant or ("llvm_ad_rgb" if pick_llvm() else "scalar_rgb")
-    if variant.startswith("llvm"):
-        pick_llvm()
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import libllvm
+
+    library = libllvm.point_drjit_at_libllvm19()
+    variant = args.variant or libllvm.variant()
+    if variant.startswith("llvm") and not library:
+        sys.exit(f"error: variant {variant} needs libLLVM 19, which is missing (validation/install.sh)")
     import drjit as dr
     import mitsuba as mi
 
@@ -62,7 +58,7 @@ def main():
         total = image if total is None else total + image
     bitmap = mi.Bitmap(total, pixel_format=mi.Bitmap.PixelFormat.RGB)
     bitmap.write(args.out)
-    print(json.dumps({"variant": variant, "load_s": load_s, "render_s": render_s}))
+    print(json.dumps({"variant": variant, "llvm": library if variant.startswith("llvm") else None, "load_s": load_s, "render_s": render_s}))
 
 
 if __name__ == "__main__":
