@@ -1,6 +1,6 @@
 //! The Khronos glTF sample assets of ../shared/data/gltf: every one renders, and the properties
 //! checked by eye are asserted (cameras, lights, textures used, normal-map orientation, the
-//! metal/roughness grid). When ../shared/data is absent each test prints SKIPPED and returns.
+//! metal/roughness grid). Without ../shared/data these tests are ignored ("needs ../shared/data").
 
 mod support;
 
@@ -12,7 +12,7 @@ use pointshade::scene::{self, LoadOptions};
 use pointshade::shading::light::{Falloff, LightKind};
 use pointshade::shading::material::Specular;
 
-fn gltf_dir() -> Option<PathBuf> {
+fn gltf_dir() -> PathBuf {
     support::shared_data("gltf")
 }
 
@@ -43,8 +43,9 @@ fn lit(p: &image::Rgb<u8>) -> bool {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn every_asset_renders_and_auto_framed_ones_are_whole_in_the_picture() {
-    let Some(dir) = gltf_dir() else { return };
+    let dir = gltf_dir();
     for asset in ASSETS {
         let path = dir.join(asset);
         let img = render(&path, &["--width", "96", "--height", "72"]);
@@ -60,10 +61,9 @@ fn every_asset_renders_and_auto_framed_ones_are_whole_in_the_picture() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn damaged_helmet_scene_file_of_the_gallery_renders() {
-    if gltf_dir().is_none() {
-        return;
-    }
+    gltf_dir();
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/shared/damaged-helmet.toml");
     let img = render(&scene, &["--width", "64", "--height", "64"]);
     let covered = img.pixels().filter(|p| lit(p)).count() as f64 / (64.0 * 64.0);
@@ -71,8 +71,9 @@ fn damaged_helmet_scene_file_of_the_gallery_renders() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn duck_and_cameras_use_their_own_cameras() {
-    let Some(dir) = gltf_dir() else { return };
+    let dir = gltf_dir();
     let duck = scene::load(&dir.join("Duck/glTF-Binary/Duck.glb")).unwrap();
     assert!(
         duck.notes.iter().any(|n| n.contains("the file's camera 0")),
@@ -120,8 +121,9 @@ fn duck_and_cameras_use_their_own_cameras() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn lamp_has_its_five_point_lights_where_its_nodes_put_them() {
-    let Some(dir) = gltf_dir() else { return };
+    let dir = gltf_dir();
     let lamp = scene::load(&dir.join("LightsPunctualLamp/glTF/LightsPunctualLamp.gltf")).unwrap();
     // (node translation, colour × intensity) from the file, in node order.
     let expected = [
@@ -160,8 +162,9 @@ fn lamp_has_its_five_point_lights_where_its_nodes_put_them() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn damaged_helmet_decodes_four_textures_and_maps_normals() {
-    let Some(dir) = gltf_dir() else { return };
+    let dir = gltf_dir();
     let helmet = scene::load(&dir.join("DamagedHelmet/glTF-Binary/DamagedHelmet.glb")).unwrap();
     let plan = RenderPlan::new(&helmet, &[]);
     assert!(plan.textures && plan.normal_textures && plan.emission && plan.uvs);
@@ -176,8 +179,9 @@ fn damaged_helmet_decodes_four_textures_and_maps_normals() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn normal_mapped_cells_are_lit_like_their_geometry_twins() {
-    let Some(dir) = gltf_dir() else { return };
+    let dir = gltf_dir();
     // A front orthographic view of NormalTangentTest, 0.005 units per pixel, lit from the
     // upper left. Each row has two pairs of cells: real hemisphere geometry, then a flat quad
     // whose normal texture encodes the same hemisphere (each row with UVs rotated differently).
@@ -232,8 +236,9 @@ fn normal_mapped_cells_are_lit_like_their_geometry_twins() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn metal_rough_spheres_vary_roughness_along_x_and_metalness_along_y() {
-    let Some(dir) = gltf_dir() else { return };
+    let dir = gltf_dir();
     let s = scene::load(&dir.join("MetalRoughSpheresNoTextures/glTF-Binary/MetalRoughSpheresNoTextures.glb")).unwrap();
     // Every sphere instance (98 of them share one mesh) carries its own material: in the front
     // grid (z ≈ 0), roughness = column/6 and metalness = row/6, rows and columns 1 mm apart.

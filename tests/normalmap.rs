@@ -3,7 +3,7 @@
 //!
 //! The tp images are checked against an independent float64 evaluation of the report's formulas
 //! written here (it does not call the shader or the BRDF module). Tests that need
-//! ../shared/data print SKIPPED and return when it is absent.
+//! ../shared/data are ignored without it ("needs ../shared/data").
 
 mod support;
 
@@ -18,8 +18,8 @@ use pointshade::surface::normal_image::{TpScaling, Viewer};
 
 const BRDFS: [&str; 3] = ["lambert", "blinn-phong", "cook-torrance"];
 
-fn shared_normal_map(name: &str) -> Option<PathBuf> {
-    support::shared_data("normalmaps").map(|dir| dir.join(name))
+fn shared_normal_map(name: &str) -> PathBuf {
+    support::shared_data("normalmaps").join(name)
 }
 
 /// A scratch directory, removed on drop.
@@ -215,10 +215,11 @@ fn report_image(input: &Path, brdf: &str) -> (u32, u32, Vec<Reference>) {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn tp_images_match_an_independent_float64_evaluation_to_one_level() {
     let dir = Dir::new("tp");
     for name in ["normal.png", "nmap2.png", "nmap3.png"] {
-        let Some(input) = shared_normal_map(name) else { return };
+        let input = shared_normal_map(name);
         for brdf in BRDFS {
             let out = dir.path(&format!("{name}-{brdf}.png"));
             shade(&input, "tp", brdf, &out, &[]);
@@ -356,9 +357,13 @@ fn single_pixel_function_is_the_image_path() {
     for path in [a, b] {
         assert_image_path_is_the_single_pixel_function(&NormalImage::load(&path).unwrap());
     }
-    let Some(input) = shared_normal_map("nmap2.png") else {
-        return;
-    };
+}
+
+#[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
+fn single_pixel_function_is_the_image_path_on_the_assignments_image() {
+    use pointshade::surface::normal_image::NormalImage;
+    let input = shared_normal_map("nmap2.png");
     assert_image_path_is_the_single_pixel_function(&NormalImage::load(&input).unwrap());
 }
 
@@ -608,10 +613,9 @@ fn baked_normals_shaded_physically_equal_the_mesh_render() {
 // Scene files, the plan, determinism.
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn scene_file_gives_the_same_image_as_the_command_line() {
-    let Some(input) = shared_normal_map("nmap2.png") else {
-        return;
-    };
+    let input = shared_normal_map("nmap2.png");
     let dir = Dir::new("scenefile");
     let scene = dir.write(
         "tp.toml",
@@ -664,10 +668,9 @@ fn plan_shows_no_bvh_and_no_rays() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn image_does_not_depend_on_the_thread_count() {
-    let Some(input) = shared_normal_map("normal.png") else {
-        return;
-    };
+    let input = shared_normal_map("normal.png");
     let dir = Dir::new("threads");
     let (a, b) = (dir.path("a.png"), dir.path("b.exr"));
     let (c, d) = (dir.path("c.png"), dir.path("d.exr"));

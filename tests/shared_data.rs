@@ -1,5 +1,5 @@
 //! Renders of the large models in ../shared/data: bare meshes and scene files that use them.
-//! When ../shared/data is absent each test prints SKIPPED and returns (CI always has it).
+//! Without ../shared/data these tests are ignored ("needs ../shared/data"); CI always has it.
 
 mod support;
 
@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use support::render_png as render;
 
-fn shared() -> Option<PathBuf> {
+fn shared() -> PathBuf {
     support::shared_data("meshes")
 }
 
@@ -17,8 +17,9 @@ fn coverage(img: &image::RgbImage) -> f64 {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn bare_bunny_and_dragon_render_framed_and_lit() {
-    let Some(dir) = shared() else { return };
+    let dir = shared();
     for name in ["stanford-bunny.obj", "stanford-dragon.obj"] {
         let img = render(&dir.join(name), &["--width", "160", "--height", "120", "--spp", "1"]);
         assert_eq!(img.dimensions(), (160, 120));
@@ -31,10 +32,9 @@ fn bare_bunny_and_dragon_render_framed_and_lit() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn scene_files_using_shared_meshes_render() {
-    if shared().is_none() {
-        return;
-    }
+    shared();
     let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/shared");
     for name in ["dragon-copper.toml", "bunny-blinn-phong.toml"] {
         let img = render(&scenes.join(name), &["--width", "128", "--height", "128", "--spp", "1"]);

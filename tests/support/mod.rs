@@ -7,18 +7,13 @@ pub mod gltf_builder;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// `../shared/data/<sub>` if it exists; otherwise prints SKIPPED (the caller then returns).
-pub fn shared_data(sub: &str) -> Option<PathBuf> {
+/// `../shared/data/<sub>`. Tests that call it carry
+/// `#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]` (build.rs sets the cfg), so
+/// they run only where the data is; a folder missing from the data then fails the test.
+pub fn shared_data(sub: &str) -> PathBuf {
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data").join(sub);
-    if p.is_dir() {
-        Some(p)
-    } else {
-        eprintln!(
-            "SKIPPED: {} is missing; this test needs the shared test data",
-            p.display()
-        );
-        None
-    }
+    assert!(p.is_dir(), "{} is missing from the shared test data", p.display());
+    p
 }
 
 /// Renders `scene` with the CLI (`--quiet` and `extra`) into a temporary PNG; returns the
