@@ -17,6 +17,22 @@ import sys
 import time
 
 
+def compile_for(target):
+    """Makes Dr.Jit compile its kernels for another CPU: `target` is "CPU;FEATURES;LANES", as
+    Dr.Jit detects them on that CPU (validation/reference-drift.sh measures another host's
+    rounding this way where qemu cannot run the scene). Embree keeps this host's kernels."""
+    import ctypes
+
+    import drjit as dr
+
+    cpu, features, lanes = target.split(";")
+    dr.eval(dr.llvm.Float(0))  # starts the LLVM backend, which detects this host first
+    core = ctypes.CDLL(os.path.join(os.path.dirname(dr.__file__), "libdrjit-core.so"))
+    set_target = core._Z19jit_llvm_set_targetPKcS0_j  # jit_llvm_set_target(cpu, features, lanes)
+    set_target.argtypes = [ctypes.c_char_p, ctypes.c_char_p, ctypes.c_uint32]
+    set_target(cpu.encode(), features.encode(), int(lanes))
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--out", required=True)
@@ -39,6 +55,8 @@ def main():
     import mitsuba as mi
 
     mi.set_variant(variant)
+    if os.environ.get("POINTSHADE_DRJIT_LLVM_TARGET") and variant.startswith("llvm"):
+        compile_for(os.environ["POINTSHADE_DRJIT_LLVM_TARGET"])
     import pointshade_bsdf
 
     pointshade_bsdf.register()

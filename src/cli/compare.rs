@@ -7,6 +7,7 @@ use crate::error::InputError;
 use crate::film::Image;
 use crate::output::{encode, read_linear, write_all_or_nothing, Format};
 use crate::validation::compare::{bin_labels, compare, error_by_group, group_table};
+use crate::validation::staleness::{check_reference, ReferenceCheck};
 
 /// Arguments of `pointshade compare`.
 #[derive(clap::Args)]
@@ -33,6 +34,12 @@ pub struct CompareArgs {
     /// for the adaptive sampler's counts.
     #[arg(long, requires = "group_by")]
     group_edges: Option<String>,
+    /// Take OURS as a fresh Mitsuba render and REFERENCE as the committed reference of the same
+    /// export (`validate --check-references` does this for every scene): print whether they
+    /// differ by another CPU's rounding only, or the reference is stale (exit code 2). What
+    /// counts as stale: docs/reference-drift.md.
+    #[arg(long, conflicts_with_all = ["heatmap", "group_by"])]
+    reference_check: bool,
 }
 
 /// Runs `pointshade compare`; prints the metrics on stdout.
@@ -44,6 +51,19 @@ pub fn run(args: CompareArgs) -> Result<(), InputError> {
         ));
     }
     let ours = read_linear(&args.ours)?;
+    if args.reference_check {
+        return match check_reference(&ours, &read_linear(&args.reference)?) {
+            ReferenceCheck::Identical => {
+                println!("identical");
+                Ok(())
+            }
+            ReferenceCheck::HostRounding(drift) => {
+                println!("host rounding: {}", drift.summary());
+                Ok(())
+            }
+            ReferenceCheck::Stale(reason) => Err(InputError::new(&args.reference, format!("stale: {reason}"))),
+        };
+    }
     let same_size = |path: &PathBuf| -> Result<Image, InputError> {
         let image = read_linear(path)?;
         if (ours.width, ours.height) != (image.width, image.height) {

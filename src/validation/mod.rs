@@ -10,4 +10,5 @@ pub mod ply;
 pub mod report;
 pub mod rounding;
 pub mod run;
+pub mod staleness;
 pub mod textures;

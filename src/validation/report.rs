@@ -97,17 +97,29 @@ pub fn markdown(results: &[SceneValidation]) -> String {
     s
 }
 
+/// The Mitsuba variants the references were rendered with (`validation/render.py` picks
+/// llvm_ad_rgb where libLLVM 19 is installed, scalar_rgb elsewhere), comma-separated.
+pub fn mitsuba_variants(results: &[SceneValidation]) -> String {
+    let mut variants: Vec<&str> = results
+        .iter()
+        .flat_map(|r| &r.runs)
+        .map(|r| r.mitsuba.variant.as_str())
+        .collect();
+    variants.sort_unstable();
+    variants.dedup();
+    if variants.is_empty() {
+        "none".into()
+    } else {
+        variants.join(", ")
+    }
+}
+
 /// The HTML page; image paths are relative to the page's folder.
 pub fn html(results: &[SceneValidation]) -> String {
     let mut s = String::new();
     let passed = results.iter().filter(|r| r.is_exact() && r.passes()).count();
     let exact = results.iter().filter(|r| r.is_exact()).count();
-    let variant = results
-        .iter()
-        .flat_map(|r| &r.runs)
-        .map(|r| r.mitsuba.variant.as_str())
-        .next()
-        .unwrap_or("?");
+    let variant = mitsuba_variants(results);
     let _ = write!(
         s,
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>pointshade vs Mitsuba 3</title>\n<style>\n\
