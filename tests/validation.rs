@@ -151,3 +151,35 @@ fn a_changed_scene_makes_its_committed_reference_stale() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The scene-file material defaults are Mitsuba's: a Cook-Torrance material that writes only
+/// roughconductor's keys (alpha, eta, k) exports as that exact BSDF with Mitsuba's default
+/// specular_reflectance, and a material that writes nothing as `diffuse` with reflectance 0.5.
+/// (The scene is in the validation set, so its render is also held against its committed
+/// Mitsuba reference above.)
+#[test]
+fn materials_written_with_mitsubas_keys_only_are_mitsubas_bsdfs() {
+    let s = load_sampled(
+        &root().join("scenes/validation/defaults-roughconductor.toml"),
+        SamplerKind::Grid,
+        1,
+    )
+    .unwrap();
+    let e = export(&s, 1, BsdfChoice::NativeWhereExact, "s");
+    assert!(e.differences.is_empty(), "{:?}", e.differences);
+    assert_eq!(
+        e.material_notes,
+        [
+            "copper: Mitsuba roughconductor (exact)",
+            "ground: Mitsuba diffuse (exact)"
+        ]
+    );
+    assert!(e.scene.contains(
+        "<bsdf type=\"roughconductor\"><string name=\"distribution\" value=\"ggx\"/><float name=\"alpha\" value=\"0.2\"/>\
+         <rgb name=\"eta\" value=\"0.2, 0.924, 1.102\"/><rgb name=\"k\" value=\"3.912, 2.452, 2.142\"/>\
+         <rgb name=\"specular_reflectance\" value=\"1, 1, 1\"/></bsdf>"
+    ));
+    assert!(e
+        .scene
+        .contains("<bsdf type=\"diffuse\"><rgb name=\"reflectance\" value=\"0.5, 0.5, 0.5\"/></bsdf>"));
+}

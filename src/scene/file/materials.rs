@@ -4,6 +4,7 @@
 use serde::Deserialize;
 use toml::Spanned;
 
+use crate::shading::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
 use crate::shading::material::{BlinnPhong, CookTorrance, Material, Specular};
 
 #[derive(Deserialize)]
@@ -82,9 +83,15 @@ pub struct MaterialDefaults {
 }
 
 impl MaterialDefaults {
-    /// The defaults of mesh scene files (README.md, "Scene files").
+    /// The defaults of mesh scene files (docs/scene-format.md, "Materials"): what someone porting
+    /// a Mitsuba 3 or pbrt-v4 scene expects. Diffuse reflectance 0.5 (both renderers' default);
+    /// Cook-Torrance as Mitsuba's `roughconductor` computes it (GGX, separable Smith, α = 0.1,
+    /// Mitsuba's default roughness) with an untinted specular colour, over a dielectric
+    /// (η = 1.5, Schlick) unless `eta`/`k` make it a conductor ([`material`]). The
+    /// assignment's values (α = 0.7, Schlick–Smith, a copper tint, n = 5) are the normal-map
+    /// `tp` preset's, not every scene file's.
     pub const SCENE: MaterialDefaults = MaterialDefaults {
-        albedo: [0.8; 3],
+        albedo: [0.5; 3],
         kd: 1.0,
         two_sided: true,
         blinn_phong: BlinnPhong {
@@ -92,7 +99,17 @@ impl MaterialDefaults {
             shininess: 32.0,
             color: [1.0; 3],
         },
-        cook_torrance: CookTorrance::ASSIGNMENT,
+        cook_torrance: CookTorrance {
+            alpha: 0.1,
+            d: MicrofacetDistribution::Ggx,
+            g: MaskingShadowing::SmithGgx,
+            f: FresnelTerm::Schlick,
+            metallic: false,
+            specular_color: [1.0; 3],
+            ior: 1.5,
+            eta: [0.0; 3],
+            k: [1.0; 3],
+        },
     };
 
     /// A material of `model` with every parameter at its default.
@@ -115,6 +132,10 @@ impl MaterialDefaults {
 pub(in crate::scene) type Located = (Option<std::ops::Range<usize>>, String);
 
 /// The material a `[material.NAME]` section describes, missing keys taken from `defaults`.
+///
+/// A Cook-Torrance section that writes `eta` or `k` and no `fresnel` is a conductor (the exact
+/// Fresnel of that complex index), and a conductor's `kd` defaults to 0: a metal has no diffuse
+/// part, as in Mitsuba's `roughconductor` and pbrt's `conductor`.
 pub(in crate::scene) fn material(
     name: &str,
     m: &MaterialSection,
@@ -177,6 +198,27 @@ pub(in crate::scene) fn material(
             }
             if let Some(v) = &m.fresnel {
                 ct.f = v.get_ref().parse().map_err(|e| (Some(v.span()), format!("{e}")))?;
+            } else if m.eta.is_some() || m.k.is_some() {
+                ct.f = FresnelTerm::Conductor;
+            }
+            if ct.f == FresnelTerm::Conductor {
+                material.kd = m.kd.unwrap_or(0.0);
+            } else if let Some((key, _)) = [("eta", m.eta.is_some()), ("k", m.k.is_some())]
+                .into_iter()
+                .find(|k| k.1)
+            {
+                return Err(plain(format!("key '{key}' applies only to fresnel = \"conductor\"")));
+            }
+            if matches!(ct.f, FresnelTerm::Conductor | FresnelTerm::Constant) {
+                if let Some((key, _)) = [("ior", m.ior.is_some()), ("metallic", m.metallic.is_some())]
+                    .into_iter()
+                    .find(|k| k.1)
+                {
+                    return Err(plain(format!(
+                        "key '{key}' does not apply to fresnel = \"{}\" (it chooses Schlick's F0)",
+                        ct.f.name()
+                    )));
+                }
             }
             material.specular = Specular::CookTorrance(ct);
         }
