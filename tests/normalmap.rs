@@ -873,3 +873,59 @@ fn sixteen_bit_images_shade_like_their_eight_bit_originals() {
         );
     }
 }
+
+/// A colour photograph given as a normal image still shades (exit 0) under both presets, with a
+/// warning that names the share of its pixels that fail; the assignment's own normal images, and
+/// a normal image baked from a shipped scene, shade without one.
+#[test]
+fn an_image_that_is_not_a_normal_image_is_shaded_with_a_warning() {
+    let dir = Dir::new("not-normals");
+    let photo = dir.path("photo.png");
+    image::RgbImage::from_fn(48, 32, |x, y| {
+        image::Rgb([150 + (x * 2) as u8, 100 + (y * 3) as u8, 40 + (x ^ y) as u8])
+    })
+    .save(&photo)
+    .unwrap();
+    for preset in ["tp", "physical"] {
+        let o = shade(&photo, preset, "cook-torrance", &dir.path("out.png"), &[]);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            stderr.contains("photo.png: does not look like a normal image")
+                && stderr.contains("% face away from the viewer"),
+            "{preset}: {stderr}"
+        );
+    }
+    let baked = dir.path("baked.png");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/lambert.toml");
+    ok(&[
+        "bake",
+        s(&scene),
+        "-o",
+        s(&baked),
+        "--width",
+        "64",
+        "--height",
+        "64",
+        "--quiet",
+    ]);
+    let o = shade(&baked, "physical", "lambert", &dir.path("baked-out.png"), &[]);
+    assert!(
+        !String::from_utf8_lossy(&o.stderr).contains("warning"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+#[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
+fn the_assignments_normal_images_shade_without_a_warning() {
+    let dir = Dir::new("assignment-normals");
+    for name in ["normal.png", "nmap2.png", "nmap3.png"] {
+        let o = shade(&shared_normal_map(name), "tp", "lambert", &dir.path("out.png"), &[]);
+        assert!(
+            !String::from_utf8_lossy(&o.stderr).contains("warning"),
+            "{name}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+}

@@ -14,6 +14,7 @@ use crate::plan::RenderPlan;
 use crate::scene::extension;
 use crate::scene::normal_map::{ModelName, NormalMapScene, Preset};
 use crate::surface::normal_image::NormalImage;
+use crate::surface::normal_likeness::NormalLikeness;
 
 /// Arguments of `pointshade normalmap`.
 #[derive(clap::Args)]
@@ -97,6 +98,9 @@ pub fn run(args: NormalMapArgs) -> Result<(), InputError> {
     let format = Format::of_output(&output)?;
     let pool = worker_pool(args.threads)?;
     let image = NormalImage::load(&scene.image)?;
+    if let Some(warning) = NormalLikeness::of(&image).warning() {
+        eprintln!("warning: {}: {warning}", scene.image.display());
+    }
     let surface = image_surface(&scene, &image).map_err(|e| InputError::new(&scene.image, e))?;
     let load_time = t_load.elapsed();
 

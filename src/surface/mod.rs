@@ -5,6 +5,7 @@
 
 pub mod camera;
 pub mod normal_image;
+pub mod normal_likeness;
 pub mod normal_texture;
 pub mod primary;
 
