@@ -87,7 +87,7 @@ impl MaterialDefaults {
     /// a Mitsuba 3 or pbrt-v4 scene expects. Diffuse reflectance 0.5 (both renderers' default);
     /// Cook-Torrance as Mitsuba's `roughconductor` computes it (GGX, separable Smith, α = 0.1,
     /// Mitsuba's default roughness) with an untinted specular colour, over a dielectric
-    /// (η = 1.5, Schlick) unless `eta`/`k` make it a conductor ([`material`]). The
+    /// (η = 1.5, Schlick) unless `eta`/`k` make it a conductor (see `material`). The
     /// assignment's values (α = 0.7, Schlick–Smith, a copper tint, n = 5) are the normal-map
     /// `tp` preset's, not every scene file's.
     pub const SCENE: MaterialDefaults = MaterialDefaults {
