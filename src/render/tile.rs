@@ -253,7 +253,9 @@ impl Borrow<SurfacePoint> for SurfaceSample {
 fn aov_value(aov: Aov, scene: &Scene, s: &Sample) -> Vec3 {
     match aov {
         Aov::Normal => s.point.shading_normal,
-        Aov::Position => s.point.position,
+        // World space, as the scene's files give positions (`Scene::origin` added back in f64):
+        // far from the origin an f32 coordinate of the AOV has the f32 step there.
+        Aov::Position => (s.point.position.as_dvec3() + scene.origin).as_vec3(),
         Aov::Depth => Vec3::splat(s.depth),
         Aov::Albedo => {
             let m = &scene.materials[s.point.material as usize];

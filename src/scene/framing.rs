@@ -89,6 +89,7 @@ pub fn default_lights(lo: Vec3, hi: Vec3, camera: &CameraSpec) -> Vec<Light> {
 /// A scene for a mesh given alone on the command line.
 pub fn scene_for_bare_mesh(path: &Path) -> InputResult<Scene> {
     let obj = load_obj(path)?;
+    let origin = obj.origin;
     let mut materials = obj.materials;
     let mut mesh = obj.mesh;
     if mesh.material_of_triangle.contains(&NO_MATERIAL) {
@@ -115,11 +116,13 @@ pub fn scene_for_bare_mesh(path: &Path) -> InputResult<Scene> {
         shadows: true,
         shadow_offset: Default::default(),
         shadow_terminator: Default::default(),
+        // The file's coordinates, in the render's frame (relative to the mesh's own origin).
         objects: vec![SceneObject {
             mesh: path.to_path_buf(),
-            transform: glam::Mat4::IDENTITY,
+            transform: glam::Mat4::from_translation(-origin.as_vec3()),
             triangles,
         }],
+        origin,
         notes: vec![
             "camera: framed automatically on the bounding box".into(),
             "lights: default key + fill lights".into(),

@@ -51,6 +51,11 @@ pub struct Scene {
     pub shadow_terminator: ShadowTerminator,
     /// Where each part of `mesh` came from (for exporters; rendering uses `mesh` only).
     pub objects: Vec<SceneObject>,
+    /// Where the render's coordinates start, in world coordinates (f64): every position of the
+    /// scene (geometry, camera, lights, the `position` AOV before it is written) is relative to
+    /// it. Zero unless the geometry lies far from the world origin (map coordinates), where f32
+    /// world coordinates would snap vertices (`scene::obj::local_origin`).
+    pub origin: glam::DVec3,
     /// Decisions made for the user (automatic camera, default light …), shown by `--explain`.
     pub notes: Vec<String>,
     /// Problems that did not stop loading, printed as warnings.

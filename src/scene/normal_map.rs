@@ -249,7 +249,7 @@ impl NormalMapScene {
         } else {
             file.light
                 .iter()
-                .map(|l| light(l.get_ref(), preset.falloff()).map_err(|m| at(l.span(), m)))
+                .map(|l| light(l.get_ref(), preset.falloff(), glam::DVec3::ZERO).map_err(|m| at(l.span(), m)))
                 .collect::<InputResult<_>>()?
         };
         let viewer = match &file.camera {

@@ -18,10 +18,11 @@
 //!
 //! The suite is split by kind of case: [`brdf_cases`] (fixed singular and extreme inputs, one or
 //! more per term), [`brdf_sweep`] (random and adversarial evaluations), [`geometry_cases`],
-//! [`scale_cases`] (one scene at many scales and offsets), [`light_cases`], [`normal_map_cases`], and [`table`] (the printed table, the summary and the CSV file).
+//! [`scale_cases`] (one scene at many scales and offsets), [`far_cases`] (the dragon in map coordinates), [`light_cases`], [`normal_map_cases`], and [`table`] (the printed table, the summary and the CSV file).
 
 pub mod brdf_cases;
 pub mod brdf_sweep;
+pub mod far_cases;
 pub mod geometry_cases;
 pub mod light_cases;
 pub mod normal_map_cases;
@@ -215,6 +216,7 @@ pub fn run(options: &Options) -> Report {
     cases.extend(brdf_cases::run());
     cases.extend(brdf_sweep::run(options));
     cases.extend(geometry_cases::run(options, &mut notes));
+    cases.extend(far_cases::run(options.shared_meshes.as_deref(), &mut notes));
     cases.extend(light_cases::run());
     cases.extend(normal_map_cases::run(options.cases.min(1_000_000), options.seed));
     Report { cases, notes }

@@ -99,6 +99,7 @@ pub fn contact_scene(scale: f32, offset: f32) -> Scene {
         shadow_offset: Default::default(),
         shadow_terminator: Default::default(),
         objects: Vec::new(),
+        origin: glam::DVec3::ZERO,
         notes: Vec::new(),
         warnings: Vec::new(),
     }

@@ -1,10 +1,10 @@
 //! `[[light]]` sections: the point, directional and spot lights of mesh and normal-map scene
 //! files, checked (finite, non-negative, non-zero directions, ordered cones) as they are read.
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use serde::Deserialize;
 
-use super::vec3;
+use super::{point3, vec3};
 use crate::shading::light::{Falloff, Light, LightKind};
 
 #[derive(Deserialize)]
@@ -12,7 +12,7 @@ use crate::shading::light::{Falloff, Light, LightKind};
 pub(in crate::scene) struct LightSection {
     #[serde(rename = "type")]
     kind: LightType,
-    position: Option<[f32; 3]>,
+    position: Option<[f64; 3]>,
     direction: Option<[f32; 3]>,
     #[serde(default = "white")]
     color: [f32; 3],
@@ -45,8 +45,9 @@ enum FalloffName {
     None,
 }
 
-/// The light a `[[light]]` section describes; `falloff` when the section does not say.
-pub(in crate::scene) fn light(l: &LightSection, default_falloff: Falloff) -> Result<Light, String> {
+/// The light a `[[light]]` section describes, its position relative to `origin` (the scene's,
+/// [`super::scene_origin`]); `falloff` when the section does not say.
+pub(in crate::scene) fn light(l: &LightSection, default_falloff: Falloff, origin: DVec3) -> Result<Light, String> {
     let color = vec3("color", l.color)?;
     if color.min_element() < 0.0 {
         return Err(format!("light color must be ≥ 0, got {color}"));
@@ -59,7 +60,7 @@ pub(in crate::scene) fn light(l: &LightSection, default_falloff: Falloff) -> Res
         d.try_normalize()
             .ok_or_else(|| "direction must not be zero".to_string())
     };
-    let position = || vec3("position", l.position.ok_or("this light needs position")?);
+    let position = || point3("position", l.position.ok_or("this light needs position")?, origin);
     let kind = match l.kind {
         LightType::Point => LightKind::Point { position: position()? },
         LightType::Directional => LightKind::Directional {

@@ -9,7 +9,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use glam::{EulerRot, Mat4, Quat, Vec3};
+use glam::{DMat3, DVec3, EulerRot, Mat3, Mat4, Quat, Vec3};
 use serde::Deserialize;
 use toml::Spanned;
 
@@ -19,7 +19,7 @@ use crate::scene::framing::{default_lights, default_material, frame_bounds};
 use crate::scene::gltf::load_gltf;
 use crate::scene::mesh::DerivedNormals;
 use crate::scene::mesh::TriangleMesh;
-use crate::scene::obj::{load_obj_underived, NO_MATERIAL};
+use crate::scene::obj::{load_obj_underived, local_origin, NO_MATERIAL};
 use crate::scene::textures::{decode_used_images, offset_images, PendingImage};
 use crate::scene::{extension, Scene, SceneObject};
 use crate::shading::light::Falloff;
@@ -75,8 +75,8 @@ enum FilterName {
 struct CameraSection {
     #[serde(rename = "type", default)]
     kind: CameraType,
-    position: [f32; 3],
-    look_at: [f32; 3],
+    position: [f64; 3],
+    look_at: [f64; 3],
     #[serde(default = "y_up")]
     up: [f32; 3],
     fov: Option<f32>,
@@ -128,7 +128,7 @@ struct ObjectSection {
 #[serde(deny_unknown_fields)]
 struct TransformSection {
     #[serde(default)]
-    translate: [f32; 3],
+    translate: [f64; 3],
     #[serde(default)]
     rotate: [f32; 3],
     scale: Option<ScaleValue>,
@@ -175,6 +175,7 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
     let mut images = Vec::new();
     let mut notes = Vec::new();
     let mut objects = Vec::new();
+    let mut origin = None;
     for object in &file.object {
         let o = object.get_ref();
         let mesh_path = resolve(dir, &o.mesh);
@@ -217,13 +218,21 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
                 (None, _) => unreachable!("mesh loaders return valid material indices"),
             };
         }
-        let transform = match &o.transform {
+        let (matrix, translate) = match &o.transform {
             Some(t) => transform_matrix(t).map_err(|m| at(object.span(), m))?,
-            None => Mat4::IDENTITY,
+            None => (Mat4::IDENTITY, DVec3::ZERO),
         };
-        if transform != Mat4::IDENTITY {
-            part.transform(transform);
+        // The file's coordinates x map to the world as L·x + t; the part's positions are
+        // relative to its own origin o, so they map to L·x + (L·o + t), taken relative to the
+        // scene's origin in f64. (With o and the scene's origin zero: the matrix as written.)
+        let linear = Mat3::from_mat4(matrix).as_dmat3();
+        let part_offset = linear * contents.origin + translate;
+        let origin = *origin.get_or_insert_with(|| scene_origin(&part, linear, part_offset));
+        let placed = with_translation(matrix, part_offset - origin);
+        if placed != Mat4::IDENTITY {
+            part.transform(placed);
         }
+        let transform = with_translation(matrix, translate - origin);
         // From world positions, as Mitsuba does (a non-uniform scale changes the angles).
         part.derive_normals(&contents.derived_normals);
         let first = mesh.triangle_count();
@@ -235,10 +244,11 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
         });
     }
     let textures = decode_used_images(&mut materials, &mesh.material_of_triangle, &images)?;
+    let origin = origin.unwrap_or(DVec3::ZERO);
 
     let bounds = mesh.bounds().unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
     let camera = match &file.camera {
-        Some(c) => camera(c.get_ref()).map_err(|m| at(c.span(), m))?,
+        Some(c) => camera(c.get_ref(), origin).map_err(|m| at(c.span(), m))?,
         None => {
             notes.push("camera: none in the scene file, framed automatically on the bounding box".into());
             frame_bounds(bounds.0, bounds.1)
@@ -250,7 +260,7 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
     } else {
         file.light
             .iter()
-            .map(|l| light(l.get_ref(), Falloff::InverseSquare).map_err(|m| at(l.span(), m)))
+            .map(|l| light(l.get_ref(), Falloff::InverseSquare, origin).map_err(|m| at(l.span(), m)))
             .collect::<InputResult<_>>()?
     };
     if file.object.is_empty() {
@@ -274,15 +284,26 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
             None => ShadowTerminator::default(),
         },
         objects,
+        origin,
         notes,
         warnings,
     })
 }
 
+/// `m` with its translation replaced by `t` (computed in f64, rounded once).
+fn with_translation(m: Mat4, t: DVec3) -> Mat4 {
+    let mut placed = m;
+    placed.w_axis = t.as_vec3().extend(1.0);
+    placed
+}
+
 /// The geometry and materials of one `[[object]]` mesh file, in the file's own coordinates.
 struct ObjectContents {
-    /// Triangles; material indices index `materials`, or are `NO_MATERIAL`.
+    /// Triangles; material indices index `materials`, or are `NO_MATERIAL`. Positions are
+    /// relative to `origin`.
     mesh: TriangleMesh,
+    /// Where the mesh's coordinates start, in the file's coordinates (f64).
+    origin: DVec3,
     /// The parts whose normals are still to be derived, once the object is transformed.
     derived_normals: Vec<DerivedNormals>,
     /// The file's own materials.
@@ -310,6 +331,7 @@ fn load_object(path: &Path) -> Result<ObjectContents, ObjectError> {
             let (c, derived_normals) = load_obj_underived(path).map_err(ObjectError::Input)?;
             Ok(ObjectContents {
                 mesh: c.mesh,
+                origin: c.origin,
                 derived_normals,
                 materials: c.materials,
                 images: Vec::new(),
@@ -331,6 +353,7 @@ fn load_object(path: &Path) -> Result<ObjectContents, ObjectError> {
             }
             Ok(ObjectContents {
                 mesh: c.mesh,
+                origin: DVec3::ZERO,
                 derived_normals: Vec::new(),
                 materials: c.materials,
                 images: c.images,
@@ -433,6 +456,32 @@ fn film_settings(f: &FilmSection) -> Result<FilmSettings, String> {
 }
 
 /// A finite vector, or an error naming the key.
+/// A position read in f64, relative to the scene's `origin`, in f32 (finite in both).
+pub(super) fn point3(name: &str, v: [f64; 3], origin: DVec3) -> Result<Vec3, String> {
+    let p = DVec3::from(v);
+    let local = (p - origin).as_vec3();
+    if p.is_finite() && local.is_finite() {
+        Ok(local)
+    } else {
+        Err(format!("{name} must be finite, got {p}"))
+    }
+}
+
+/// The scene's origin: zero, or for a scene whose first object lies far from the origin (map
+/// coordinates; [`local_origin`]) the centre of that object's bounds, in f64. Every position —
+/// geometry, camera, lights — is taken relative to it before it becomes f32, so that the
+/// geometry keeps its precision and the camera and lights stay where they were written.
+fn scene_origin(part: &TriangleMesh, linear: DMat3, offset: DVec3) -> DVec3 {
+    let Some((lo, hi)) = part.bounds() else {
+        return DVec3::ZERO;
+    };
+    let corners = (0..8).map(|i| {
+        let pick = |bit: u32, a: f32, b: f32| f64::from(if i & bit == 0 { a } else { b });
+        linear * DVec3::new(pick(1, lo.x, hi.x), pick(2, lo.y, hi.y), pick(4, lo.z, hi.z)) + offset
+    });
+    local_origin(corners)
+}
+
 pub(super) fn vec3(name: &str, v: [f32; 3]) -> Result<Vec3, String> {
     let v = Vec3::from(v);
     if v.is_finite() {
@@ -442,7 +491,7 @@ pub(super) fn vec3(name: &str, v: [f32; 3]) -> Result<Vec3, String> {
     }
 }
 
-fn camera(c: &CameraSection) -> Result<CameraSpec, String> {
+fn camera(c: &CameraSection, origin: DVec3) -> Result<CameraSpec, String> {
     let projection = match c.kind {
         CameraType::Perspective => Projection::Perspective {
             fov_degrees: c.fov.ok_or("a perspective camera needs fov (degrees)")?,
@@ -458,8 +507,8 @@ fn camera(c: &CameraSection) -> Result<CameraSpec, String> {
         },
     };
     let spec = CameraSpec {
-        position: vec3("position", c.position)?,
-        look_at: vec3("look_at", c.look_at)?,
+        position: point3("position", c.position, origin)?,
+        look_at: point3("look_at", c.look_at, origin)?,
         up: vec3("up", c.up)?,
         projection,
         near_clip: c.near_clip,
@@ -470,8 +519,14 @@ fn camera(c: &CameraSection) -> Result<CameraSpec, String> {
     Ok(spec)
 }
 
-fn transform_matrix(t: &TransformSection) -> Result<Mat4, String> {
-    let translate = vec3("translate", t.translate)?;
+/// The transform of an `[[object]]`: its f32 matrix (scale, rotate, then the translation in
+/// f32) and its translation as written, in f64.
+fn transform_matrix(t: &TransformSection) -> Result<(Mat4, DVec3), String> {
+    let exact = DVec3::from(t.translate);
+    let translate = exact.as_vec3();
+    if !(exact.is_finite() && translate.is_finite()) {
+        return Err(format!("translate must be finite, got {exact}"));
+    }
     let rotate = vec3("rotate", t.rotate)?;
     let scale = match t.scale {
         None => Vec3::ONE,
@@ -488,5 +543,5 @@ fn transform_matrix(t: &TransformSection) -> Result<Mat4, String> {
         rotate.y.to_radians(),
         rotate.x.to_radians(),
     );
-    Ok(Mat4::from_scale_rotation_translation(scale, r, translate))
+    Ok((Mat4::from_scale_rotation_translation(scale, r, translate), exact))
 }

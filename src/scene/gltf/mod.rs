@@ -170,6 +170,8 @@ pub fn scene_for_gltf(path: &Path, camera: Option<usize>) -> InputResult<Scene> 
         shadows: true,
         shadow_offset: ShadowOffset::default(),
         shadow_terminator: Default::default(),
+        // glTF positions are f32 in the file and node transforms are f32 in the gltf crate.
+        origin: glam::DVec3::ZERO,
         notes,
         warnings: contents.warnings,
     })

@@ -12,7 +12,7 @@ mod plain;
 
 use std::path::Path;
 
-use glam::{Vec2, Vec3};
+use glam::{DVec3, Vec2, Vec3};
 
 use crate::error::{InputError, InputResult};
 use crate::scene::mesh::{DerivedNormals, TriangleMesh};
@@ -23,8 +23,11 @@ use crate::shading::material::{BlinnPhong, CookTorrance, Material, Specular};
 #[derive(Debug)]
 pub struct ObjContents {
     /// All triangles; `material_of_triangle` indexes `materials`, or is `u32::MAX` for faces with
-    /// no material (the caller substitutes its default).
+    /// no material (the caller substitutes its default). Positions are relative to `origin`.
     pub mesh: TriangleMesh,
+    /// Where the mesh's coordinates start, in the file's coordinates (f64): zero, or for a mesh
+    /// far from the origin (map coordinates) the centre of its bounds ([`local_origin`]).
+    pub origin: DVec3,
     /// The MTL materials, converted.
     pub materials: Vec<Material>,
     /// Why the file's material library could not be used, if it names one that failed to load.
@@ -66,6 +69,11 @@ pub fn load_obj_underived(path: &Path) -> InputResult<(ObjContents, Vec<DerivedN
         }
     };
 
+    let origin = local_origin(
+        models
+            .iter()
+            .flat_map(|m| m.mesh.positions.chunks_exact(3).map(DVec3::from_slice)),
+    );
     let mut mesh = TriangleMesh::default();
     let mut derived = Vec::new();
     let mut all_have_uvs = true;
@@ -73,7 +81,11 @@ pub fn load_obj_underived(path: &Path) -> InputResult<(ObjContents, Vec<DerivedN
     for model in &models {
         let m = &model.mesh;
         let count = m.positions.len() / 3;
-        let positions: Vec<Vec3> = m.positions.chunks_exact(3).map(Vec3::from_slice).collect();
+        let positions: Vec<Vec3> = m
+            .positions
+            .chunks_exact(3)
+            .map(|c| (DVec3::from_slice(c) - origin).as_vec3())
+            .collect();
         if let Some(bad) = positions.iter().position(|p| !p.is_finite()) {
             return Err(InputError::new(
                 path,
@@ -103,7 +115,7 @@ pub fn load_obj_underived(path: &Path) -> InputResult<(ObjContents, Vec<DerivedN
             let n: Vec<Vec3> = m
                 .normals
                 .chunks_exact(3)
-                .map(|c| Vec3::from_slice(c).normalize_or_zero())
+                .map(|c| DVec3::from_slice(c).as_vec3().normalize_or_zero())
                 .collect();
             if n.iter().any(|v| !v.is_finite()) {
                 return Err(InputError::new(
@@ -123,7 +135,11 @@ pub fn load_obj_underived(path: &Path) -> InputResult<(ObjContents, Vec<DerivedN
         };
         if m.texcoords.len() / 2 == count && count > 0 {
             // OBJ's v axis points up; images store row 0 at the top.
-            uvs.extend(m.texcoords.chunks_exact(2).map(|c| Vec2::new(c[0], 1.0 - c[1])));
+            uvs.extend(
+                m.texcoords
+                    .chunks_exact(2)
+                    .map(|c| Vec2::new(c[0] as f32, 1.0 - c[1] as f32)),
+            );
         } else {
             all_have_uvs = false;
         }
@@ -152,11 +168,41 @@ pub fn load_obj_underived(path: &Path) -> InputResult<(ObjContents, Vec<DerivedN
     Ok((
         ObjContents {
             mesh,
+            origin,
             materials,
             material_warning,
         },
         derived,
     ))
+}
+
+/// A colour of an MTL file (read in f64, as tobj reads everything with `use_f64`).
+fn single(c: [f64; 3]) -> [f32; 3] {
+    c.map(|v| v as f32)
+}
+
+/// How many times its own size a mesh's centre may lie from the origin before its float32
+/// coordinates are taken relative to that centre instead. At 8× the f32 step of a coordinate is
+/// below 1e-6 of the mesh's size; meshes modelled around the origin stay exactly as read.
+pub const FAR_FROM_ORIGIN: f64 = 8.0;
+
+/// The origin a mesh's float32 coordinates are taken relative to: zero, or the centre of the
+/// bounds of `positions` (read in f64) when that centre is more than [`FAR_FROM_ORIGIN`] times the
+/// bounds' largest side from the origin. Survey and scan data in map coordinates (1e5 to 1e7 m)
+/// then keep their precision: in f32 a coordinate near 1e6 has a step of 0.0625.
+pub fn local_origin(positions: impl Iterator<Item = DVec3>) -> DVec3 {
+    let (lo, hi) = positions.fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+        (lo.min(p), hi.max(p))
+    });
+    if !(lo.is_finite() && hi.is_finite()) {
+        return DVec3::ZERO;
+    }
+    let centre = (lo + hi) * 0.5;
+    if centre.abs().max_element() > FAR_FROM_ORIGIN * (hi - lo).max_element() {
+        centre
+    } else {
+        DVec3::ZERO
+    }
 }
 
 /// tobj's models and materials for an OBJ file's `bytes`, whose MTL files are looked up in `dir`.
@@ -232,7 +278,7 @@ fn has_vertex_attributes(bytes: &[u8]) -> bool {
 /// - `Ks` non-black and `Ns` given → Blinn-Phong with `specular_color = Ks`, `shininess = Ns`.
 /// - Otherwise Lambert with `albedo = Kd`.
 pub fn material_from_mtl(m: &tobj::Material) -> Result<Material, String> {
-    let albedo = m.diffuse.unwrap_or([0.8, 0.8, 0.8]);
+    let albedo = m.diffuse.map_or([0.8, 0.8, 0.8], single);
     let param = |key: &str| -> Result<Option<f32>, String> {
         m.unknown_param
             .get(key)
@@ -255,13 +301,13 @@ pub fn material_from_mtl(m: &tobj::Material) -> Result<Material, String> {
             f: FresnelTerm::Schlick,
             metallic,
             specular_color: if metallic { albedo } else { [1.0; 3] },
-            ior: m.optical_density.unwrap_or(1.5),
+            ior: m.optical_density.map_or(1.5, |n| n as f32),
             ..CookTorrance::default()
         });
         if metallic {
             material.kd = 0.0;
         }
-    } else if let (Some(ks), Some(ns)) = (m.specular, m.shininess) {
+    } else if let (Some(ks), Some(ns)) = (m.specular.map(single), m.shininess.map(|s| s as f32)) {
         if ks.iter().any(|&c| c > 0.0) {
             material.specular = Specular::BlinnPhong(BlinnPhong {
                 ks: 1.0,
@@ -277,6 +323,33 @@ pub fn material_from_mtl(m: &tobj::Material) -> Result<Material, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_mesh_in_map_coordinates_keeps_its_precision_relative_to_its_centre() {
+        // A 2 m triangle at a UTM position: 6.5e5 E, 6.86e6 N (f32 step there: 0.5 m).
+        let text = "v 650000.25 10.0 6860000.75\nv 650002.25 10.0 6860000.75\nv 650000.25 12.0 6860000.75\nf 1 2 3\n";
+        let dir = std::env::temp_dir().join(format!("pointshade-far-obj-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("far.obj");
+        std::fs::write(&path, text).unwrap();
+        let c = load_obj(&path).unwrap();
+        assert_eq!(c.origin, DVec3::new(650001.25, 11.0, 6860000.75));
+        // Exact relative to the centre; in f32 world coordinates the corners would snap to 0.5 m.
+        assert_eq!(
+            c.mesh.positions,
+            [
+                Vec3::new(-1.0, -1.0, 0.0),
+                Vec3::new(1.0, -1.0, 0.0),
+                Vec3::new(-1.0, 1.0, 0.0)
+            ]
+        );
+        assert_eq!(c.mesh.normals[0], Vec3::Z);
+        std::fs::remove_dir_all(&dir).unwrap();
+        // Near the origin (centre within 8 sizes of it), coordinates stay as read.
+        let near = [DVec3::new(5.0, 0.0, 0.0), DVec3::new(7.0, 1.0, 1.0)];
+        assert_eq!(local_origin(near.into_iter()), DVec3::ZERO);
+        assert_eq!(local_origin(std::iter::empty()), DVec3::ZERO);
+    }
 
     #[test]
     fn vertex_attributes_are_found_only_as_line_keywords() {

@@ -46,7 +46,7 @@ pub fn parse(bytes: &[u8]) -> Option<PlainObj<'_>> {
     if vertex_count >= u32::MAX as usize {
         return None;
     }
-    let all_positions: Vec<[f32; 3]> = blocks.iter().flat_map(|b| b.positions.iter().copied()).collect();
+    let all_positions: Vec<[f64; 3]> = blocks.iter().flat_map(|b| b.positions.iter().copied()).collect();
     // Renumber in order of first use, as tobj's per-attribute export does; vertices no face
     // uses are dropped there too.
     const UNSEEN: u32 = u32::MAX;
@@ -80,7 +80,7 @@ pub fn parse(bytes: &[u8]) -> Option<PlainObj<'_>> {
 
 /// What one block of lines holds: positions, triangles with 0-based file-wide vertex indices.
 struct Block<'a> {
-    positions: Vec<[f32; 3]>,
+    positions: Vec<[f64; 3]>,
     triangles: Vec<[u32; 3]>,
     material_lines: Vec<&'a str>,
 }
@@ -157,7 +157,7 @@ fn parse_block(block: &str) -> Option<Block<'_>> {
         let mut words = Words::new(line);
         match words.next() {
             Some("v") => {
-                let mut p = [0.0f32; 3];
+                let mut p = [0.0f64; 3];
                 for c in &mut p {
                     *c = words.next()?.parse().ok()?;
                 }

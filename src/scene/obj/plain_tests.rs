@@ -21,7 +21,7 @@ fn assert_agrees(text: &str) {
 }
 
 fn assert_same_model(got: &tobj::Model, expected: &tobj::Model, what: &str) {
-    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     assert_eq!(got.name, expected.name, "{what}");
     assert_eq!(got.mesh.indices, expected.mesh.indices, "{what}");
     assert_eq!(bits(&got.mesh.positions), bits(&expected.mesh.positions), "{what}");
