@@ -207,7 +207,7 @@ fn shade_lanes_row(shader: &Shader<NoOcclusion>, buffers: &RowBuffers, pixels: &
 }
 
 /// One pixel of the `tp` preset, decoded and shaded by the same functions `pointshade normalmap
-/// --preset tp` runs eight pixels at a time (equal for every pixel: `tests/normalmap.rs`): L_o (before the output's min-max normalisation) of the
+/// --preset tp` runs eight pixels at a time (equal for every pixel: `tests/integration/normalmap.rs`): L_o (before the output's min-max normalisation) of the
 /// pixel at (`row`, `col`) with colour `rgb` (each channel in [0, 1]) in an image whose global
 /// RGB range is `scaling`, under `scene`'s lights, viewer and material (build `scene` with
 /// [`NormalMapScene::from_preset`] and [`Preset::Tp`], then change what you need).

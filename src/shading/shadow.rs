@@ -195,7 +195,7 @@ impl ShadowRay {
     /// [`shadow_lift`](crate::surface::SurfacePoint::shadow_lift), 0 on flat meshes) and aims
     /// at the light from there, so the segment still ends at the light: kept parallel to `wi`,
     /// it would end a lift's height beside the light, through a ceiling the light hangs under
-    /// (`tests/shadow_terminator.rs`). `mitsuba` always starts at `p`. Always inlined: left to
+    /// (`tests/integration/shadow_terminator.rs`). `mitsuba` always starts at `p`. Always inlined: left to
     /// the compiler, it became a call per shadow ray once it took the lift (1.6% more
     /// instructions in renders that lift nothing).
     #[inline(always)]

@@ -6,9 +6,9 @@
 //! image corrupted — and each mutant is loaded and, when it loads,
 //! rendered at 8×8. Either is fine; a panic, or a non-finite pixel, is not. Deterministic: the seed is fixed, so a
 //! failure names a mutant that reproduces (`POINTSHADE_MUTATION_SEED=n` explores others). (A wider run of the same idea over the shared assets
-//! found the out-of-range POSITION accessor that `tests/bad_input.rs` now checks.)
+//! found the out-of-range POSITION accessor that `tests/integration/bad_input.rs` now checks.)
 
-mod support;
+use crate::support;
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;

@@ -2,7 +2,7 @@
 //! bit the fixed render at the sample count the budget reached, or, for the adaptive samplers,
 //! the render at the threshold it reached, whatever that count or threshold is.
 
-mod support;
+use crate::support;
 
 use std::path::Path;
 

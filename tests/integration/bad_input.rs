@@ -1,7 +1,7 @@
 //! Every class of bad input gives a one-line error naming the file and the problem, exit code 2,
 //! no panic, and no output file.
 
-mod support;
+use crate::support;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -302,7 +302,7 @@ fn gltf_data_out_of_range_or_not_finite() {
     let wrong_type = write("type.gltf", &|d| d["accessors"][0]["type"] = json!("VEC2"));
     c.fails(&wrong_type, &[], &["type.gltf", "POSITION"]);
     // glTF keeps baseColorFactor in [0, 1]; 1e30 made a metal's diffuse weight 1 − F hugely
-    // negative and the pixel −∞ (found by tests/gltf_mutations.rs with another seed).
+    // negative and the pixel −∞ (found by tests/integration/gltf_mutations.rs with another seed).
     let base = write("base.gltf", &|d| {
         d["materials"] = json!([{"pbrMetallicRoughness": {"baseColorFactor": [1e30, 1.0, 1.0, 1.0]}}]);
         d["meshes"][0]["primitives"][0]["material"] = json!(0);

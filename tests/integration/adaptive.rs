@@ -2,7 +2,7 @@
 //! the image is smooth, more at edges, a lower error than uniform Sobol sampling at the same
 //! number of samples, and the same image on any thread count.
 
-mod support;
+use crate::support;
 
 use glam::Vec3;
 use pointshade::film::{Image, SamplerKind};

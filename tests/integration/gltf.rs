@@ -2,7 +2,7 @@
 //! flat normals, cameras, KHR_lights_punctual spot cones, textures (orientation, sRGB decoding,
 //! samplers, coordinate sets), emission, sidedness, and what the plan decodes.
 
-mod support;
+use crate::support;
 
 use std::f32::consts::{FRAC_PI_2, FRAC_PI_4};
 use std::path::Path;

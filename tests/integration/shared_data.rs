@@ -1,7 +1,7 @@
 //! Renders of the large models in ../shared/data: bare meshes and scene files that use them.
 //! Without ../shared/data these tests are ignored ("needs ../shared/data"); CI always has it.
 
-mod support;
+use crate::support;
 
 use std::path::{Path, PathBuf};
 

@@ -4,7 +4,7 @@
 //! through it too, and the opaque half still hides and shadows; packets answer as single rays, and
 //! a bake of camera-space normals sees through the cut-out too.
 
-mod support;
+use crate::support;
 
 use glam::{Quat, Vec3};
 use serde_json::json;

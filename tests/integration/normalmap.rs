@@ -5,7 +5,7 @@
 //! written here (it does not call the shader or the BRDF module). Tests that need
 //! ../shared/data are ignored without it ("needs ../shared/data").
 
-mod support;
+use crate::support;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

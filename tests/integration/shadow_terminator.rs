@@ -155,7 +155,7 @@ fn smooth_origins_light_every_point_that_faces_the_light() {
     assert!(smoothed && !flat_smoothed, "the plan follows shadow_terminator");
     let (facing, flat_black, _) = facing_the_light(&flat, &flat_n, &flat_p);
     let (smooth_facing, black, off) = facing_the_light(&smooth, &smooth_n, &smooth_p);
-    // The README quotes these (`cargo test --release --test shadow_terminator -- --nocapture`).
+    // The README quotes these (`cargo test --release --test integration shadow_terminator -- --nocapture`).
     eprintln!("{facing} pixels face the light; black from flat origins {flat_black}, from smooth ones {black}");
     // From the flat facets, the sphere shadows itself in steps along the terminator…
     assert!(facing > 1500, "{facing} pixels face the light");

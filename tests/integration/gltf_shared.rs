@@ -2,7 +2,7 @@
 //! checked by eye are asserted (cameras, lights, textures used, normal-map orientation, the
 //! metal/roughness grid). Without ../shared/data these tests are ignored ("needs ../shared/data").
 
-mod support;
+use crate::support;
 
 use std::path::{Path, PathBuf};
 

@@ -1,0 +1,23 @@
+//! The integration tests: one test binary whose modules are the files beside this one (one
+//! link of the whole program instead of one per file: docs/benchmarks.md, "Build and test time").
+//! Each module is a group of tests of one part of the product; `support` holds their helpers.
+
+mod support;
+
+mod adaptive;
+mod bad_input;
+mod brdf_properties;
+mod compare_cli;
+mod convergence;
+mod crop_merge;
+mod cutouts;
+mod end_to_end;
+mod gltf;
+mod gltf_mutations;
+mod gltf_shared;
+mod meshes;
+mod normalmap;
+mod shadow_terminator;
+mod shared_data;
+mod time_budget;
+mod validation;
