@@ -10,10 +10,9 @@
 
 use std::path::Path;
 
+use super::scale_cases::render;
 use super::{num, Case};
-use crate::accel::Bvh;
 use crate::film::Image;
-use crate::plan::RenderPlan;
 use crate::scene::{self, Scene};
 
 const WIDTH: u32 = 160;
@@ -69,14 +68,6 @@ pub fn translated_dragon(dragon_obj: &str, t: [f64; 3], dir: &Path) -> Result<Sc
     let path = dir.join("scene.toml");
     std::fs::write(&path, toml).map_err(|e| format!("{}: {e}", path.display()))?;
     scene::load(&path).map_err(|e| e.to_string())
-}
-
-fn render(scene: &Scene) -> Image {
-    let plan = RenderPlan::new(scene, &[]);
-    let bvh = Bvh::for_scene(scene);
-    crate::render::render(scene, &plan, Some(&bvh), &|_| {})
-        .expect("the dragon scene is valid")
-        .image
 }
 
 /// Share of the pixels of `other` within 1% of `reference` (relative to the pixel, with a floor

@@ -105,7 +105,8 @@ pub fn contact_scene(scale: f32, offset: f32) -> Scene {
     }
 }
 
-fn render(scene: &Scene) -> Image {
+/// `scene` rendered as the stability rows render (its own plan and BVH, no progress).
+pub fn render(scene: &Scene) -> Image {
     let plan = RenderPlan::new(scene, &[]);
     let bvh = Bvh::for_scene(scene);
     crate::render::render(scene, &plan, Some(&bvh), &|_| {})
