@@ -2,12 +2,15 @@
 //! is beside the repository. Tests that need it carry
 //! `#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]`, so that without the data
 //! `cargo test` counts them as ignored, with the reason, instead of passing them unrun.
+//! Likewise `cfg(system_font)` when the convergence plot will find a font to draw text with.
 
 use std::path::Path;
 
 fn main() {
     println!("cargo::rustc-check-cfg=cfg(shared_data)");
+    println!("cargo::rustc-check-cfg=cfg(system_font)");
     println!("cargo::rerun-if-changed=build.rs");
+    system_font();
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data");
     if data.is_dir() {
         println!("cargo::rustc-cfg=shared_data");
@@ -20,5 +23,22 @@ fn main() {
             "cargo::warning=../shared/data is missing: the tests that need it are ignored \
              (touch build.rs after adding it)"
         );
+    }
+}
+
+/// `cfg(system_font)` when `POINTSHADE_FONT` or one of the plot's font paths can be read.
+fn system_font() {
+    let list = "src/reports/convergence/fonts.txt";
+    println!("cargo::rerun-if-changed={list}");
+    println!("cargo::rerun-if-env-changed=POINTSHADE_FONT");
+    let candidates = std::fs::read_to_string(list).unwrap_or_default();
+    let from_env = std::env::var("POINTSHADE_FONT").ok();
+    if from_env
+        .iter()
+        .map(String::as_str)
+        .chain(candidates.lines())
+        .any(|p| std::fs::metadata(p).is_ok_and(|m| m.is_file()))
+    {
+        println!("cargo::rustc-cfg=system_font");
     }
 }

@@ -15,21 +15,16 @@ use super::Point;
 
 const SIZE: (u32, u32) = (960, 640);
 
-/// Where fonts are usually found (Debian's fonts-dejavu-core, fonts-liberation; other layouts).
-const FONT_CANDIDATES: [&str; 5] = [
-    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
-    "/usr/share/fonts/truetype/liberation/LiberationSans-Regular.ttf",
-    "/usr/share/fonts/TTF/DejaVuSans.ttf",
-    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
-    "/Library/Fonts/Arial.ttf",
-];
+/// Where fonts are usually found (Debian's fonts-dejavu-core, fonts-liberation; other layouts),
+/// one path a line; build.rs reads the same file to tell the tests whether text can be drawn.
+const FONT_CANDIDATES: &str = include_str!("fonts.txt");
 
 /// Registers a system font as "sans-serif" once; false when none could be read.
 fn font_available() -> bool {
     static FOUND: OnceLock<bool> = OnceLock::new();
     *FOUND.get_or_init(|| {
         let from_env = std::env::var("POINTSHADE_FONT").ok();
-        for path in from_env.iter().map(String::as_str).chain(FONT_CANDIDATES) {
+        for path in from_env.iter().map(String::as_str).chain(FONT_CANDIDATES.lines()) {
             if let Ok(bytes) = std::fs::read(path) {
                 // plotters keeps fonts for the life of the program.
                 let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
@@ -358,7 +353,7 @@ pub fn png(
     let note = (!text).then(|| {
         format!(
             "no font found ({} or POINTSHADE_FONT): the plots have no text",
-            FONT_CANDIDATES.join(", ")
+            FONT_CANDIDATES.lines().collect::<Vec<_>>().join(", ")
         )
     });
     Ok((bytes.into_inner(), note))
