@@ -2,7 +2,7 @@
 
 use std::ops::Range;
 
-use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+use glam::{DVec3, Mat3, Mat4, Vec2, Vec3, Vec4};
 
 /// Triangles in world space with per-vertex shading normals and a material per triangle.
 ///
@@ -110,6 +110,47 @@ impl TriangleMesh {
             }
         }
     }
+}
+
+/// How many times its own size a mesh's centre may lie from the origin before its float32
+/// coordinates are taken relative to that centre instead. At 8× the f32 step of a coordinate is
+/// below 1e-6 of the mesh's size; meshes modelled around the origin stay exactly as read.
+pub const FAR_FROM_ORIGIN: f64 = 8.0;
+
+/// The origin a mesh's float32 coordinates are taken relative to: zero, or the centre of the
+/// bounds of `positions` (read in f64) when that centre is more than [`FAR_FROM_ORIGIN`] times the
+/// bounds' largest side from the origin. Survey and scan data in map coordinates (1e5 to 1e7 m)
+/// then keep their precision: in f32 a coordinate near 1e6 has a step of 0.0625.
+pub fn local_origin(positions: impl Iterator<Item = DVec3>) -> DVec3 {
+    let (lo, hi) = positions.fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+        (lo.min(p), hi.max(p))
+    });
+    if !(lo.is_finite() && hi.is_finite()) {
+        return DVec3::ZERO;
+    }
+    let centre = (lo + hi) * 0.5;
+    if centre.abs().max_element() > FAR_FROM_ORIGIN * (hi - lo).max_element() {
+        centre
+    } else {
+        DVec3::ZERO
+    }
+}
+
+/// [`local_origin`] of `mesh`'s bounds placed by `place` (f64): the frame origin a scene's
+/// first object asks for, whatever transform puts it in the world.
+pub fn placed_origin(mesh: &TriangleMesh, place: impl Fn(DVec3) -> DVec3) -> DVec3 {
+    let Some((lo, hi)) = mesh.bounds() else {
+        return DVec3::ZERO;
+    };
+    let corners = (0..8).map(|i| {
+        let pick = |bit: u32, a: f32, b: f32| f64::from(if i & bit == 0 { a } else { b });
+        place(DVec3::new(
+            pick(1, lo.x, hi.x),
+            pick(2, lo.y, hi.y),
+            pick(4, lo.z, hi.z),
+        ))
+    });
+    local_origin(corners)
 }
 
 /// A part of a mesh whose file gave no normals: its vertices and its triangles, which use only

@@ -54,7 +54,7 @@ pub struct Scene {
     /// Where the render's coordinates start, in world coordinates (f64): every position of the
     /// scene (geometry, camera, lights, the `position` AOV before it is written) is relative to
     /// it. Zero unless the geometry lies far from the world origin (map coordinates), where f32
-    /// world coordinates would snap vertices (`scene::obj::local_origin`).
+    /// world coordinates would snap vertices (`scene::mesh::local_origin`).
     pub origin: glam::DVec3,
     /// Decisions made for the user (automatic camera, default light …), shown by `--explain`.
     pub notes: Vec<String>,

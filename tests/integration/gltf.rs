@@ -640,3 +640,49 @@ fn sparse_accessors_substitute_their_elements() {
     }
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// A glTF in map coordinates — the offset in a node's translation, a UTM easting and northing
+/// whose f32 step is 0.5 m — keeps its geometry, camera and light exact: node transforms are
+/// read in f64 from the JSON and the scene is taken relative to the square's centre
+/// (`Scene::origin`). As a GLB too (the JSON is then the first chunk).
+#[test]
+fn a_gltf_in_map_coordinates_keeps_its_precision() {
+    let dir = temp_dir("map-coordinates");
+    let mut b = GltfBuilder::default();
+    let mesh = square(&mut b, true, None);
+    let (e, n) = (650000.3, 6860000.7);
+    let rest = json!({
+        "scenes": [{"nodes": [0]}],
+        "nodes": [
+            {"translation": [e, 0.0, n], "children": [1, 2, 3]},
+            {"mesh": 0},
+            {"translation": [0.0, 0.0, 4.0], "camera": 0},
+            {"translation": [0.25, 0.5, 3.0], "extensions": {"KHR_lights_punctual": {"light": 0}}}
+        ],
+        "meshes": [mesh],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 1.0, "znear": 0.1}}],
+        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 10.0}]}},
+        "extensionsUsed": ["KHR_lights_punctual"]
+    });
+    let gltf = b.write_gltf(&dir, "far", rest.clone());
+    let glb = dir.join("far.glb");
+    std::fs::write(&glb, b.glb(rest)).unwrap();
+    for path in [gltf, glb] {
+        let scene = scene::load(&path).unwrap();
+        assert_eq!(scene.origin, glam::DVec3::new(e, 0.0, n), "{path:?}");
+        let corners = [
+            Vec3::new(-1.0, 1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+        ];
+        for c in corners {
+            assert!(scene.mesh.positions.contains(&c), "{:?}", scene.mesh.positions);
+        }
+        assert_eq!(scene.camera.position, Vec3::new(0.0, 0.0, 4.0));
+        let LightKind::Point { position } = scene.lights[0].kind else {
+            panic!("a point light")
+        };
+        assert_eq!(position, Vec3::new(0.25, 0.5, 3.0));
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}

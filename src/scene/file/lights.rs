@@ -46,7 +46,7 @@ enum FalloffName {
 }
 
 /// The light a `[[light]]` section describes, its position relative to `origin` (the scene's,
-/// [`super::scene_origin`]); `falloff` when the section does not say.
+/// `Scene::origin`); `falloff` when the section does not say.
 pub(in crate::scene) fn light(l: &LightSection, default_falloff: Falloff, origin: DVec3) -> Result<Light, String> {
     let color = vec3("color", l.color)?;
     if color.min_element() < 0.0 {

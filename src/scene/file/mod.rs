@@ -9,7 +9,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use glam::{DMat3, DVec3, EulerRot, Mat3, Mat4, Quat, Vec3};
+use glam::{DVec3, EulerRot, Mat3, Mat4, Quat, Vec3};
 use serde::Deserialize;
 use toml::Spanned;
 
@@ -18,8 +18,8 @@ use crate::film::{FilmSettings, SamplerKind};
 use crate::scene::framing::{default_lights, default_material, frame_bounds};
 use crate::scene::gltf::load_gltf;
 use crate::scene::mesh::DerivedNormals;
-use crate::scene::mesh::TriangleMesh;
-use crate::scene::obj::{load_obj_underived, local_origin, NO_MATERIAL};
+use crate::scene::mesh::{placed_origin, TriangleMesh};
+use crate::scene::obj::{load_obj_underived, NO_MATERIAL};
 use crate::scene::textures::{decode_used_images, offset_images, PendingImage};
 use crate::scene::{extension, Scene, SceneObject};
 use crate::shading::light::Falloff;
@@ -227,7 +227,9 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
         // scene's origin in f64. (With o and the scene's origin zero: the matrix as written.)
         let linear = Mat3::from_mat4(matrix).as_dmat3();
         let part_offset = linear * contents.origin + translate;
-        let origin = *origin.get_or_insert_with(|| scene_origin(&part, linear, part_offset));
+        // The scene's origin: zero, or the first object's centre when it lies far from the world
+        // origin; every position (geometry, camera, lights) is taken relative to it in f64.
+        let origin = *origin.get_or_insert_with(|| placed_origin(&part, |p| linear * p + part_offset));
         let placed = with_translation(matrix, part_offset - origin);
         if placed != Mat4::IDENTITY {
             part.transform(placed);
@@ -353,7 +355,7 @@ fn load_object(path: &Path) -> Result<ObjectContents, ObjectError> {
             }
             Ok(ObjectContents {
                 mesh: c.mesh,
-                origin: DVec3::ZERO,
+                origin: c.origin,
                 derived_normals: Vec::new(),
                 materials: c.materials,
                 images: c.images,
@@ -465,21 +467,6 @@ pub(super) fn point3(name: &str, v: [f64; 3], origin: DVec3) -> Result<Vec3, Str
     } else {
         Err(format!("{name} must be finite, got {p}"))
     }
-}
-
-/// The scene's origin: zero, or for a scene whose first object lies far from the origin (map
-/// coordinates; [`local_origin`]) the centre of that object's bounds, in f64. Every position —
-/// geometry, camera, lights — is taken relative to it before it becomes f32, so that the
-/// geometry keeps its precision and the camera and lights stay where they were written.
-fn scene_origin(part: &TriangleMesh, linear: DMat3, offset: DVec3) -> DVec3 {
-    let Some((lo, hi)) = part.bounds() else {
-        return DVec3::ZERO;
-    };
-    let corners = (0..8).map(|i| {
-        let pick = |bit: u32, a: f32, b: f32| f64::from(if i & bit == 0 { a } else { b });
-        linear * DVec3::new(pick(1, lo.x, hi.x), pick(2, lo.y, hi.y), pick(4, lo.z, hi.z)) + offset
-    });
-    local_origin(corners)
 }
 
 pub(super) fn vec3(name: &str, v: [f32; 3]) -> Result<Vec3, String> {

@@ -6,6 +6,8 @@
 
 use std::path::{Path, PathBuf};
 
+use glam::{DMat4, DQuat, DVec3, Mat4, Quat, Vec3};
+
 use crate::error::{InputError, InputResult};
 
 /// Extensions pointshade implements (everything else in `extensionsRequired` is an error).
@@ -25,6 +27,9 @@ pub struct GltfDocument {
     pub dir: PathBuf,
     /// The file.
     pub path: PathBuf,
+    /// Each node's own transform read in f64 from the JSON text (the gltf crate reads f32):
+    /// glTF files in map coordinates put the large offset in a node's translation.
+    pub node_transforms: Vec<DMat4>,
 }
 
 impl GltfDocument {
@@ -46,6 +51,7 @@ pub fn read_document(path: &Path) -> InputResult<GltfDocument> {
         check_glb_header(&bytes).map_err(err)?;
     }
     let gltf = ::gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| err(describe(e)))?;
+    let node_transforms = node_transforms(json_text(&bytes, binary));
     let blob = gltf.blob;
     let json = gltf.document.into_json();
     let unsupported: Vec<&str> = json
@@ -64,12 +70,77 @@ pub fn read_document(path: &Path) -> InputResult<GltfDocument> {
     let doc = ::gltf::Document::from_json(json).map_err(|e| err(describe(e)))?;
     let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let buffers = load_buffers(&doc, &dir, blob).map_err(err)?;
+    let node_transforms = if node_transforms.len() == doc.nodes().len() {
+        node_transforms
+    } else {
+        doc.nodes().map(|n| f32_matrix(&n).as_dmat4()).collect()
+    };
     Ok(GltfDocument {
         doc,
         buffers,
         dir,
         path: path.to_path_buf(),
+        node_transforms,
     })
+}
+
+/// The JSON text of a glTF file: the whole file, or a GLB's first chunk (the header was checked).
+fn json_text(bytes: &[u8], binary: bool) -> &[u8] {
+    if !binary {
+        return bytes;
+    }
+    let word = |i: usize| {
+        bytes
+            .get(i..i + 4)
+            .map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]]) as usize)
+    };
+    match word(12) {
+        Some(length) => bytes.get(20..20 + length).unwrap_or(&[]),
+        None => &[],
+    }
+}
+
+/// Each node's own transform in f64, from the JSON text; empty when the text does not parse
+/// (the gltf crate has then already said why, or its f32 transforms are used).
+fn node_transforms(json: &[u8]) -> Vec<DMat4> {
+    let Ok(root) = serde_json::from_slice::<serde_json::Value>(json) else {
+        return Vec::new();
+    };
+    let numbers = |v: Option<&serde_json::Value>, n: usize| -> Option<Vec<f64>> {
+        let a = v?.as_array()?;
+        (a.len() == n).then(|| a.iter().map(|x| x.as_f64()).collect::<Option<Vec<f64>>>())?
+    };
+    let Some(nodes) = root.get("nodes").and_then(|n| n.as_array()) else {
+        return Vec::new();
+    };
+    nodes
+        .iter()
+        .map(|node| {
+            if let Some(m) = numbers(node.get("matrix"), 16) {
+                return DMat4::from_cols_slice(&m);
+            }
+            let t = numbers(node.get("translation"), 3).map_or(DVec3::ZERO, |v| DVec3::from_slice(&v));
+            let r = numbers(node.get("rotation"), 4).map_or(DQuat::IDENTITY, |q| DQuat::from_slice(&q).normalize());
+            let s = numbers(node.get("scale"), 3).map_or(DVec3::ONE, |v| DVec3::from_slice(&v));
+            DMat4::from_scale_rotation_translation(s, r, t)
+        })
+        .collect()
+}
+
+/// The node's own transform as the gltf crate reads it (f32).
+pub fn f32_matrix(node: &::gltf::Node) -> Mat4 {
+    match node.transform() {
+        ::gltf::scene::Transform::Matrix { matrix } => Mat4::from_cols_array_2d(&matrix),
+        ::gltf::scene::Transform::Decomposed {
+            translation,
+            rotation,
+            scale,
+        } => Mat4::from_scale_rotation_translation(
+            Vec3::from(scale),
+            Quat::from_array(rotation).normalize(),
+            Vec3::from(translation),
+        ),
+    }
 }
 
 /// Every primitive's POSITION names an existing accessor. The gltf crate's validation (1.4.1)

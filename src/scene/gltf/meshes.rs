@@ -20,8 +20,9 @@ use glam::{Vec2, Vec3, Vec4};
 use crate::error::InputResult;
 use crate::scene::gltf::accessor::{read_indices, read_vectors};
 use crate::scene::gltf::document::GltfDocument;
+use crate::scene::gltf::nodes::World;
 use crate::scene::gltf::tangents::generate_tangents;
-use crate::scene::mesh::TriangleMesh;
+use crate::scene::mesh::{placed_origin, TriangleMesh};
 use crate::shading::material::Material;
 
 /// The geometry of a file's rendered scene.
@@ -36,12 +37,16 @@ pub struct SceneGeometry {
     pub warnings: Vec<String>,
     /// Facts for `--explain` (generated tangents, flat normals).
     pub notes: Vec<String>,
+    /// Where the mesh's coordinates start, in the file's world coordinates (f64): zero, or the
+    /// centre of the first placed primitive when the scene lies far from the origin
+    /// (`scene::mesh::local_origin`).
+    pub origin: glam::DVec3,
 }
 
 /// Builds the world-space mesh of the mesh instances `(mesh index, world matrix)`.
 pub fn build_geometry(
     d: &GltfDocument,
-    instances: &[(usize, glam::Mat4)],
+    instances: &[(usize, World)],
     materials: &[Material],
 ) -> InputResult<SceneGeometry> {
     let meshes: Vec<_> = d.doc.meshes().collect();
@@ -51,7 +56,9 @@ pub fn build_geometry(
         uses_default_material: false,
         warnings: Vec::new(),
         notes: Vec::new(),
+        origin: glam::DVec3::ZERO,
     };
+    let mut origin = None;
     let mut skipped: BTreeMap<&'static str, usize> = BTreeMap::new();
     let mut local: BTreeMap<(usize, usize), TriangleMesh> = BTreeMap::new();
     let (mut flat, mut generated) = (0usize, 0usize);
@@ -82,7 +89,8 @@ pub fn build_geometry(
                 slot.insert(part);
             }
             let mut part = local[&key].clone();
-            part.transform(world);
+            let origin = *origin.get_or_insert_with(|| placed_origin(&part, |p| world.f64.transform_point3(p)));
+            part.transform(world.relative_to(origin));
             out.mesh.append(part, 0);
         }
     }
@@ -103,6 +111,7 @@ pub fn build_geometry(
             "{generated} primitive(s) with a normal texture but no tangents: MikkTSpace tangents generated"
         ));
     }
+    out.origin = origin.unwrap_or(glam::DVec3::ZERO);
     Ok(out)
 }
 

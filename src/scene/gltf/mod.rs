@@ -34,6 +34,9 @@ use document::SUPPORTED_EXTENSIONS;
 
 /// Everything a glTF file's rendered scene contains, in world space.
 pub struct GltfContents {
+    /// Where `mesh`'s, the cameras' and the lights' coordinates start, in the file's world
+    /// coordinates (f64): zero unless the scene lies far from the origin.
+    pub origin: glam::DVec3,
     /// All triangles; `material_of_triangle` indexes `materials`.
     pub mesh: TriangleMesh,
     /// The file's materials (plus the glTF default material if a primitive has none); their
@@ -80,7 +83,10 @@ pub fn load_gltf(path: &Path) -> InputResult<GltfContents> {
     let cameras: Vec<GltfCamera> = instances
         .cameras
         .iter()
-        .map(|&(i, world)| cameras::camera_at(&d, &d.doc.cameras().nth(i).expect("validated index"), world))
+        .map(|&(i, world)| {
+            let camera = d.doc.cameras().nth(i).expect("validated index");
+            cameras::camera_at(&d, &camera, world.relative_to(geometry.origin))
+        })
         .collect::<InputResult<_>>()?;
     let lights = match d.doc.lights() {
         Some(all) => {
@@ -88,7 +94,7 @@ pub fn load_gltf(path: &Path) -> InputResult<GltfContents> {
             instances
                 .lights
                 .iter()
-                .map(|&(i, world)| lights::light_at(&d, &all[i], world))
+                .map(|&(i, world)| lights::light_at(&d, &all[i], world.relative_to(geometry.origin)))
                 .collect::<InputResult<_>>()?
         }
         None => Vec::new(),
@@ -99,6 +105,7 @@ pub fn load_gltf(path: &Path) -> InputResult<GltfContents> {
     notes.extend(geometry.notes);
     notes.extend(converted.notes);
     Ok(GltfContents {
+        origin: geometry.origin,
         mesh: geometry.mesh,
         materials,
         images,
@@ -170,8 +177,7 @@ pub fn scene_for_gltf(path: &Path, camera: Option<usize>) -> InputResult<Scene> 
         shadows: true,
         shadow_offset: ShadowOffset::default(),
         shadow_terminator: Default::default(),
-        // glTF positions are f32 in the file and node transforms are f32 in the gltf crate.
-        origin: glam::DVec3::ZERO,
+        origin: contents.origin,
         notes,
         warnings: contents.warnings,
     })

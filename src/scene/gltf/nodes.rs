@@ -4,20 +4,45 @@
 //! root node. Each node's world matrix is its parent's times its own (a `matrix`, or
 //! T·R·S from translation, rotation — normalised — and scale).
 
-use glam::{Mat4, Quat, Vec3};
+use glam::{DMat4, Mat4};
 
 use crate::error::InputResult;
-use crate::scene::gltf::document::GltfDocument;
+use crate::scene::gltf::document::{f32_matrix, GltfDocument};
+
+/// A node's world matrix: composed in f32 as the gltf crate reads the transforms, and in f64
+/// from the JSON text. The f32 one places scenes near the origin exactly as before f64 existed;
+/// the f64 one places scenes far from it (`meshes::build_geometry` decides).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct World {
+    /// Parent's times the node's own, in f32.
+    pub f32: Mat4,
+    /// The same in f64.
+    pub f64: DMat4,
+}
+
+impl World {
+    /// The matrix to place things with in a frame whose origin is `origin` (f64 world
+    /// coordinates): the f32 matrix when the origin is zero, else the f64 one moved by −origin.
+    pub fn relative_to(&self, origin: glam::DVec3) -> Mat4 {
+        if origin == glam::DVec3::ZERO {
+            self.f32
+        } else {
+            let mut m = self.f64;
+            m.w_axis = (m.w_axis.truncate() - origin).extend(1.0);
+            m.as_mat4()
+        }
+    }
+}
 
 /// Everything a scene places, in depth-first node order.
 #[derive(Debug, Default)]
 pub struct Instances {
     /// (mesh index, world matrix).
-    pub meshes: Vec<(usize, Mat4)>,
+    pub meshes: Vec<(usize, World)>,
     /// (camera index, world matrix).
-    pub cameras: Vec<(usize, Mat4)>,
+    pub cameras: Vec<(usize, World)>,
     /// (KHR_lights_punctual light index, world matrix).
-    pub lights: Vec<(usize, Mat4)>,
+    pub lights: Vec<(usize, World)>,
     /// How the rendered scene was chosen, when the file does not name a default.
     pub note: Option<String>,
 }
@@ -50,7 +75,11 @@ pub fn walk_scene(d: &GltfDocument) -> InputResult<Instances> {
     };
     let nodes: Vec<_> = doc.nodes().collect();
     let mut visited = vec![false; nodes.len()];
-    let mut stack: Vec<(usize, Mat4)> = roots.into_iter().rev().map(|i| (i, Mat4::IDENTITY)).collect();
+    let root = World {
+        f32: Mat4::IDENTITY,
+        f64: DMat4::IDENTITY,
+    };
+    let mut stack: Vec<(usize, World)> = roots.into_iter().rev().map(|i| (i, root)).collect();
     while let Some((index, parent)) = stack.pop() {
         if std::mem::replace(&mut visited[index], true) {
             return Err(d.error(format!(
@@ -58,8 +87,11 @@ pub fn walk_scene(d: &GltfDocument) -> InputResult<Instances> {
             )));
         }
         let node = &nodes[index];
-        let world = parent * local_matrix(node);
-        if !world.is_finite() {
+        let world = World {
+            f32: parent.f32 * f32_matrix(node),
+            f64: parent.f64 * d.node_transforms[index],
+        };
+        if !(world.f32.is_finite() && world.f64.is_finite()) {
             return Err(d.error(format!("node {index} has a transform that is not finite")));
         }
         if let Some(mesh) = node.mesh() {
@@ -75,20 +107,4 @@ pub fn walk_scene(d: &GltfDocument) -> InputResult<Instances> {
         stack.extend(children.into_iter().rev().map(|c| (c, world)));
     }
     Ok(instances)
-}
-
-/// The node's own transform.
-fn local_matrix(node: &::gltf::Node) -> Mat4 {
-    match node.transform() {
-        ::gltf::scene::Transform::Matrix { matrix } => Mat4::from_cols_array_2d(&matrix),
-        ::gltf::scene::Transform::Decomposed {
-            translation,
-            rotation,
-            scale,
-        } => Mat4::from_scale_rotation_translation(
-            Vec3::from(scale),
-            Quat::from_array(rotation).normalize(),
-            Vec3::from(translation),
-        ),
-    }
 }

@@ -15,7 +15,7 @@ use std::path::Path;
 use glam::{DVec3, Vec2, Vec3};
 
 use crate::error::{InputError, InputResult};
-use crate::scene::mesh::{DerivedNormals, TriangleMesh};
+use crate::scene::mesh::{local_origin, DerivedNormals, TriangleMesh};
 use crate::shading::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
 use crate::shading::material::{BlinnPhong, CookTorrance, Material, Specular};
 
@@ -26,7 +26,7 @@ pub struct ObjContents {
     /// no material (the caller substitutes its default). Positions are relative to `origin`.
     pub mesh: TriangleMesh,
     /// Where the mesh's coordinates start, in the file's coordinates (f64): zero, or for a mesh
-    /// far from the origin (map coordinates) the centre of its bounds ([`local_origin`]).
+    /// far from the origin (map coordinates) the centre of its bounds (`scene::mesh::local_origin`).
     pub origin: DVec3,
     /// The MTL materials, converted.
     pub materials: Vec<Material>,
@@ -179,30 +179,6 @@ pub fn load_obj_underived(path: &Path) -> InputResult<(ObjContents, Vec<DerivedN
 /// A colour of an MTL file (read in f64, as tobj reads everything with `use_f64`).
 fn single(c: [f64; 3]) -> [f32; 3] {
     c.map(|v| v as f32)
-}
-
-/// How many times its own size a mesh's centre may lie from the origin before its float32
-/// coordinates are taken relative to that centre instead. At 8× the f32 step of a coordinate is
-/// below 1e-6 of the mesh's size; meshes modelled around the origin stay exactly as read.
-pub const FAR_FROM_ORIGIN: f64 = 8.0;
-
-/// The origin a mesh's float32 coordinates are taken relative to: zero, or the centre of the
-/// bounds of `positions` (read in f64) when that centre is more than [`FAR_FROM_ORIGIN`] times the
-/// bounds' largest side from the origin. Survey and scan data in map coordinates (1e5 to 1e7 m)
-/// then keep their precision: in f32 a coordinate near 1e6 has a step of 0.0625.
-pub fn local_origin(positions: impl Iterator<Item = DVec3>) -> DVec3 {
-    let (lo, hi) = positions.fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
-        (lo.min(p), hi.max(p))
-    });
-    if !(lo.is_finite() && hi.is_finite()) {
-        return DVec3::ZERO;
-    }
-    let centre = (lo + hi) * 0.5;
-    if centre.abs().max_element() > FAR_FROM_ORIGIN * (hi - lo).max_element() {
-        centre
-    } else {
-        DVec3::ZERO
-    }
 }
 
 /// tobj's models and materials for an OBJ file's `bytes`, whose MTL files are looked up in `dir`.
