@@ -212,7 +212,7 @@ fn shade_lanes_row(shader: &Shader<NoOcclusion>, buffers: &RowBuffers, pixels: &
 /// RGB range is `scaling`, under `scene`'s lights, viewer and material (build `scene` with
 /// [`NormalMapScene::from_preset`] and [`Preset::Tp`], then change what you need).
 ///
-/// The documented values of the degenerate inputs (README.md, "Normal-map mode"): background
+/// The documented values of the degenerate inputs (docs/normal-maps.md, "Normal-map mode"): background
 /// (max(rgb) ≤ 4/255) and n = 0 give 0; n·ω_i = 0 or n·ω_o = 0 (the Cook-Torrance denominator 0)
 /// gives the diffuse part alone, or 0 when n·ω_i = 0; ω_i + ω_o = 0 gives the diffuse part alone;
 /// a light at the point adds nothing; a viewer at the point sees n·ω_o = 0. Never NaN.

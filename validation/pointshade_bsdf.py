@@ -2,7 +2,7 @@
 
 Mitsuba has no BSDF for Blinn-Phong, for the assignment's Schlick-Smith masking, for Schlick
 Fresnel, for a diffuse + specular sum or for glTF's metallic-roughness BRDF, so this plugin re-implements pointshade's models from
-their published formulas (README.md, "Materials and BRDFs") in Dr.Jit. It is written separately
+their published formulas (docs/scene-format.md, "Materials and BRDFs") in Dr.Jit. It is written separately
 from the Rust code and in the textbook forms (tangent-form Smith G1, plain GGX denominator,
 G / (4 cos cos) without cancelling), so agreement between the two is evidence for both.
 

@@ -3,7 +3,7 @@
 pointshade exports each image it renders with as the texels it decoded (raw RGBA, 8 bits per
 channel, row 0 at the top: `{prefix}.image{k}.rgba`), so both renderers start from the same
 texels whatever JPEG or PNG decoder each would use. This module looks them up with pointshade's
-conventions (README.md, "Textures"; written here from those rules, not from the Rust code):
+conventions (docs/gltf.md, "Textures"; written here from those rules, not from the Rust code):
 
 * (u, v) = (0, 0) is the image's top-left corner, v grows downwards; texel (i, j) has its centre
   at ((i + 1/2)/W, (j + 1/2)/H);

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# KHR_texture_transform against Mitsuba (README, "glTF 2.0"), in CI: copies the shared
+# KHR_texture_transform against Mitsuba (docs/gltf.md, "glTF 2.0"), in CI: copies the shared
 # DamagedHelmet with a transform added to each of its four textures (the JSON chunk of the GLB
 # edited, the binary chunk kept), and validates scenes/validation/shared/damaged-helmet.toml's
 # view of it; fails when `validate` says the scene fails. The normal texture at twice its

@@ -25,7 +25,7 @@
 //!
 //!    On the glossy dragon `cells` reaches the 8×8 grid's error with 6.2 samples per pixel and
 //!    `adaptive` with 8.7; on the Cornell box, whose edges run along the pixel grid, `adaptive`
-//!    is the better one below about 6 samples per pixel (README, "Sampling").
+//!    is the better one below about 6 samples per pixel (docs/sampling.md, "Sampling").
 //!
 //! Each decision reads only the pixel's own samples and its neighbours' centre samples, which the
 //! apron provides for crops: the image is independent of threads, tiles and crops.

@@ -50,7 +50,7 @@ pub(super) type Pass = (u32, Duration);
 /// balanced in blocks of powers of two, and a total whose last block is small is worse than
 /// the power of two below it: on the dragon 33, 40 and 53 samples per pixel gave RMSE 7.9e-4,
 /// 5.4e-4 and 5.8e-4 against 5.0e-4 at 32, while 48 gave 4.3e-4 (and 24 gave 7.8e-4 against
-/// 9.2e-4 at 16; README, "Time budgets").
+/// 9.2e-4 at 16; docs/sampling.md, "Time budgets").
 pub(super) fn next_pass(taken: u32, spp: u32, passes: &[Pass], remaining: Duration, sobol: bool) -> Option<u32> {
     let mut most = taken.min(spp.saturating_sub(taken));
     let mut least = 1;
@@ -153,7 +153,7 @@ fn next_adaptive_pass(passes: &[Duration]) -> Duration {
 /// How much an adaptive render's time grows from one rung of the ladder to the next finer one,
 /// as predicted: 1.29–1.49× on the dragon, 1.43–1.52× on the bunny, 1.42–1.64× on
 /// DamagedHelmet, 1.1–1.45× on the Cornell box; but on `scenes/lambert.toml` 1.07–1.5× down to
-/// 1.2e-4 and then 1.5×, 1.7×, 2.2× (README, "Time budgets"). Typical, not a bound.
+/// 1.2e-4 and then 1.5×, 1.7×, 2.2× (docs/sampling.md, "Time budgets"). Typical, not a bound.
 const RUNG_GROWTH: f64 = 1.5;
 
 /// What a pass straight to a finer rung costs over the render at that threshold alone: it also
@@ -221,7 +221,7 @@ pub(super) fn render_adaptive(
         let remaining = deadline.saturating_duration_since(Instant::now());
         let rungs_left = ladder.len() - 1 - rung;
         // A jump only from the first pass: 1.5× per rung is typical, not a bound, and a chain of
-        // jumps would compound the error where the growth speeds up (README, "Time budgets").
+        // jumps would compound the error where the growth speeds up (docs/sampling.md, "Time budgets").
         let next = if rung == 0 {
             rungs_after_first(passes[0], remaining, rungs_left)
         } else {

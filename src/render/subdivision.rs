@@ -9,7 +9,7 @@
 //! inside it is unlikely, and 98% of such pixels on the dragon stopped at the first grid (a
 //! temporary count, docs/performance-log.md). On the dragon this takes 3–7% fewer samples for
 //! the same RMSE from T = 0.01 to 0.0025, and on the Cornell box 5–9% fewer for the same RMSE
-//! below white (README, "Adaptive sampling"); a 2×2 first look took 8% fewer at T = 0.0075 but
+//! below white (docs/sampling.md, "Adaptive sampling"); a 2×2 first look took 8% fewer at T = 0.0075 but
 //! lost at T = 0.0025 (docs/performance-log.md).
 //!
 //! Why cells rather than more points spread over the whole pixel: the error left in an active

@@ -1,6 +1,6 @@
 //! Normal-map scenes: a normal image, a preset, and the lights, viewer and material to shade it
 //! with — from the command line (`pointshade normalmap IMAGE --brdf B`) or from a TOML file with
-//! a `[normal_map]` section (README.md, "Normal-map mode").
+//! a `[normal_map]` section (docs/normal-maps.md, "Normal-map mode").
 //!
 //! The two presets:
 //! - `tp` reproduces the NPM3D TP4 report: light at [0, 1, 1], colour 0.5, intensity 1, no

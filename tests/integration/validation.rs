@@ -81,7 +81,7 @@ fn shared_mesh_scenes_agree_with_committed_mitsuba_references() {
     }
 }
 
-/// Why the rounding band exists (`validation::rounding`, README "Rounding band"): pointshade
+/// Why the rounding band exists (`validation::rounding`, docs/validation.md "Rounding band"): pointshade
 /// against itself, with DamagedHelmet's texture coordinates one ulp up and one ulp down, moves a
 /// share of the pixels past 1e-3 comparable to the 0.1% that 99.9% allows. Prints the shares.
 #[test]

@@ -2,7 +2,7 @@
 //! `normalmap` command runs ([`shade_tp_pixel`]) against the same generic code — the assignment's
 //! dot products ([`assignment_dots`]) and [`Material::eval`] — composed in f64.
 //!
-//! Documented values (README.md, "Normal-map mode"): background and n = 0 give 0; a zero
+//! Documented values (docs/normal-maps.md, "Normal-map mode"): background and n = 0 give 0; a zero
 //! Cook-Torrance denominator (n·ω_o = 0) leaves the diffuse part alone; ω_i + ω_o = 0 has no half
 //! vector and adds the diffuse part alone; a flat image (min = max) is refused before any
 //! division.

@@ -1,4 +1,4 @@
-//! TOML scene files (the contract in README.md, "Scene files"); objects are OBJ or glTF meshes.
+//! TOML scene files (the contract in docs/scene-format.md, "Scene files"); objects are OBJ or glTF meshes.
 //!
 //! Parsing is strict: unknown keys, wrong types and unknown names are errors with the file, line
 //! and column. Each section is kept with its span so that checks made after parsing (a NaN, an
