@@ -10,9 +10,8 @@
 
 use std::path::Path;
 
-use super::scale_cases::render;
+use super::scale_cases::{render, share_within};
 use super::{num, Case};
-use crate::film::Image;
 use crate::scene::{self, Scene};
 
 const WIDTH: u32 = 160;
@@ -70,18 +69,6 @@ pub fn translated_dragon(dragon_obj: &str, t: [f64; 3], dir: &Path) -> Result<Sc
     scene::load(&path).map_err(|e| e.to_string())
 }
 
-/// Share of the pixels of `other` within 1% of `reference` (relative to the pixel, with a floor
-/// of 1e-3 of the reference's brightest pixel), and its non-finite or negative pixels.
-pub fn within_one_percent(reference: &Image, other: &Image) -> (f64, u64) {
-    let floor = 1e-3 * reference.pixels.iter().map(|p| p.max_element()).fold(0.0, f32::max);
-    let (mut within, mut bad) = (0u64, 0u64);
-    for (p, q) in reference.pixels.iter().zip(&other.pixels) {
-        bad += (!q.is_finite() || q.min_element() < 0.0) as u64;
-        within += ((*p - *q).abs().max_element() <= 0.01 * p.max_element().max(floor)) as u64;
-    }
-    (within as f64 / reference.pixels.len().max(1) as f64, bad)
-}
-
 /// One row per offset; none (and a SKIPPED note) without the shared dragon.
 pub fn run(shared_meshes: Option<&Path>, notes: &mut Vec<String>) -> Vec<Case> {
     let Some(text) = shared_meshes.and_then(|d| std::fs::read_to_string(d.join("stanford-dragon.obj")).ok()) else {
@@ -110,7 +97,7 @@ pub fn run(shared_meshes: Option<&Path>, notes: &mut Vec<String>) -> Vec<Case> {
                         Err(e) => c.fail(e),
                         Ok(scene) => {
                             let image = render(&scene);
-                            let (share, bad) = within_one_percent(&reference, &image);
+                            let (share, bad) = share_within(&reference, &image, 0.01);
                             c.evals = image.pixels.len() as u64;
                             c.nan = image.pixels.iter().filter(|p| p.is_nan()).count() as u64;
                             c.f32_value = format!("{}% within 1%", num(100.0 * share));
@@ -165,8 +152,8 @@ mod tests {
                 *position = world(*position);
             }
         }
-        let (rebased, _) = within_one_percent(&reference, &render(&far));
-        let (in_f32, _) = within_one_percent(&reference, &render(&f32_world));
+        let (rebased, _) = share_within(&reference, &render(&far), 0.01);
+        let (in_f32, _) = share_within(&reference, &render(&f32_world), 0.01);
         eprintln!("within 1% of the render at the origin: {rebased:.4} rebased, {in_f32:.4} in f32 world coordinates");
         assert!(rebased >= 0.999, "{rebased}");
         assert!(in_f32 < 0.99, "{in_f32}");

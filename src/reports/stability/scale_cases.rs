@@ -114,21 +114,29 @@ pub fn render(scene: &Scene) -> Image {
         .image
 }
 
-/// Share of pixels within 5% of the reference (relative to the pixel, with a floor of 1e-3 of
-/// the reference's brightest pixel), and the pixels lit in one image but black in the other.
-pub fn compare(reference: &Image, other: &Image) -> (f64, u64, u64, u64) {
+/// Share of the pixels of `other` within `tolerance` of `reference` (relative to the pixel, with
+/// a floor of 1e-3 of the reference's brightest pixel), and its non-finite or negative pixels.
+pub fn share_within(reference: &Image, other: &Image, tolerance: f32) -> (f64, u64) {
     let floor = 1e-3 * reference.pixels.iter().map(|p| p.max_element()).fold(0.0, f32::max);
-    let (mut within, mut acne, mut lost, mut bad) = (0u64, 0u64, 0u64, 0u64);
+    let (mut within, mut bad) = (0u64, 0u64);
     for (p, q) in reference.pixels.iter().zip(&other.pixels) {
         bad += (!q.is_finite() || q.min_element() < 0.0) as u64;
-        if (*p - *q).abs().max_element() <= 0.05 * p.max_element().max(floor) {
-            within += 1;
-        }
+        within += ((*p - *q).abs().max_element() <= tolerance * p.max_element().max(floor)) as u64;
+    }
+    (within as f64 / reference.pixels.len().max(1) as f64, bad)
+}
+
+/// Share of pixels within 5% of the reference ([`share_within`]), the pixels lit in one image but
+/// black in the other, and the non-finite or negative ones.
+pub fn compare(reference: &Image, other: &Image) -> (f64, u64, u64, u64) {
+    let (share, bad) = share_within(reference, other, 0.05);
+    let (mut acne, mut lost) = (0u64, 0u64);
+    for (p, q) in reference.pixels.iter().zip(&other.pixels) {
         let (lit_p, lit_q) = (p.max_element() > 0.0, q.max_element() > 0.0);
         acne += (lit_p && !lit_q) as u64;
         lost += (!lit_p && lit_q) as u64;
     }
-    (within as f64 / reference.pixels.len() as f64, acne, lost, bad)
+    (share, acne, lost, bad)
 }
 
 /// The reference at scale 1 and the origin, and one row per (scale, offset).
