@@ -1,4 +1,5 @@
-//! Normal-map speed: pointshade's `tp` shading of normal.png with Cook-Torrance against a
+//! Normal-map speed: pointshade's `tp` shading of normal.png with Cook-Torrance, in float64 (the
+//! preset) and in f32 lanes, against a
 //! straightforward numpy float64 implementation of the same formulas
 //! (`benches/normalmap_numpy.py`), measured in the same run, plus the whole `pointshade
 //! normalmap` process (decode + shade + encode) timed as a process.
@@ -7,21 +8,21 @@
 //! numpy part needs python3 with numpy (`POINTSHADE_PYTHON` names the interpreter; CI gives it
 //! the validation's virtual environment, which pins numpy); without them it says SKIPPED loudly
 //! and the ratios are not printed. Both implementations' L_o are compared, so the times are for
-//! the same result, and the bench fails if they differ by more than [`AGREEMENT`] of the peak.
+//! the same result, and the bench fails if the float64 ones differ by more than [`AGREEMENT_F64`]
+//! of the peak.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
-use glam::Vec3;
 use pointshade::film::Image;
-use pointshade::normal_map::{image_surface, shade_image_with};
+use pointshade::normal_map::{image_surface, shade_image_with, TpPrecision};
 use pointshade::plan::RenderPlan;
 use pointshade::scene::normal_map::{ModelName, NormalMapScene, Preset};
+use pointshade::shading::brdf::LaneInstructions;
 use pointshade::shading::brdf::LocalDots;
-use pointshade::shading::brdf::{LaneInstructions, LANES};
-use pointshade::shading::convention::{assignment_dots, ShadingConvention};
+use pointshade::shading::convention::assignment_dots;
 use pointshade::surface::normal_image::NormalImage;
 use pointshade::surface::SurfacePoint;
 
@@ -81,17 +82,25 @@ fn read_npy_f64(path: &Path) -> Option<Vec<f64>> {
 
 struct Numpy {
     times: Times,
-    max_rel_diff: f64,
+    /// Largest difference from pointshade's float64 and f32 images, relative to the peak.
+    max_rel_diff: [f64; 2],
+    /// Values of the f32 image further than [`AGREEMENT_F32`] of the peak from numpy's.
+    f32_outliers: usize,
     version: String,
 }
 
-/// Largest difference between numpy's float64 L_o and pointshade's f32 one, relative to the
-/// peak, that the bench accepts (they agree to about 5e-7).
-const AGREEMENT: f64 = 1e-5;
+/// Largest difference between numpy's float64 L_o and pointshade's float64 one (stored as f32:
+/// one rounding, 6e-8 of a value), relative to the peak, that the bench accepts.
+const AGREEMENT_F64: f64 = 1e-7;
+
+/// What the f32 lanes are held to: the share of values further than this from numpy's is
+/// printed, not asserted (where a cosine is 0 in exact arithmetic f32 rounding may land on the
+/// other side of the Cook-Torrance guard, and the pixel is off by a large step).
+const AGREEMENT_F32: f64 = 1e-5;
 
 /// Runs the numpy script on `npy` with `POINTSHADE_PYTHON` (default `python3`); `None` (after a
 /// loud SKIPPED) when python or numpy are absent.
-fn run_numpy(npy: &Path, out: &Path, repeats: usize, ours: &Image) -> Option<Numpy> {
+fn run_numpy(npy: &Path, out: &Path, repeats: usize, ours: [&Image; 2]) -> Option<Numpy> {
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/normalmap_numpy.py");
     let python = std::env::var_os("POINTSHADE_PYTHON").unwrap_or_else(|| "python3".into());
     let result = Command::new(&python)
@@ -127,16 +136,20 @@ fn run_numpy(npy: &Path, out: &Path, repeats: usize, ours: &Image) -> Option<Num
     let version = field("numpy_version=").unwrap_or_default();
     let theirs = read_npy_f64(out)?;
     let peak = theirs.iter().cloned().fold(0.0, f64::max);
-    let max_rel_diff = ours
-        .pixels
-        .iter()
-        .flat_map(|p| p.to_array())
-        .zip(&theirs)
-        .map(|(a, b)| (a as f64 - b).abs() / peak)
-        .fold(0.0, f64::max);
+    let differences = |ours: &Image| -> Vec<f64> {
+        ours.pixels
+            .iter()
+            .flat_map(|p| p.to_array())
+            .zip(&theirs)
+            .map(|(a, b)| (a as f64 - b).abs() / peak)
+            .collect()
+    };
+    let max_rel_diff = ours.map(|ours| differences(ours).into_iter().fold(0.0, f64::max));
+    let f32_outliers = differences(ours[1]).into_iter().filter(|&d| d > AGREEMENT_F32).count();
     Some(Numpy {
         times,
         max_rel_diff,
+        f32_outliers,
         version,
     })
 }
@@ -184,35 +197,6 @@ fn time_material_eval(scene: &NormalMapScene, image: &NormalImage, repeats: usiz
     )
 }
 
-/// The shader alone on the surface points of every pixel (made beforehand), one thread: one
-/// point at a time (`Shader::shade`) and eight at a time (`Shader::shade_lanes`).
-fn time_shader(scene: &NormalMapScene, image: &NormalImage, repeats: usize) -> (Times, Times) {
-    let points = surface_points(scene, image);
-    let shader = pointshade::normal_map::shader(scene, ShadingConvention::Assignment);
-    let mut out = vec![Vec3::ZERO; points.len() + LANES];
-    let time = |lanes: bool, out: &mut Vec<Vec3>| {
-        Times::of(
-            (0..repeats)
-                .map(|_| {
-                    let t = Instant::now();
-                    if lanes {
-                        for (group, o) in points.chunks_exact(LANES).zip(out.chunks_exact_mut(LANES)) {
-                            o.copy_from_slice(&shader.shade_lanes(group.try_into().unwrap(), &mut 0));
-                        }
-                    } else {
-                        for (p, o) in points.iter().zip(out.iter_mut()) {
-                            *o = shader.shade(p, &mut 0);
-                        }
-                    }
-                    std::hint::black_box(&mut *out);
-                    t.elapsed().as_secs_f64()
-                })
-                .collect(),
-        )
-    };
-    (time(false, &mut out), time(true, &mut out))
-}
-
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
     let repeats = if quick { 5 } else { 51 };
@@ -230,15 +214,14 @@ fn main() {
     let scene = NormalMapScene::from_preset(&path, Preset::Tp, ModelName::CookTorrance);
     let plan = RenderPlan::for_normal_map(&scene, &image, "benchmark");
     // What numpy's shade() does too: the tp scaling's global min and max, then every pixel.
-    let shade_with = |instructions: LaneInstructions| {
+    let shade_with = |instructions: LaneInstructions, precision: TpPrecision| {
         let surface = image_surface(&scene, &image).expect("normal.png has a range");
-        shade_image_with(&scene, &plan, &image, &surface, instructions)
+        shade_image_with(&scene, &plan, &image, &surface, instructions, precision)
     };
     let best = LaneInstructions::detect();
-    let shade = || shade_with(best);
 
-    let time_shading = |threads: usize, instructions: LaneInstructions| {
-        let shade = || shade_with(instructions);
+    let time_shading = |threads: usize, instructions: LaneInstructions, precision: TpPrecision| {
+        let shade = || shade_with(instructions, precision);
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| {
             // Warm-up for a second: short runs on a cold core measure the clock ramping up, not
@@ -260,12 +243,13 @@ fn main() {
         })
     };
     let all = rayon::current_num_threads();
-    let one_thread = time_shading(1, best);
-    let all_threads = time_shading(all, best);
-    let portable = (best != LaneInstructions::Portable).then(|| time_shading(all, LaneInstructions::Portable));
-    let (ours, stats) = shade();
+    let (f64_, f32_) = (TpPrecision::Float64, TpPrecision::Float32);
+    let one_thread = [f64_, f32_].map(|p| time_shading(1, best, p));
+    let all_threads = [f64_, f32_].map(|p| time_shading(all, best, p));
+    let portable = (best != LaneInstructions::Portable).then(|| time_shading(all, LaneInstructions::Portable, f64_));
+    let (ours, stats) = shade_with(best, f64_);
+    let (ours_f32, _) = shade_with(best, f32_);
     let eval_only = time_material_eval(&scene, &image, repeats);
-    let (shader_scalar, shader_lanes) = time_shader(&scene, &image, repeats);
 
     let tmp = std::env::temp_dir().join(format!("pointshade-bench-nm-{}", std::process::id()));
     std::fs::create_dir_all(&tmp).unwrap();
@@ -289,7 +273,7 @@ fn main() {
 
     let npy = tmp.join("normal-rgb.npy");
     write_npy_u8(&npy, &image);
-    let numpy = run_numpy(&npy, &tmp.join("numpy-lo.npy"), numpy_repeats, &ours);
+    let numpy = run_numpy(&npy, &tmp.join("numpy-lo.npy"), numpy_repeats, [&ours, &ours_f32]);
     let _ = std::fs::remove_dir_all(&tmp);
 
     println!(
@@ -318,46 +302,48 @@ fn main() {
             n.times,
         );
     }
-    row("pointshade shading, 1 thread", one_thread);
-    row("  the shader alone, one point at a time, 1 thread", shader_scalar);
     row(
-        "  the shader alone, eight points per lane group, 1 thread",
-        shader_lanes,
+        "pointshade shading, float64 lanes (the preset), 1 thread",
+        one_thread[0],
     );
+    row("pointshade shading, f32 lanes, 1 thread", one_thread[1]);
     row(
-        "  Material::eval alone (the BRDF), one point at a time, 1 thread",
+        "  Material::eval alone (the BRDF, f32), one point at a time, 1 thread",
         eval_only,
     );
     row(
-        &format!("pointshade shading, {all} threads ({best:?} lanes, detected)"),
-        all_threads,
+        &format!("pointshade shading, float64, {all} threads ({best:?} lanes, detected)"),
+        all_threads[0],
     );
+    row(&format!("pointshade shading, f32, {all} threads"), all_threads[1]);
     if let Some(portable) = portable {
         row(
-            &format!("  the same with the portable (baseline) lanes, {all} threads"),
+            &format!("  float64 with the portable (baseline) lanes, {all} threads"),
             portable,
         );
     }
     row("pointshade normalmap process (decode + shade + encode)", process);
     match &numpy {
         Some(n) => {
+            let [d64, d32] = n.max_rel_diff;
             println!(
-                "numpy and pointshade L_o agree to {:.1e} of the peak (f32 vs f64)",
-                n.max_rel_diff
+                "numpy and pointshade L_o agree to {d64:.1e} of the peak in float64 (stored as f32); \
+                 in f32 lanes to {d32:.1e}, with {} values beyond {AGREEMENT_F32:.0e}",
+                n.f32_outliers
             );
-            if !(n.max_rel_diff <= AGREEMENT) {
+            if !(d64 <= AGREEMENT_F64) {
                 eprintln!(
-                    "error: numpy and pointshade L_o differ by {:.1e} of the peak, more than {AGREEMENT:.0e}",
-                    n.max_rel_diff
+                    "error: numpy and pointshade's float64 L_o differ by {d64:.1e} of the peak, more than \
+                     {AGREEMENT_F64:.0e}"
                 );
                 std::process::exit(1);
             }
             let verdict = |ok: bool| if ok { "met" } else { "NOT MET" };
-            let (numpy, shading) = (n.times.median, all_threads.median);
+            let (numpy, shading) = (n.times.median, all_threads[0].median);
             println!(
-                "targets (medians): shading ≥ 100x faster than numpy: {} ({:.0}x); \
+                "targets (medians): float64 shading ≥ 50x faster than numpy: {} ({:.0}x); \
                  whole process faster than numpy's shading: {} ({:.1}x)",
-                verdict(numpy / shading >= 100.0),
+                verdict(numpy / shading >= 50.0),
                 numpy / shading,
                 verdict(process.median < numpy),
                 numpy / process.median

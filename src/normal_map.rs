@@ -1,18 +1,19 @@
 //! The normal-map driver: the pixels of a normal image become surface points
 //! ([`crate::surface::normal_image`]) and go through the same [`Shader`] and
 //! [`Material::eval`](crate::shading::material::Material::eval) as a mesh render's hits. No BVH,
-//! no rays. Rows are shaded in parallel; every pixel is a pure function of its colour and
-//! position, so the image does not depend on the thread count.
+//! no rays. The `tp` preset computes in float64, as the assignment's numpy code does; the
+//! `physical` preset in f32, as a mesh render. Rows are shaded in parallel; every pixel is a
+//! pure function of its colour and position, so the image does not depend on the thread count.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 use crate::film::Image;
 use crate::plan::RenderPlan;
 use crate::scene::normal_map::{NormalMapScene, Preset};
-use crate::shading::brdf::{LaneInstructions, LANES};
+use crate::shading::brdf::{LaneInstructions, Lanes, Scalar, LANES};
 use crate::shading::convention::ShadingConvention;
 use crate::shading::shader::Shader;
 use crate::shading::shadow::NoOcclusion;
@@ -67,28 +68,69 @@ pub fn shader<'a>(scene: &'a NormalMapScene, convention: ShadingConvention) -> S
 
 /// Shades every pixel of `image` (linear L_o; background pixels 0) following `plan`.
 ///
-/// A row's foreground pixels become [`SurfaceLanes`] eight at a time, straight from the image,
-/// and go through [`Shader::shade_surface_lanes`], for both presets (a normal-map shader has no
-/// shadow rays, textures or emission, so it always has lanes). The decoding and the BRDF are the
-/// same functions [`ImageSurface::point`] and [`Shader::shade`] run for one pixel.
+/// A row's foreground pixels become [`SurfaceLanes`] straight from the image — eight in f32
+/// lanes for the `physical` preset, four in float64 lanes for `tp` (the assignment's numpy code
+/// is float64) — and go through the shader's lane path. The decoding and the BRDF are the same
+/// functions [`ImageSurface::point`], [`shade_tp_pixel`] and [`Shader::shade`] run for one pixel.
 pub fn shade_image(
     scene: &NormalMapScene,
     plan: &RenderPlan,
     image: &NormalImage,
     surface: &ImageSurface,
 ) -> (Image, NormalMapStats) {
-    shade_image_with(scene, plan, image, surface, LaneInstructions::detect())
+    shade_image_with(
+        scene,
+        plan,
+        image,
+        surface,
+        LaneInstructions::detect(),
+        TpPrecision::Float64,
+    )
 }
 
 /// [`shade_image`] with the lane path compiled for `instructions` (which must be available on
-/// this CPU: [`LaneInstructions::detect`] says which are; others fall back to the portable code).
-/// Every choice gives the same image, bit for bit: the benchmark compares their speed, a test
-/// their results.
+/// this CPU: [`LaneInstructions::detect`] says which are; others fall back to the portable code)
+/// and the `tp` preset in `precision`. Every choice of instructions gives the same image, bit
+/// for bit: the benchmark compares their speed, a test their results.
 pub fn shade_image_with(
     scene: &NormalMapScene,
     plan: &RenderPlan,
     image: &NormalImage,
     surface: &ImageSurface,
+    instructions: LaneInstructions,
+    precision: TpPrecision,
+) -> (Image, NormalMapStats) {
+    match (surface.decoding, precision) {
+        (NormalDecoding::MinMax(s), TpPrecision::Float64) => {
+            shade_rows::<TpLanes<f64, 4>>(scene, plan, image, surface, &s, instructions)
+        }
+        (NormalDecoding::MinMax(s), TpPrecision::Float32) => {
+            shade_rows::<TpLanes<f32, LANES>>(scene, plan, image, surface, &s, instructions)
+        }
+        (NormalDecoding::Signed, _) => shade_rows::<PhysicalLanes>(scene, plan, image, surface, &(), instructions),
+    }
+}
+
+/// The precision the `tp` preset shades in: float64, as the assignment's numpy code (what
+/// `pointshade normalmap` runs), or f32 lanes — twice as many per instruction, but where a
+/// cosine is 0 in exact arithmetic f32 rounding can land on the other side of the Cook-Torrance
+/// guard than numpy's (`cargo bench --bench normalmap` compares both). The `physical` preset is
+/// always f32.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TpPrecision {
+    /// Four float64 lanes (the default).
+    Float64,
+    /// Eight f32 lanes.
+    Float32,
+}
+
+/// [`shade_image_with`] for one kind of lane group.
+fn shade_rows<G: LaneGroup>(
+    scene: &NormalMapScene,
+    plan: &RenderPlan,
+    image: &NormalImage,
+    surface: &ImageSurface,
+    decoding: &G::Decoding,
     instructions: LaneInstructions,
 ) -> (Image, NormalMapStats) {
     let instructions = instructions.min(LaneInstructions::detect());
@@ -99,12 +141,13 @@ pub fn shade_image_with(
     let out = Image::par_from_rows(
         image.width,
         image.height,
-        RowBuffers::default,
+        RowBuffers::<G>::default,
         |buffers, row, pixels| {
             let t0 = Instant::now();
             let job = LaneRow {
                 shader: &shader,
                 surface,
+                decoding,
                 image,
                 row,
             };
@@ -129,95 +172,155 @@ pub fn shade_image_with(
     (out, stats)
 }
 
-/// One thread's surface points of the row it is shading, reused from row to row.
-#[derive(Default)]
-struct RowBuffers {
-    /// The columns of the foreground pixels…
-    columns: Vec<u32>,
-    /// …and their surface points, eight per entry; the last entry is padded with copies of the
-    /// row's last foreground pixel.
-    lanes: Vec<SurfaceLanes>,
+/// Pixels of one row shaded together: how they are read from the image and shaded.
+trait LaneGroup: Copy + Send {
+    /// Pixels per group.
+    const WIDTH: usize;
+    /// What decoding needs besides the [`ImageSurface`].
+    type Decoding: Sync;
+    /// The group of the foreground pixels at `cols` (`WIDTH` of them) of row `row`.
+    fn read(surface: &ImageSurface, decoding: &Self::Decoding, image: &NormalImage, row: u32, cols: &[u32]) -> Self;
+    /// L_o of lane `i`, for every lane, into `out`.
+    fn shade(&self, shader: &Shader<NoOcclusion>, out: impl FnMut(usize, Vec3));
 }
 
-/// One row of the lane path: what it shades and with what.
-struct LaneRow<'a> {
-    shader: &'a Shader<'a, NoOcclusion>,
-    surface: &'a ImageSurface,
-    image: &'a NormalImage,
-    row: u32,
-}
+/// Eight `physical` pixels in f32 lanes.
+#[derive(Clone, Copy)]
+struct PhysicalLanes(SurfaceLanes);
 
-impl LaneRow<'_> {
-    /// The row's foreground pixels' [`SurfaceLanes`] into `buffers`, then shaded into `pixels`.
-    /// Returns the time at which the surface stage ended.
+impl LaneGroup for PhysicalLanes {
+    const WIDTH: usize = LANES;
+    type Decoding = ();
     #[inline(always)]
-    fn run(&self, buffers: &mut RowBuffers, pixels: &mut [Vec3]) -> Instant {
-        buffers.surface_lanes(self.surface, self.image, self.row);
-        let t1 = Instant::now();
-        shade_lanes_row(self.shader, buffers, pixels);
-        t1
+    fn read(surface: &ImageSurface, _: &(), image: &NormalImage, row: u32, cols: &[u32]) -> Self {
+        PhysicalLanes(surface.lanes(image, row, std::array::from_fn(|i| cols[i])))
     }
-
-    /// [`LaneRow::run`] compiled with AVX2 (256-bit registers: an
-    /// [`F32x8`](crate::shading::brdf::F32x8) operation is one instruction instead of two). No
-    /// FMA: fused products round differently, and every path must give the same bits.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    fn run_avx2(&self, buffers: &mut RowBuffers, pixels: &mut [Vec3]) -> Instant {
-        self.run(buffers, pixels)
-    }
-}
-
-impl RowBuffers {
-    /// The surface lanes of row `row`'s foreground pixels.
     #[inline(always)]
-    fn surface_lanes(&mut self, surface: &ImageSurface, image: &NormalImage, row: u32) {
-        self.columns.clear();
-        self.lanes.clear();
-        surface.foreground_columns(image, row, &mut self.columns);
-        for group in self.columns.chunks(LANES) {
-            let cols = std::array::from_fn(|i| group[i.min(group.len() - 1)]);
-            self.lanes.push(surface.lanes(image, row, cols));
+    fn shade(&self, shader: &Shader<NoOcclusion>, mut out: impl FnMut(usize, Vec3)) {
+        let radiance = shader.shade_surface_lanes(&self.0);
+        for i in 0..LANES {
+            out(i, Vec3::new(radiance[0].0[i], radiance[1].0[i], radiance[2].0[i]));
         }
     }
 }
 
-/// Shades the lanes of `buffers` into `pixels` (indexed by column); the padding lanes' results
+/// `tp` pixels in `Lanes<T, N>`: four float64 ones for the preset, eight f32 ones to compare.
+#[derive(Clone, Copy)]
+struct TpLanes<T: Scalar, const N: usize>(SurfaceLanes<Lanes<T, N>>);
+
+impl<T: Scalar, const N: usize> LaneGroup for TpLanes<T, N> {
+    const WIDTH: usize = N;
+    type Decoding = TpScaling;
+    #[inline(always)]
+    fn read(surface: &ImageSurface, scaling: &TpScaling, image: &NormalImage, row: u32, cols: &[u32]) -> Self {
+        TpLanes(surface.tp_lanes(scaling, image, row, std::array::from_fn(|i| cols[i])))
+    }
+    #[inline(always)]
+    fn shade(&self, shader: &Shader<NoOcclusion>, mut out: impl FnMut(usize, Vec3)) {
+        let radiance = shader.shade_assignment_lanes(&self.0);
+        let channel = |c: usize, i: usize| radiance[c].0[i].as_f64() as f32;
+        for i in 0..N {
+            out(i, Vec3::new(channel(0, i), channel(1, i), channel(2, i)));
+        }
+    }
+}
+
+/// One thread's surface points of the row it is shading, reused from row to row.
+struct RowBuffers<G> {
+    /// The columns of the foreground pixels…
+    columns: Vec<u32>,
+    /// …and their surface points, `G::WIDTH` per entry; the last entry is padded with copies of
+    /// the row's last foreground pixel.
+    groups: Vec<G>,
+}
+
+impl<G> Default for RowBuffers<G> {
+    fn default() -> Self {
+        RowBuffers {
+            columns: Vec::new(),
+            groups: Vec::new(),
+        }
+    }
+}
+
+/// One row of the lane path: what it shades and with what.
+struct LaneRow<'a, G: LaneGroup> {
+    shader: &'a Shader<'a, NoOcclusion>,
+    surface: &'a ImageSurface,
+    decoding: &'a G::Decoding,
+    image: &'a NormalImage,
+    row: u32,
+}
+
+impl<G: LaneGroup> LaneRow<'_, G> {
+    /// The row's foreground pixels' lane groups into `buffers`, then shaded into `pixels`.
+    /// Returns the time at which the surface stage ended.
+    #[inline(always)]
+    fn run(&self, buffers: &mut RowBuffers<G>, pixels: &mut [Vec3]) -> Instant {
+        buffers.columns.clear();
+        buffers.groups.clear();
+        self.surface
+            .foreground_columns(self.image, self.row, &mut buffers.columns);
+        let mut cols = [0u32; LANES];
+        for group in buffers.columns.chunks(G::WIDTH) {
+            for (i, col) in cols.iter_mut().take(G::WIDTH).enumerate() {
+                *col = group[i.min(group.len() - 1)];
+            }
+            let lanes = G::read(self.surface, self.decoding, self.image, self.row, &cols);
+            buffers.groups.push(lanes);
+        }
+        let t1 = Instant::now();
+        shade_row(self.shader, buffers, pixels);
+        t1
+    }
+
+    /// [`LaneRow::run`] compiled with AVX2 (256-bit registers: an
+    /// [`F32x8`](crate::shading::brdf::F32x8) or `F64x4` operation is one instruction instead of
+    /// two). No FMA: fused products round differently, and every path must give the same bits.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn run_avx2(&self, buffers: &mut RowBuffers<G>, pixels: &mut [Vec3]) -> Instant {
+        self.run(buffers, pixels)
+    }
+}
+
+/// Shades the groups of `buffers` into `pixels` (indexed by column); the padding lanes' results
 /// are dropped.
 #[inline(always)]
-fn shade_lanes_row(shader: &Shader<NoOcclusion>, buffers: &RowBuffers, pixels: &mut [Vec3]) {
-    for (group, lanes) in buffers.columns.chunks(LANES).zip(&buffers.lanes) {
-        let radiance = shader.shade_surface_lanes(lanes);
-        let pixel = |i: usize| Vec3::new(radiance[0].0[i], radiance[1].0[i], radiance[2].0[i]);
+fn shade_row<G: LaneGroup>(shader: &Shader<NoOcclusion>, buffers: &RowBuffers<G>, pixels: &mut [Vec3]) {
+    for (group, lanes) in buffers.columns.chunks(G::WIDTH).zip(&buffers.groups) {
         let first = group[0] as usize;
-        match pixels.get_mut(first..first + LANES) {
-            // Eight neighbours (inside an object, most groups): one run of stores.
-            Some(run) if group.len() == LANES && group[LANES - 1] as usize == first + LANES - 1 => {
-                for (i, out) in run.iter_mut().enumerate() {
-                    *out = pixel(i);
-                }
+        match pixels.get_mut(first..first + G::WIDTH) {
+            // Neighbours (inside an object, most groups): one run of stores.
+            Some(run) if group.len() == G::WIDTH && group[G::WIDTH - 1] as usize == first + G::WIDTH - 1 => {
+                lanes.shade(shader, |i, v| run[i] = v);
             }
-            _ => {
-                for (i, &col) in group.iter().enumerate() {
-                    pixels[col as usize] = pixel(i);
+            _ => lanes.shade(shader, |i, v| {
+                if let Some(&col) = group.get(i) {
+                    pixels[col as usize] = v;
                 }
-            }
+            }),
         }
     }
 }
 
 /// One pixel of the `tp` preset, decoded and shaded by the same functions `pointshade normalmap
-/// --preset tp` runs eight pixels at a time (equal for every pixel: `tests/integration/normalmap.rs`): L_o (before the output's min-max normalisation) of the
-/// pixel at (`row`, `col`) with colour `rgb` (each channel in [0, 1]) in an image whose global
-/// RGB range is `scaling`, under `scene`'s lights, viewer and material (build `scene` with
-/// [`NormalMapScene::from_preset`] and [`Preset::Tp`], then change what you need).
+/// --preset tp` runs four pixels at a time, in float64 (equal for every pixel:
+/// `tests/integration/normalmap.rs`): L_o (before the output's min-max normalisation) of the
+/// pixel at (`row`, `col`) with values `v` in `scaling`'s units (an image's integer levels for
+/// [`TpScaling::of`], [0, 1] for [`TpScaling::new`]), under `scene`'s lights, viewer and
+/// material (build `scene` with [`NormalMapScene::from_preset`] and [`Preset::Tp`], then change
+/// what you need).
 ///
-/// The documented values of the degenerate inputs (docs/normal-maps.md, "Normal-map mode"): background
-/// (max(rgb) ≤ 4/255) and n = 0 give 0; n·ω_i = 0 or n·ω_o = 0 (the Cook-Torrance denominator 0)
-/// gives the diffuse part alone, or 0 when n·ω_i = 0; ω_i + ω_o = 0 gives the diffuse part alone;
-/// a light at the point adds nothing; a viewer at the point sees n·ω_o = 0. Never NaN.
-/// For the stability report (issue 6).
-pub fn shade_tp_pixel(scene: &NormalMapScene, scaling: TpScaling, rgb: [f32; 3], row: u32, col: u32) -> Vec3 {
+/// The documented values of the degenerate inputs (docs/normal-maps.md, "Normal-map mode"):
+/// background (max(v) ≤ 4/255 of full scale) and n = 0 give 0; n·ω_i = 0 or n·ω_o = 0 (the
+/// Cook-Torrance denominator 0) gives the diffuse part alone, or 0 when n·ω_i = 0; ω_i + ω_o = 0
+/// gives the diffuse part alone; a light at the point adds nothing; a viewer at the point sees
+/// n·ω_o = 0. Never NaN. For the stability report.
+pub fn shade_tp_pixel(scene: &NormalMapScene, scaling: TpScaling, v: [f64; 3], row: u32, col: u32) -> DVec3 {
+    if scaling.is_background(v) {
+        return DVec3::ZERO;
+    }
     let surface = ImageSurface {
         decoding: NormalDecoding::MinMax(scaling),
         positions: PixelPositions::RowColumn,
@@ -226,8 +329,6 @@ pub fn shade_tp_pixel(scene: &NormalMapScene, scaling: TpScaling, rgb: [f32; 3],
         height: row.saturating_add(1),
         material: 0,
     };
-    match surface.point(col, row, rgb, 1.0) {
-        Some(sp) => shader(scene, ShadingConvention::Assignment).shade(&sp, &mut 0),
-        None => Vec3::ZERO,
-    }
+    let point = surface.tp_point(&scaling, v, col as f64, row as f64);
+    DVec3::from(shader(scene, ShadingConvention::Assignment).shade_assignment_lanes(&point))
 }

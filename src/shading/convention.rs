@@ -13,7 +13,7 @@
 //!
 //! [`Material::eval`]: crate::shading::material::Material::eval
 
-use super::brdf::{dot3 as dot, LocalDots, Real};
+use super::brdf::{dot3 as dot, map3, LocalDots, Mask, Real};
 
 /// Which convention the shader follows; chosen once per render by the plan.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -57,13 +57,26 @@ fn clamp01<R: Real>(v: R) -> R {
     v.max(R::zero()).min(R::one())
 }
 
+/// v/‖v‖ as the report writes its directions (and a numpy implementation computes them): each
+/// component divided by ‖v‖ = √(v_x² + v_y² + v_z²), summed in that order; the zero vector where
+/// ‖v‖ is 0 or not finite, with the lanes where it is defined. Division, not a product with 1/‖v‖: in float64 the `tp` preset then
+/// forms the report's ω_i and ω_o to the bit, so where n·ω_o is 0 in exact arithmetic — the
+/// Cook-Torrance denominator's guard is discontinuous there — it rounds to the side numpy does.
+#[inline(always)]
+pub fn report_unit<R: Real>(v: [R; 3]) -> ([R; 3], R::Mask) {
+    let len = dot(v, v).sqrt();
+    let defined = len.gt(R::zero()) & len.is_finite();
+    let safe = R::select(defined, len, R::one());
+    (map3(v, |c| R::select(defined, c / safe, R::zero())), defined)
+}
+
 /// The assignment's dot products for normal `n` (used as given, any length), `wi_from_light`
 /// (unit, from the light towards the point, as the report writes ω_i) and `wo` (unit or zero,
 /// from the point towards the viewer); the half-vector products only `with_half_vector`.
-/// Generic over [`Real`] so the stability checks can run the shader's own arithmetic in f64.
+/// Generic over [`Real`]: the `tp` preset runs it on float64 lanes, the stability checks on f64.
 ///
-/// ω_h = (ω_i + ω_o)/‖ω_i + ω_o‖ with the sum formed once and its own length taken (no
-/// √(2 + 2 ω_i·ω_o), which cancels as ω_i → −ω_o); a zero or NaN length means no half vector.
+/// ω_h = (ω_i + ω_o)/‖ω_i + ω_o‖ ([`report_unit`]), with the sum formed once and its own length
+/// taken (no √(2 + 2 ω_i·ω_o), which cancels as ω_i → −ω_o); a zero (or NaN) length means no half vector.
 #[inline(always)]
 pub fn assignment_dots<R: Real>(
     n: [R; 3],
@@ -74,24 +87,16 @@ pub fn assignment_dots<R: Real>(
     let wi = wi_from_light;
     let n_dot_i = clamp01(dot(n, wi));
     let n_dot_o = clamp01(dot(n, wo));
-    let sum = [wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]];
-    let len = if with_half_vector {
-        dot(sum, sum).sqrt()
+    let (wh, half_vector) = if with_half_vector {
+        report_unit([wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]])
     } else {
-        R::zero()
+        ([R::zero(); 3], R::Mask::splat(false))
     };
-    let half_vector = len.gt(R::zero());
-    // Without a half vector, divide by 1 instead and report 0 (nothing NaN in any lane).
-    let inv = R::select(half_vector, len, R::one()).recip();
+    // Without a half vector report 0 (ω_h is the zero vector there: nothing NaN in any lane).
     let keep = |v: R| R::select(half_vector, v, R::zero());
     // sin²θ_h = (1 − c)(1 + c) from the clamped c: the report's D is a function of that c.
     AssignmentDots {
-        dots: LocalDots::from_cosines(
-            n_dot_i,
-            n_dot_o,
-            keep(clamp01(dot(n, sum) * inv)),
-            keep(clamp01(dot(wi, sum) * inv)),
-        ),
+        dots: LocalDots::from_cosines(n_dot_i, n_dot_o, keep(clamp01(dot(n, wh))), keep(clamp01(dot(wi, wh)))),
         half_vector,
     }
 }

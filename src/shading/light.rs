@@ -82,6 +82,14 @@ pub struct LightSamples<R: Real> {
 }
 
 impl Light {
+    /// Where a point or spot light is; `None` for a directional light.
+    pub fn position(&self) -> Option<Vec3> {
+        match self.kind {
+            LightKind::Point { position } | LightKind::Spot { position, .. } => Some(position),
+            LightKind::Directional { .. } => None,
+        }
+    }
+
     /// The light seen from `p`, or `None` when it sends nothing there: outside a spot's cone, or
     /// at the light's own position (d = 0, where the direction is undefined; such a point is
     /// documented to receive no light rather than an infinite amount).

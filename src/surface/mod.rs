@@ -11,7 +11,7 @@ pub mod primary;
 
 use glam::{Vec2, Vec3};
 
-use crate::shading::brdf::{map3, F32x8, LANES};
+use crate::shading::brdf::{map3, F32x8, Real, LANES};
 
 /// A point on a surface, seen from a direction, ready to be shaded.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -40,22 +40,24 @@ pub struct SurfacePoint {
     pub to_viewer: Vec3,
 }
 
-/// [`LANES`] surface points of one material, each coordinate in [`F32x8`] lanes: what the
-/// shader's eight-lane path reads. Only the fields that path uses (the assignment convention has
-/// no sides, textures or shadow rays); the normal-map mode fills them straight from the image.
+/// Surface points of one material, each coordinate in the lanes of `R` — [`LANES`] of them in
+/// [`F32x8`] by default, four `tp` pixels in [`F64x4`](crate::shading::brdf::F64x4), one point
+/// in a scalar: what the shader's lane path reads. Only the fields that path uses (the
+/// assignment convention has no sides, textures or shadow rays); the normal-map mode fills them
+/// straight from the image.
 #[derive(Clone, Copy, Debug)]
-pub struct SurfaceLanes {
+pub struct SurfaceLanes<R: Real = F32x8> {
     /// World-space positions.
-    pub position: [F32x8; 3],
+    pub position: [R; 3],
     /// Shading normals (see [`SurfacePoint::shading_normal`]).
-    pub shading_normal: [F32x8; 3],
+    pub shading_normal: [R; 3],
     /// Unit directions towards the viewer (ω_o), or zero.
-    pub to_viewer: [F32x8; 3],
+    pub to_viewer: [R; 3],
     /// Index into the scene's materials, the same for every lane.
     pub material: u32,
 }
 
-impl SurfaceLanes {
+impl SurfaceLanes<F32x8> {
     /// `points` in lanes, or `None` when they do not all have the same material.
     #[inline(always)]
     pub fn from_points(points: &[SurfacePoint; LANES]) -> Option<SurfaceLanes> {

@@ -1,6 +1,8 @@
 //! Normal images: each pixel of a PNG that stores a normal becomes a surface point — one
-//! [`SurfacePoint`] ([`ImageSurface::point`]), or eight at a time as [`SurfaceLanes`]
-//! ([`ImageSurface::lanes`], what `pointshade normalmap` shades), by the same generic functions.
+//! [`SurfacePoint`] ([`ImageSurface::point`]), or several at a time as [`SurfaceLanes`] (what
+//! `pointshade normalmap` shades: eight in f32 lanes for the `physical` preset,
+//! [`ImageSurface::lanes`]; four in float64 lanes for `tp`, [`ImageSurface::tp_lanes`]), by the
+//! same generic functions.
 //!
 //! This is the normal-map mode's counterpart of [`super::primary`]: where a mesh render finds a
 //! surface point with a camera ray and a BVH, here the point is read off a pixel — no geometry,
@@ -9,11 +11,12 @@
 //!
 //! | | `tp` (the NPM3D TP4 report) | `physical` |
 //! |---|---|---|
-//! | normal | (c − min)/(max − min), one global min and max over all RGB values, used as is | normalise(2c − 1) |
+//! | normal | (v − min)/(max − min) on the integer levels v, one global min and max over all RGB values, used as is, in float64 | normalise(2c − 1) |
 //! | background | max(r, g, b) ≤ 4/255: n = 0, no surface point | alpha = 0, or r = g = b = 0 |
 //! | position | (row, column, 0), in pixels | image plane z = 0, centred, image height = 2 units, +x right, +y up |
 //!
-//! ω_o comes from a [`Viewer`]: a direction (orthographic) or a position (ω_o = (x_c − x)/‖x_c − x‖).
+//! ω_o comes from a [`Viewer`]: a direction (orthographic) or a position (ω_o = (x_c − x)/‖x_c − x‖;
+//! under `tp` formed as the report writes it, [`report_unit`]).
 
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
@@ -24,7 +27,8 @@ use rayon::prelude::*;
 
 use crate::error::{InputError, InputResult};
 use crate::film::MAX_PIXELS;
-use crate::shading::brdf::{map3, normalize_or_zero, F32x8, Real, LANES};
+use crate::shading::brdf::{map3, normalize_or_zero, F32x8, Lanes, Real, Scalar, LANES};
+use crate::shading::convention::report_unit;
 use crate::surface::{SurfaceLanes, SurfacePoint};
 
 /// The 8-bit signature every PNG file starts with.
@@ -68,8 +72,12 @@ pub trait Sample: Copy + Send + Sync + Ord {
     /// The largest value whose [`Sample::unit`] is ≤ [`TP_BACKGROUND_LEVEL`] (4/255 of full
     /// scale), so the tp background test can run on the integers.
     const TP_BACKGROUND_MAX: Self;
+    /// Full scale, 2^bits − 1.
+    const FULL_SCALE: f64;
     /// The value in [0, 1]: v / (2^bits − 1), correctly rounded.
     fn unit(self) -> f32;
+    /// The integer level v itself, exactly.
+    fn level(self) -> f64;
 
     /// The colours of the pixels at `cols` of `samples`, each channel in [0, 1] as
     /// [`Sample::unit`] gives it, one lane per pixel.
@@ -106,9 +114,14 @@ const UNIT8: [f32; 256] = {
 impl Sample for u8 {
     const ZERO: u8 = 0;
     const TP_BACKGROUND_MAX: u8 = 4;
+    const FULL_SCALE: f64 = 255.0;
     #[inline(always)]
     fn unit(self) -> f32 {
         UNIT8[self as usize]
+    }
+    #[inline(always)]
+    fn level(self) -> f64 {
+        self as f64
     }
 
     /// Each pixel read as one word, its channels shifted out and divided by 255 in lanes: the
@@ -144,9 +157,14 @@ impl Sample for u8 {
 impl Sample for u16 {
     const ZERO: u16 = 0;
     const TP_BACKGROUND_MAX: u16 = 4 * 257;
+    const FULL_SCALE: f64 = 65535.0;
     #[inline(always)]
     fn unit(self) -> f32 {
         self as f32 / 65535.0
+    }
+    #[inline(always)]
+    fn level(self) -> f64 {
+        self as f64
     }
 }
 
@@ -237,9 +255,31 @@ impl NormalImage {
         }
     }
 
-    /// Smallest and largest RGB value over every pixel, in [0, 1] (a parallel, vectorised scan).
+    /// The integer RGB levels of pixel `index` (row-major), exactly.
+    pub fn levels(&self, index: usize) -> [f64; 3] {
+        match &self.samples {
+            Samples::Eight(s) => map3([0, 1, 2], |c| s[index][c].level()),
+            Samples::Sixteen(s) => map3([0, 1, 2], |c| s[index][c].level()),
+        }
+    }
+
+    /// Full scale of a level: 255 or 65535.
+    pub fn full_scale(&self) -> f64 {
+        match self.samples {
+            Samples::Eight(_) => u8::FULL_SCALE,
+            Samples::Sixteen(_) => u16::FULL_SCALE,
+        }
+    }
+
+    /// Smallest and largest RGB value over every pixel, in [0, 1].
     pub fn rgb_range(&self) -> (f32, f32) {
-        fn range<S: Sample>(s: &[[S; 4]]) -> Option<(f32, f32)> {
+        let (lo, hi) = self.level_range();
+        ((lo / self.full_scale()) as f32, (hi / self.full_scale()) as f32)
+    }
+
+    /// Smallest and largest RGB level over every pixel (a parallel, vectorised scan).
+    pub fn level_range(&self) -> (f64, f64) {
+        fn range<S: Sample>(s: &[[S; 4]]) -> Option<(f64, f64)> {
             let first = s.first()?[0];
             let (lo, hi) = s
                 .par_chunks(4096)
@@ -267,7 +307,7 @@ impl NormalImage {
                     (lo, hi)
                 })
                 .reduce(|| (first, first), |a, b| (a.0.min(b.0), a.1.max(b.1)));
-            Some((lo.unit(), hi.unit()))
+            Some((lo.level(), hi.level()))
         }
         match &self.samples {
             Samples::Eight(s) => range(s),
@@ -277,47 +317,70 @@ impl NormalImage {
     }
 }
 
-/// The `tp` preset's scaling: n = (c − min)/(max − min) with one min and max over every RGB value
-/// of the image. Only constructible with min < max, so the division is always defined.
+/// The `tp` preset's scaling: n = (v − min)/(max − min) with one min and max over every RGB value
+/// of the image, in float64 and in the units of the values it scales — an image's integer levels
+/// ([`TpScaling::of`]: numerator and denominator exact, one rounding), or [0, 1]
+/// ([`TpScaling::new`]). Only constructible with min < max, so the division is always defined.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TpScaling {
-    min: f32,
-    max: f32,
-    inv_range: f32,
+    min: f64,
+    max: f64,
+    full_scale: f64,
 }
 
 impl TpScaling {
-    /// The scaling for an image whose RGB values span [`min`, `max`]; an error unless
-    /// min < max, both finite (max − min = 0 would divide by zero: such an image is one flat
-    /// colour and holds no normal information).
-    pub fn new(min: f32, max: f32) -> Result<TpScaling, String> {
+    /// The scaling of values in [0, 1] spanning [`min`, `max`]; an error unless min < max, both
+    /// finite (max − min = 0 would divide by zero: such an image is one flat colour and holds no
+    /// normal information).
+    pub fn new(min: f64, max: f64) -> Result<TpScaling, String> {
+        Self::of_levels(min, max, 1.0)
+    }
+
+    /// The scaling of levels in [0, `full_scale`] spanning [`min`, `max`] (see [`TpScaling::new`]).
+    pub fn of_levels(min: f64, max: f64, full_scale: f64) -> Result<TpScaling, String> {
         if !(max > min && min.is_finite() && max.is_finite()) {
             return Err(format!(
-                "every RGB value is {min}: the tp preset's scaling (c − min)/(max − min) divides by zero"
+                "every RGB value is {}: the tp preset's scaling (c − min)/(max − min) divides by zero",
+                min / full_scale
             ));
         }
-        // max − min ≥ one ulp of max > 0, and ≥ 1/65535 for values read from a PNG: finite.
-        Ok(TpScaling {
-            min,
-            max,
-            inv_range: 1.0 / (max - min),
-        })
+        // max − min > 0 is exact for levels, and ≥ one ulp of max otherwise: never 0.
+        Ok(TpScaling { min, max, full_scale })
     }
 
-    /// The scaling of `image`'s RGB values (see [`TpScaling::new`]).
+    /// The scaling of `image`'s RGB levels (see [`TpScaling::new`]).
     pub fn of(image: &NormalImage) -> Result<TpScaling, String> {
-        let (min, max) = image.rgb_range();
-        Self::new(min, max)
+        let (min, max) = image.level_range();
+        Self::of_levels(min, max, image.full_scale())
     }
 
-    /// Smallest RGB value of the image, in [0, 1].
-    pub fn min(&self) -> f32 {
+    /// Smallest RGB value of the image, in its units.
+    pub fn min(&self) -> f64 {
         self.min
     }
 
-    /// Largest RGB value of the image, in [0, 1].
-    pub fn max(&self) -> f32 {
+    /// Largest RGB value of the image, in its units.
+    pub fn max(&self) -> f64 {
         self.max
+    }
+
+    /// Full scale of the units: 255 or 65535 for levels, 1 for values in [0, 1].
+    pub fn full_scale(&self) -> f64 {
+        self.full_scale
+    }
+
+    /// Whether a pixel of values `v` is background: max(v) ≤ 4/255 of full scale (4 and 1028
+    /// exactly for levels).
+    #[inline(always)]
+    pub fn is_background(&self, v: [f64; 3]) -> bool {
+        v[0].max(v[1]).max(v[2]) <= 4.0 * self.full_scale / 255.0
+    }
+
+    /// The normal of foreground values `v`: (v − min)/(max − min), in any [`Real`].
+    #[inline(always)]
+    pub fn normal<R: Real>(&self, v: [R; 3]) -> [R; 3] {
+        let (min, range) = (R::lit(self.min), R::lit(self.max - self.min));
+        map3(v, |c| (c - min) / range)
     }
 }
 
@@ -333,28 +396,31 @@ pub enum NormalDecoding {
 impl NormalDecoding {
     /// The normal stored in colour `rgb` with opacity `alpha`, or `None` for background.
     ///
-    /// `MinMax`: max − min > 0 is guaranteed by [`TpScaling::new`]. `Signed`: 2c − 1 can only be
-    /// the zero vector for c = (½, ½, ½), which no 8- or 16-bit value encodes exactly; if it does
-    /// occur the pixel has no direction and is background too (never a NaN from 0/0).
+    /// `MinMax`: max − min > 0 is guaranteed by [`TpScaling::new`]; the colour in [0, 1] is
+    /// taken to the scaling's units and decoded in float64, then rounded to f32 (the `tp` image
+    /// path shades in float64 from the levels themselves: [`ImageSurface::tp_lanes`]). `Signed`:
+    /// 2c − 1 can only be the zero vector for c = (½, ½, ½), which no 8- or 16-bit value encodes
+    /// exactly; if it does occur the pixel has no direction and is background too (never a NaN
+    /// from 0/0).
     #[inline(always)]
     pub fn normal(self, rgb: [f32; 3], alpha: f32) -> Option<Vec3> {
-        let background = match self {
-            NormalDecoding::MinMax(_) => rgb[0].max(rgb[1]).max(rgb[2]) <= TP_BACKGROUND_LEVEL,
-            NormalDecoding::Signed => alpha == 0.0 || rgb == [0.0; 3],
+        let (background, n) = match self {
+            NormalDecoding::MinMax(s) => {
+                let v = rgb.map(|c| c as f64 * s.full_scale);
+                let background = rgb[0].max(rgb[1]).max(rgb[2]) <= TP_BACKGROUND_LEVEL;
+                (background, Vec3::from(s.normal(v).map(|c| c as f32)))
+            }
+            NormalDecoding::Signed => (alpha == 0.0 || rgb == [0.0; 3], Vec3::from(Self::signed(rgb))),
         };
-        let n = Vec3::from(self.decode(rgb));
         (!background && n != Vec3::ZERO).then_some(n)
     }
 
-    /// The normal stored in the foreground colour `rgb`, in any [`Real`] (one pixel in f32, eight
-    /// in [`F32x8`] lanes): (c − min)·1/(max − min), or normalise(2c − 1) (zero where 2c − 1 is).
-    /// A `MinMax` normal is zero only at c = min in every channel, which is background.
+    /// The `physical` normal of the foreground colour `rgb` (each channel in [0, 1]), in any
+    /// [`Real`] (one pixel in f32, eight in [`F32x8`] lanes): normalise(2c − 1), zero where
+    /// 2c − 1 is.
     #[inline(always)]
-    pub fn decode<R: Real>(self, rgb: [R; 3]) -> [R; 3] {
-        match self {
-            NormalDecoding::MinMax(s) => map3(rgb, |c| (c - R::of(s.min)) * R::of(s.inv_range)),
-            NormalDecoding::Signed => normalize_or_zero(map3(rgb, |c| c * R::lit(2.0) - R::one())),
-        }
+    pub fn signed<R: Real>(rgb: [R; 3]) -> [R; 3] {
+        normalize_or_zero(map3(rgb, |c| c * R::lit(2.0) - R::one()))
     }
 }
 
@@ -505,11 +571,11 @@ impl ImageSurface {
         }
     }
 
-    /// The surface points of the pixels at columns `cols` of row `row`, in lanes: the decoding,
-    /// position and ω_o of [`ImageSurface::point`], computed by the same generic functions eight
-    /// pixels per operation. The columns must be foreground ([`ImageSurface::foreground_columns`]);
-    /// the one foreground colour `point` still rejects — a `physical` 2c − 1 = 0, which no 8- or
-    /// 16-bit value encodes — would give a zero normal here.
+    /// The `physical` surface points of the pixels at columns `cols` of row `row`, in lanes: the
+    /// decoding, position and ω_o of [`ImageSurface::point`], computed by the same generic
+    /// functions eight pixels per operation. The columns must be foreground
+    /// ([`ImageSurface::foreground_columns`]); the one foreground colour `point` still rejects — a
+    /// 2c − 1 = 0, which no 8- or 16-bit value encodes — would give a zero normal here.
     #[inline(always)]
     pub fn lanes(&self, image: &NormalImage, row: u32, cols: [u32; LANES]) -> SurfaceLanes {
         let rgb = match &image.samples {
@@ -522,8 +588,54 @@ impl ImageSurface {
         let position = self.position_of(col, F32x8::splat(row as f32));
         SurfaceLanes {
             position,
-            shading_normal: self.decoding.decode(rgb),
+            shading_normal: NormalDecoding::signed(rgb),
             to_viewer: self.viewer.to_viewer_from(position),
+            material: self.material,
+        }
+    }
+
+    /// The `tp` surface points of the pixels at columns `cols` (foreground) of row `row`, in the
+    /// lanes of `Lanes<T, N>` (four float64 lanes for the preset; f32 lanes for comparison):
+    /// [`ImageSurface::tp_point`] of each.
+    #[inline(always)]
+    pub fn tp_lanes<T: Scalar, const N: usize>(
+        &self,
+        scaling: &TpScaling,
+        image: &NormalImage,
+        row: u32,
+        cols: [u32; N],
+    ) -> SurfaceLanes<Lanes<T, N>> {
+        fn levels<S: Sample, T: Scalar, const N: usize>(samples: &[[S; 4]], cols: [u32; N]) -> [Lanes<T, N>; 3] {
+            map3([0, 1, 2], |c| {
+                Lanes::from_fn(|i| T::lit(samples[cols[i] as usize][c].level()))
+            })
+        }
+        let v = match &image.samples {
+            Samples::Eight(s) => levels(&s[self.row_range(row)], cols),
+            Samples::Sixteen(s) => levels(&s[self.row_range(row)], cols),
+        };
+        let col = Lanes::from_fn(|i| T::lit(cols[i] as f64));
+        self.tp_point(scaling, v, col, Lanes::splat(T::lit(row as f64)))
+    }
+
+    /// The `tp` surface point of a foreground pixel at (`col`, `row`) with values `v` in
+    /// `scaling`'s units, in any [`Real`] (float64 for the preset): n = (v − min)/(max − min),
+    /// x = (row, col, 0), and ω_o = (x_c − x)/‖x_c − x‖ formed as the report writes it
+    /// ([`report_unit`]) — so that, in float64, n·ω_o is the numpy implementation's to the bit.
+    #[inline(always)]
+    pub fn tp_point<R: Real>(&self, scaling: &TpScaling, v: [R; 3], col: R, row: R) -> SurfaceLanes<R> {
+        let position = self.position_of(col, row);
+        let to_viewer = match self.viewer {
+            Viewer::Direction(d) => map3(d.to_array(), R::of),
+            Viewer::Position(c) => {
+                let c = map3(c.to_array(), R::of);
+                report_unit([c[0] - position[0], c[1] - position[1], c[2] - position[2]]).0
+            }
+        };
+        SurfaceLanes {
+            position,
+            shading_normal: scaling.normal(v),
+            to_viewer,
             material: self.material,
         }
     }
@@ -636,7 +748,10 @@ mod tests {
             has_alpha: false,
         };
         let s = TpScaling::of(&img).unwrap();
-        assert_eq!((s.min(), s.max()), (0.2, 0.8));
+        assert_eq!((s.min(), s.max(), s.full_scale()), (51.0, 204.0, 255.0), "levels");
+        // (v − min)/(max − min) on the levels: one division of exact integers.
+        assert_eq!(s.normal([51.0, 127.5, 204.0]), [0.0, 0.5, 1.0]);
+        assert_eq!(s.normal([102.0f64; 3])[0], (102.0 - 51.0) / 153.0);
         let n = NormalDecoding::MinMax(s).normal([0.2, 0.5, 0.8], 1.0).unwrap();
         assert!((n - Vec3::new(0.0, 0.5, 1.0)).abs().max_element() < 1e-6);
         let flat = NormalImage {
@@ -663,7 +778,29 @@ mod tests {
             source: "m.png".into(),
         };
         assert_eq!(many.rgb_range(), (12.0 / 255.0, 201.0 / 255.0));
-        assert!(TpScaling::new(0.0, f32::NAN).is_err());
+        assert_eq!(many.level_range(), (12.0, 201.0));
+        assert!(TpScaling::new(0.0, f64::NAN).is_err());
+    }
+
+    #[test]
+    fn tp_background_of_levels_is_the_integer_rule() {
+        // The f64 test on levels decides as the integer test the row scan runs, at both depths.
+        let eight = TpScaling::of_levels(0.0, 255.0, 255.0).unwrap();
+        for v in 0..=255u8 {
+            assert_eq!(
+                eight.is_background([v as f64, 0.0, 0.0]),
+                !u8::tp_foreground([v, 0, 0, 255]),
+                "{v}"
+            );
+        }
+        let sixteen = TpScaling::of_levels(0.0, 65535.0, 65535.0).unwrap();
+        for v in 0..=65535u16 {
+            assert_eq!(
+                sixteen.is_background([0.0, v as f64, 0.0]),
+                !u16::tp_foreground([0, v, 0, 65535]),
+                "{v}"
+            );
+        }
     }
 
     #[test]

@@ -1,6 +1,7 @@
-//! The normal-map `tp` preset's degenerate and ordinary pixels: the f32 shading path the
+//! The normal-map `tp` preset's degenerate and ordinary pixels: the float64 shading path the
 //! `normalmap` command runs ([`shade_tp_pixel`]) against the same generic code — the assignment's
-//! dot products ([`assignment_dots`]) and [`Material::eval`] — composed in f64.
+//! dot products ([`assignment_dots`]) and [`Material::eval`] — composed again, in f64, with
+//! glam's vector operations.
 //!
 //! Documented values (docs/normal-maps.md, "Normal-map mode"): background and n = 0 give 0; a zero
 //! Cook-Torrance denominator (n·ω_o = 0) leaves the diffuse part alone; ω_i + ω_o = 0 has no half
@@ -79,8 +80,8 @@ fn pixel_case(
         format!("tp {} {name}", model.name()),
         format!("rgb {rgb:?} at ({row}, {col})"),
     );
-    let tp = TpScaling::new(scaling.0, scaling.1).expect("the cases use min < max");
-    let ours = shade_tp_pixel(&s, tp, rgb, row, col).as_dvec3();
+    let tp = TpScaling::new(scaling.0 as f64, scaling.1 as f64).expect("the cases use min < max");
+    let ours = shade_tp_pixel(&s, tp, rgb.map(f64::from), row, col);
     let reference = tp_pixel_f64(&s, scaling, rgb, row, col);
     for c in 0..3 {
         case.count(ours[c]);
@@ -153,7 +154,7 @@ pub fn run(samples: u64, seed: u64) -> Vec<Case> {
     let mut opposite = scene(ModelName::CookTorrance);
     opposite.viewer = Viewer::Direction(-wi); // ω_o = −ω_i exactly
     let tp = TpScaling::new(0.0, 1.0).expect("min < max");
-    let ours = shade_tp_pixel(&opposite, tp, [0.3, 0.2, 0.9], row, col).as_dvec3();
+    let ours = shade_tp_pixel(&opposite, tp, [0.3, 0.2, 0.9], row, col);
     let want = diffuse_only(ModelName::CookTorrance, Vec3::new(0.3, 0.2, 0.9), wi);
     let mut case = Case::new(
         "normal-map",
@@ -193,7 +194,7 @@ pub fn run(samples: u64, seed: u64) -> Vec<Case> {
         for _ in 0..samples {
             let rgb = [rng.uniform() as f32, rng.uniform() as f32, rng.uniform() as f32];
             let (row, col) = (rng.below(451) as u32, rng.below(768) as u32);
-            let ours = shade_tp_pixel(&s, tp, rgb, row, col).as_dvec3();
+            let ours = shade_tp_pixel(&s, tp, rgb.map(f64::from), row, col);
             let reference = tp_pixel_f64(&s, unit, rgb, row, col);
             (0..3).for_each(|c| case.count(ours[c]));
             // Ill-conditioned pixels keep their NaN/Inf/negative counts but not the tolerance.

@@ -28,7 +28,9 @@ pub use masking::{
     g1_schlick, g1_smith_ggx, schlick_k_assignment, schlick_k_karis, smith_ggx_correlated, MaskingShadowing,
 };
 pub use microfacet::{beckmann_d, ggx_d, MicrofacetDistribution, MIN_ALPHA};
-pub use real::{dot3, map3, normalize_or_zero, F32x8, LaneInstructions, LaneMask, Mask, Mask8, Real, Scalar, LANES};
+pub use real::{
+    dot3, map3, normalize_or_zero, F32x8, F64x4, LaneInstructions, LaneMask, Lanes, Mask, Mask8, Real, Scalar, LANES,
+};
 
 /// A term name that is not one of the known ones, with the list of valid names.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -1,13 +1,13 @@
-//! The number types BRDF terms are generic over: f32 (rendering), f64 (reference) and
-//! [`Lanes`] of f32: [`F32x8`] shades eight points per instruction, [`F32x4`] the three colour
-//! channels of one point (the conductor Fresnel term).
+//! The number types BRDF terms are generic over: f32 (rendering), f64 (reference, and the `tp`
+//! preset) and [`Lanes`] of either: [`F32x8`] shades eight points per instruction, [`F32x4`] the
+//! three colour channels of one point (the conductor Fresnel term), [`F64x4`] four `tp` pixels.
 //!
 //! The terms are written once, without data-dependent `if`: a condition is a [`Real::Mask`]
 //! (a `bool` for scalars, one flag per lane for [`Lanes`]) and picks values with
 //! [`Real::select`] or [`Real::choose`]. For scalars that is exactly the branchy code it
-//! replaces; for lanes every lane follows its own side. Every lane operation is the f32
+//! replaces; for lanes every lane follows its own side. Every lane operation is the scalar
 //! operation of that lane (IEEE-exact division and square root, the same `max`/`min` NaN rules,
-//! the same `exp`/`powf`), so a lane computes what the f32 code computes, to the bit except
+//! the same `exp`/`powf`), so a lane computes what the scalar code computes, to the bit except
 //! for the sign of a zero (`max(-0.0, 0.0)` may be either).
 
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
@@ -306,16 +306,21 @@ scalar_real!(f64);
 /// Lanes of [`F32x8`].
 pub const LANES: usize = 8;
 
-/// N f32 values operated on together. Plain arrays with per-lane loops: the compiler turns
-/// them into SIMD instructions on any target, with no `unsafe`.
+/// N values of one scalar precision operated on together. Plain arrays with per-lane loops: the
+/// compiler turns them into SIMD instructions on any target, with no `unsafe`. Each lane
+/// operation is the scalar [`Real`] operation of `T`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Lanes<const N: usize>(pub [f32; N]);
+pub struct Lanes<T, const N: usize>(pub [T; N]);
 
-/// Eight lanes (two SSE or one AVX register): the lane shader's points.
-pub type F32x8 = Lanes<LANES>;
+/// Eight f32 lanes (two SSE or one AVX register): the lane shader's points.
+pub type F32x8 = Lanes<f32, LANES>;
 
-/// Four lanes (one SSE register): the three colour channels of one point, and a spare.
-pub type F32x4 = Lanes<4>;
+/// Four f32 lanes (one SSE register): the three colour channels of one point, and a spare.
+pub type F32x4 = Lanes<f32, 4>;
+
+/// Four f64 lanes (one AVX register): the `tp` preset's points, shaded in float64 as the
+/// assignment's numpy code is.
+pub type F64x4 = Lanes<f64, 4>;
 
 /// A per-lane condition of `Lanes`: all bits set for true, clear for false (the layout SIMD
 /// comparisons produce).
@@ -343,17 +348,17 @@ impl<const N: usize> LaneMask<N> {
     }
 }
 
-impl<const N: usize> Lanes<N> {
+impl<T: Scalar, const N: usize> Lanes<T, N> {
     /// Every lane `v`.
     #[inline(always)]
-    pub fn splat(v: f32) -> Self {
+    pub fn splat(v: T) -> Self {
         Lanes([v; N])
     }
 
     /// Lane `i` is `f(i)`. (Plain loops: `array::map` and `from_fn` are not always inlined.)
     #[inline(always)]
-    pub fn from_fn(f: impl Fn(usize) -> f32) -> Self {
-        let mut v = [0.0; N];
+    pub fn from_fn(f: impl Fn(usize) -> T) -> Self {
+        let mut v = [T::zero(); N];
         for (i, v) in v.iter_mut().enumerate() {
             *v = f(i);
         }
@@ -361,24 +366,24 @@ impl<const N: usize> Lanes<N> {
     }
 
     #[inline(always)]
-    fn map(self, f: impl Fn(f32) -> f32) -> Self {
+    fn map(self, f: impl Fn(T) -> T) -> Self {
         Self::from_fn(|i| f(self.0[i]))
     }
 
     #[inline(always)]
-    fn zip(self, other: Self, f: impl Fn(f32, f32) -> f32) -> Self {
+    fn zip(self, other: Self, f: impl Fn(T, T) -> T) -> Self {
         Self::from_fn(|i| f(self.0[i], other.0[i]))
     }
 
     #[inline(always)]
-    fn compare(self, other: Self, f: impl Fn(f32, f32) -> bool) -> LaneMask<N> {
+    fn compare(self, other: Self, f: impl Fn(T, T) -> bool) -> LaneMask<N> {
         LaneMask::from_fn(|i| f(self.0[i], other.0[i]))
     }
 }
 
 macro_rules! lane_ops {
     ($($op:ident $method:ident $sym:tt),+) => {$(
-        impl<const N: usize> $op for Lanes<N> {
+        impl<T: Scalar, const N: usize> $op for Lanes<T, N> {
             type Output = Self;
             #[inline(always)]
             fn $method(self, other: Self) -> Self {
@@ -389,7 +394,7 @@ macro_rules! lane_ops {
 }
 lane_ops!(Add add +, Sub sub -, Mul mul *, Div div /);
 
-impl<const N: usize> Neg for Lanes<N> {
+impl<T: Scalar, const N: usize> Neg for Lanes<T, N> {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
@@ -441,57 +446,57 @@ impl<const N: usize> Mask for LaneMask<N> {
     }
 }
 
-impl<const N: usize> Real for Lanes<N> {
+impl<T: Scalar, const N: usize> Real for Lanes<T, N> {
     type Mask = LaneMask<N>;
     #[inline(always)]
     fn lit(v: f64) -> Self {
-        Self::splat(v as f32)
+        Self::splat(T::lit(v))
     }
     #[inline(always)]
     fn of(v: f32) -> Self {
-        Self::splat(v)
+        Self::splat(T::of(v))
     }
     #[inline(always)]
     fn min_positive_value() -> Self {
-        Self::splat(f32::MIN_POSITIVE)
+        Self::splat(T::min_positive_value())
     }
     #[inline(always)]
     fn max(self, other: Self) -> Self {
-        self.zip(other, f32::max)
+        self.zip(other, T::max)
     }
     #[inline(always)]
     fn min(self, other: Self) -> Self {
-        self.zip(other, f32::min)
+        self.zip(other, T::min)
     }
     #[inline(always)]
     fn sqrt(self) -> Self {
-        self.map(f32::sqrt)
+        self.map(T::sqrt)
     }
     #[inline(always)]
     fn recip(self) -> Self {
-        self.map(f32::recip)
+        self.map(T::recip)
     }
     #[inline(always)]
     fn abs(self) -> Self {
-        self.map(f32::abs)
+        self.map(T::abs)
     }
-    // The transcendental functions call the f32 ones lane by lane: the same values as the
+    // The transcendental functions call the scalar ones lane by lane: the same values as the
     // scalar code (a vector approximation would differ in the last bits).
     #[inline(always)]
     fn exp(self) -> Self {
-        self.map(f32::exp)
+        self.map(T::exp)
     }
     #[inline(always)]
     fn exp2(self) -> Self {
-        self.map(f32::exp2)
+        self.map(T::exp2)
     }
     #[inline(always)]
     fn ln_1p(self) -> Self {
-        self.map(f32::ln_1p)
+        self.map(T::ln_1p)
     }
     #[inline(always)]
     fn powf(self, e: Self) -> Self {
-        self.zip(e, f32::powf)
+        self.zip(e, T::powf)
     }
     #[inline(always)]
     fn gt(self, other: Self) -> LaneMask<N> {
@@ -514,7 +519,7 @@ impl<const N: usize> Real for Lanes<N> {
         // a·0 = 0 exactly when a is finite (∞·0 and NaN·0 are NaN): a vector multiply and
         // compare. Written as a class test (`is_finite`, or |a| < ∞ next to a > 0), the
         // compiler merges it into one floating-point class query that x86 evaluates lane by lane.
-        (self * Self::splat(0.0)).eq(Self::splat(0.0))
+        (self * Self::splat(T::zero())).eq(Self::splat(T::zero()))
     }
     #[inline(always)]
     fn select(mask: LaneMask<N>, a: Self, b: Self) -> Self {

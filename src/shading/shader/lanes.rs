@@ -13,7 +13,7 @@ use glam::Vec3;
 
 use super::{assignment_term, Shader, BATCH};
 use crate::shading::brdf::{dot3, map3, F32x8, LaneInstructions, LaneMask, LocalDots, Mask, Mask8, Real, LANES};
-use crate::shading::convention::ShadingConvention;
+use crate::shading::convention::{report_unit, ShadingConvention};
 use crate::shading::light::{Light, LightSamples};
 use crate::shading::material::Material;
 use crate::shading::shadow::{Occluder, ShadowRay};
@@ -176,20 +176,29 @@ impl<O: Occluder> Shader<'_, O> {
         map3(radiance, |c| c.min(F32x8::splat(f32::MAX)))
     }
 
-    /// The assignment convention's L_o (see [`Shader::shade`]) of eight points, per channel: the
-    /// dot products, lights and BRDF run on [`F32x8`] lanes — the same functions, in eight lanes,
-    /// giving what the scalar path gives. Only for a shader whose convention is
+    /// The assignment convention's L_o (see [`Shader::shade`]) of the points in the lanes of
+    /// `R`, per channel: eight in [`F32x8`], four `tp` pixels in float64 lanes, one point in a
+    /// scalar — the same functions in every precision. Only for a shader whose convention is
     /// [`ShadingConvention::Assignment`] (the caller's plan decides; the result ignores sides).
     #[inline(always)]
-    pub fn shade_assignment_lanes(&self, points: &SurfaceLanes) -> [F32x8; 3] {
+    pub fn shade_assignment_lanes<R: Real>(&self, points: &SurfaceLanes<R>) -> [R; 3] {
         debug_assert_eq!(self.convention, ShadingConvention::Assignment);
         let material = &self.materials[points.material as usize];
-        let mut radiance = [F32x8::splat(0.0); 3];
+        let x = points.position;
+        let mut radiance = [R::zero(); 3];
         for light in self.lights {
             // Where the light sends nothing (a light at the point), its irradiance is 0 and its
             // direction the zero vector: the term is 0 and finite.
-            let ls = light.sample_points(points.position);
-            let wi_from_light = map3(ls.wi, |c| -c);
+            let ls = light.sample_points(x);
+            // The report's ω_i = (x − x_s)/‖x − x_s‖, formed as it writes it (`report_unit`); a
+            // directional light's direction of travel.
+            let wi_from_light = match light.position() {
+                Some(x_s) => {
+                    let x_s = map3(x_s.to_array(), R::of);
+                    report_unit([x[0] - x_s[0], x[1] - x_s[1], x[2] - x_s[2]]).0
+                }
+                None => map3(ls.wi, |c| -c),
+            };
             let term = assignment_term(
                 material,
                 points.shading_normal,
@@ -201,7 +210,7 @@ impl<O: Occluder> Shader<'_, O> {
                 radiance[c] = radiance[c] + term[c];
             }
         }
-        map3(radiance, |c| c.min(F32x8::splat(f32::MAX)))
+        map3(radiance, |c| c.min(R::lit(f32::MAX as f64)))
     }
 
     /// [`Shader::shade`] of a batch of at most [`BATCH`] points under the physical convention,

@@ -20,7 +20,7 @@ use crate::shading::light::{Light, LightSample};
 use crate::shading::material::{Material, PbrPoint, Specular};
 use crate::shading::shadow::{Occluder, SceneExtent, ShadowOffset, ShadowRay};
 use crate::shading::texture::TextureImage;
-use crate::surface::SurfacePoint;
+use crate::surface::{SurfaceLanes, SurfacePoint};
 
 mod lanes;
 
@@ -261,21 +261,18 @@ impl<O: Occluder> Shader<'_, O> {
     }
 
     /// The assignment's L_o = Σ L_i · f(ω_i, ω_o) · (n·ω_i) with ω_i from the light towards the
-    /// point, n as given and every dot product clamped to [0, 1] ([`assignment_dots`]). No sides
-    /// and no shadow rays (the plan never pairs this convention with an occluder). Where ω_i + ω_o
-    /// = 0 the half vector is undefined and only the diffuse part k_d·albedo/π is added.
+    /// point, n as given and every dot product clamped to [0, 1] ([`assignment_dots`]): the
+    /// lane path ([`Shader::shade_assignment_lanes`]) on one point in f32. No sides and no shadow
+    /// rays (the plan never pairs this convention with an occluder). Where ω_i + ω_o = 0 the half
+    /// vector is undefined and only the diffuse part k_d·albedo/π is added.
     #[inline(always)]
     fn shade_assignment(&self, sp: &SurfacePoint) -> Vec3 {
-        let material = &self.materials[sp.material as usize];
-        let n = sp.shading_normal.to_array();
-        let wo = sp.to_viewer.to_array();
-        let mut radiance = Vec3::ZERO;
-        for light in self.lights {
-            let Some(ls) = light.sample(sp.position) else { continue };
-            let term = assignment_term(material, n, (-ls.wi).to_array(), wo, ls.irradiance.to_array());
-            radiance += Vec3::from(term);
-        }
-        radiance.min(Vec3::splat(f32::MAX))
+        Vec3::from(self.shade_assignment_lanes(&SurfaceLanes::<f32> {
+            position: sp.position.to_array(),
+            shading_normal: sp.shading_normal.to_array(),
+            to_viewer: sp.to_viewer.to_array(),
+            material: sp.material,
+        }))
     }
 }
 
