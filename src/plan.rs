@@ -196,7 +196,7 @@ impl RenderPlan {
             if textures {
                 texture_summary(&used, scene)
             } else {
-                "no rendered material has a base colour, metallic-roughness or emissive texture".into()
+                "no rendered material has an albedo, base colour, metallic-roughness or emissive texture".into()
             },
         );
         let normal_names = names_where(&used, |m| m.pbr_textures().is_some_and(|t| t.normal.is_some()));
@@ -401,10 +401,10 @@ impl RenderPlan {
     }
 }
 
-/// Whether the shader looks up a texture of `m` (base colour, metallic-roughness, emissive).
+/// Whether the shader looks up a texture of `m` (albedo, base colour, metallic-roughness,
+/// emissive).
 fn samples_in_shader(m: &Material) -> bool {
-    m.pbr_textures()
-        .is_some_and(|t| t.varies_brdf() || (t.emissive.is_some() && m.emits()))
+    m.varies_brdf() || m.pbr_textures().is_some_and(|t| t.emissive.is_some() && m.emits())
 }
 
 fn names_where(used: &[&Material], keep: impl Fn(&Material) -> bool) -> Vec<String> {
@@ -420,6 +420,10 @@ fn texture_summary(used: &[&Material], scene: &Scene) -> String {
         ("emissive", |t| t.emissive.is_some()),
     ];
     let mut parts = Vec::new();
+    let albedo = names_where(used, |m| m.albedo_texture.is_some());
+    if !albedo.is_empty() {
+        parts.push(format!("albedo (MTL map_Kd): {}", albedo.join(", ")));
+    }
     for (kind, has) in kinds {
         let names = names_where(used, |m| m.pbr_textures().is_some_and(has));
         if !names.is_empty() {

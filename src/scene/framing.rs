@@ -9,6 +9,7 @@ use glam::Vec3;
 use crate::error::{InputError, InputResult};
 use crate::film::FilmSettings;
 use crate::scene::obj::{load_obj, NO_MATERIAL};
+use crate::scene::textures::decode_used_images;
 use crate::scene::{Scene, SceneObject};
 use crate::shading::light::{Falloff, Light, LightKind};
 use crate::shading::material::Material;
@@ -101,6 +102,7 @@ pub fn scene_for_bare_mesh(path: &Path) -> InputResult<Scene> {
             }
         }
     }
+    let textures = decode_used_images(&mut materials, &mesh.material_of_triangle, &obj.images)?;
     let (lo, hi) = mesh.bounds().ok_or_else(|| InputError::new(path, "no geometry"))?;
     let camera = frame_bounds(lo, hi);
     let lights = default_lights(lo, hi, &camera);
@@ -111,7 +113,7 @@ pub fn scene_for_bare_mesh(path: &Path) -> InputResult<Scene> {
         camera,
         lights,
         materials,
-        textures: Vec::new(),
+        textures,
         mesh,
         shadows: true,
         shadow_offset: Default::default(),
@@ -127,7 +129,7 @@ pub fn scene_for_bare_mesh(path: &Path) -> InputResult<Scene> {
             "camera: framed automatically on the bounding box".into(),
             "lights: default key + fill lights".into(),
         ],
-        warnings: obj.material_warning.into_iter().collect(),
+        warnings: obj.material_warning.into_iter().chain(obj.material_warnings).collect(),
     })
 }
 

@@ -39,10 +39,8 @@ pub struct PendingImage {
 /// scene's list).
 pub fn offset_images(materials: &mut [Material], base: u32) {
     for m in materials {
-        if let Some(t) = m.pbr_textures_mut() {
-            for r in t.refs_mut() {
-                r.image += base;
-            }
+        for r in m.texture_refs_mut() {
+            r.image += base;
         }
     }
 }
@@ -63,18 +61,15 @@ pub fn decode_used_images(
     let mut renumber: BTreeMap<u32, u32> = BTreeMap::new();
     let mut order = Vec::new();
     for (material, used) in materials.iter_mut().zip(used) {
-        let emits = material.emits();
-        let Some(textures) = material.pbr_textures_mut() else {
-            continue;
-        };
         if !used {
-            *textures = Default::default();
+            material.clear_textures();
             continue;
         }
-        if !emits {
+        let emits = material.emits();
+        if let Some(textures) = material.pbr_textures_mut().filter(|_| !emits) {
             textures.emissive = None;
         }
-        for r in textures.refs_mut() {
+        for r in material.texture_refs_mut() {
             let next = renumber.len() as u32;
             r.image = *renumber.entry(r.image).or_insert_with(|| {
                 order.push(r.image);

@@ -181,6 +181,10 @@ pub struct Material {
     pub two_sided: bool,
     /// The specular lobe.
     pub specular: Specular,
+    /// An sRGB texture whose RGB multiplies `albedo` per point (MTL `map_Kd`), for the Lambert,
+    /// Blinn-Phong and Cook-Torrance models; a `gltf-pbr` material's base colour texture is in
+    /// its [`PbrTextures`].
+    pub albedo_texture: Option<TextureRef>,
 }
 
 impl Material {
@@ -192,6 +196,7 @@ impl Material {
             kd: 1.0,
             two_sided: true,
             specular: Specular::None,
+            albedo_texture: None,
         }
     }
 
@@ -240,6 +245,41 @@ impl Material {
         }
     }
 
+    /// Every texture reference of the material, for renumbering and dropping images.
+    pub fn texture_refs_mut(&mut self) -> impl Iterator<Item = &mut TextureRef> {
+        let pbr = match &mut self.specular {
+            Specular::GltfPbr(p) => Some(&mut p.textures),
+            _ => None,
+        };
+        pbr.into_iter()
+            .flat_map(|t| t.refs_mut())
+            .chain(self.albedo_texture.as_mut())
+    }
+
+    /// Drops every texture reference (a material no triangle uses decodes no image).
+    pub fn clear_textures(&mut self) {
+        if let Some(t) = self.pbr_textures_mut() {
+            *t = PbrTextures::default();
+        }
+        self.albedo_texture = None;
+    }
+
+    /// Whether the BRDF's parameters vary over the surface with a texture: the albedo texture,
+    /// or a `gltf-pbr` base colour or metallic-roughness texture.
+    pub fn varies_brdf(&self) -> bool {
+        self.albedo_texture.is_some() || self.pbr_textures().is_some_and(PbrTextures::varies_brdf)
+    }
+
+    /// The albedo at texture coordinates `uvs` (sets 0 and 1): `albedo` times the albedo texture.
+    #[inline]
+    pub fn albedo_at(&self, uvs: [Vec2; 2], images: &[TextureImage]) -> [f32; 3] {
+        let mut albedo = Vec3::from(self.albedo);
+        if let Some(t) = self.albedo_texture {
+            albedo *= t.sample(images, uvs[t.tex_coord as usize], ColorSpace::Srgb).truncate();
+        }
+        albedo.to_array()
+    }
+
     /// Whether the material emits light (a `gltf-pbr` material with a non-zero emissive factor).
     pub fn emits(&self) -> bool {
         matches!(&self.specular, Specular::GltfPbr(p) if p.emissive.iter().any(|&e| e > 0.0))
@@ -273,8 +313,14 @@ impl Material {
     /// The diffuse part k_d·albedo/π, per channel.
     #[inline(always)]
     pub fn diffuse<R: Real>(&self) -> [R; 3] {
+        self.diffuse_of(self.albedo)
+    }
+
+    /// k_d·albedo/π, per channel, for the given albedo.
+    #[inline(always)]
+    fn diffuse_of<R: Real>(&self, albedo: [f32; 3]) -> [R; 3] {
         let kd = R::of(self.kd);
-        map3(self.albedo, |a| lambert(kd, R::of(a)))
+        map3(albedo, |a| lambert(kd, R::of(a)))
     }
 
     /// f_r = diffuse + specular, per channel, for the given dot products. Finite and ≥ 0 for any
@@ -282,7 +328,14 @@ impl Material {
     /// business; the Cook-Torrance lobe is 0 where either cosine is ≤ 0.
     #[inline(always)]
     pub fn eval<R: Real>(&self, dots: &LocalDots<R>) -> [R; 3] {
-        let d = self.diffuse::<R>();
+        self.eval_with_albedo(self.albedo, dots)
+    }
+
+    /// [`Material::eval`] with `albedo` in place of the material's (its value at a point of an
+    /// albedo texture, [`Material::albedo_at`]).
+    #[inline(always)]
+    pub fn eval_with_albedo<R: Real>(&self, albedo: [f32; 3], dots: &LocalDots<R>) -> [R; 3] {
+        let d = self.diffuse_of::<R>(albedo);
         match &self.specular {
             Specular::None => d,
             Specular::BlinnPhong(bp) => {
@@ -293,7 +346,7 @@ impl Material {
                 let s = ct.eval(dots);
                 map3([0, 1, 2], |c| d[c] + s[c])
             }
-            Specular::GltfPbr(p) => p.constant_point(self.albedo).eval(dots),
+            Specular::GltfPbr(p) => p.constant_point(albedo).eval(dots),
         }
     }
 

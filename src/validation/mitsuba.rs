@@ -95,6 +95,12 @@ pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice, mesh_prefix: &str) -> 
                 m.name
             ));
         }
+        if m.albedo_texture.is_some() {
+            differences.push(format!(
+                "material '{}': its MTL map_Kd albedo texture is not exported yet (Mitsuba renders the constant Kd)",
+                m.name
+            ));
+        }
         if m.emits() && m.two_sided {
             differences.push(format!(
                 "material '{}': emits from both sides (two-sided), Mitsuba's area emitter from the front only",
@@ -336,6 +342,11 @@ fn bsdf(
             plugin_bsdf(m, images, prefix),
             "pointshade BSDF plugin (exact by construction)",
         )
+    };
+    let note = if m.albedo_texture.is_some() {
+        "the constant Kd, without its map_Kd texture (not exported yet)"
+    } else {
+        note
     };
     let wrapped = if m.two_sided && !textures::plugin_handles_sides(m) {
         format!("<bsdf type=\"twosided\">{inner}</bsdf>")

@@ -16,6 +16,7 @@ mod gltf;
 mod gltf_mutations;
 mod gltf_shared;
 mod meshes;
+mod mtl;
 mod normalmap;
 mod shadow_terminator;
 mod shared_data;

@@ -124,6 +124,7 @@ impl MaterialDefaults {
                 ModelName::BlinnPhong => Specular::BlinnPhong(self.blinn_phong),
                 ModelName::CookTorrance => Specular::CookTorrance(self.cook_torrance),
             },
+            albedo_texture: None,
         }
     }
 }

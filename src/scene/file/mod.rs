@@ -201,7 +201,7 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
         let base = materials.len() as u32;
         let own_count = contents.materials.len() as u32;
         if assigned.is_none() {
-            warnings.extend(contents.material_warning);
+            warnings.extend(contents.material_warnings);
             let mut own = contents.materials;
             offset_images(&mut own, images.len() as u32);
             images.extend(contents.images);
@@ -312,8 +312,9 @@ struct ObjectContents {
     materials: Vec<Material>,
     /// Images the materials reference, not decoded.
     images: Vec<PendingImage>,
-    /// Why the file's materials could not be loaded (worth a warning only if they are used).
-    material_warning: Option<String>,
+    /// Why the file's materials could not be loaded, or which of their statements are not used
+    /// (worth a warning only if they are rendered).
+    material_warnings: Vec<String>,
     /// Warnings about the geometry.
     warnings: Vec<String>,
     /// Facts for `--explain`.
@@ -336,8 +337,8 @@ fn load_object(path: &Path) -> Result<ObjectContents, ObjectError> {
                 origin: c.origin,
                 derived_normals,
                 materials: c.materials,
-                images: Vec::new(),
-                material_warning: c.material_warning,
+                images: c.images,
+                material_warnings: c.material_warning.into_iter().chain(c.material_warnings).collect(),
                 warnings: Vec::new(),
                 notes: Vec::new(),
             })
@@ -359,7 +360,7 @@ fn load_object(path: &Path) -> Result<ObjectContents, ObjectError> {
                 derived_normals: Vec::new(),
                 materials: c.materials,
                 images: c.images,
-                material_warning: None,
+                material_warnings: Vec::new(),
                 warnings: c.warnings,
                 notes,
             })

@@ -1,13 +1,15 @@
 //! Wavefront OBJ/MTL loading (via tobj) into a [`TriangleMesh`] and [`Material`]s.
 //!
 //! Polygons are fan-triangulated and vertices are unique (position, uv, normal) tuples, as in
-//! Mitsuba's OBJ loader, so a mesh renders the same in both. MTL materials map to the BRDF models:
-//! `Pr`/`Pm` (the PBR extension) → Cook-Torrance; `Ks` with `Ns` → Blinn-Phong; otherwise `Kd` →
-//! Lambert. A missing MTL file is a warning, not an error (many OBJ files name one they lack).
+//! Mitsuba's OBJ loader, so a mesh renders the same in both. MTL materials map to the BRDF models
+//! (`mtl.rs`): `Pr`/`Pm` (the PBR extension) → Cook-Torrance; `Ks` with `Ns` → Blinn-Phong;
+//! otherwise `Kd` → Lambert; `map_Kd` textures the albedo. A missing MTL file is a warning, not
+//! an error (many OBJ files name one they lack), and so is every MTL statement left unused.
 //!
 //! Plain files (positions and triangles only, like the scanned meshes) are parsed on all cores by
 //! `plain.rs`, which returns exactly what tobj would; everything else goes to tobj.
 
+mod mtl;
 mod plain;
 
 use std::path::Path;
@@ -16,8 +18,8 @@ use glam::{DVec3, Vec2, Vec3};
 
 use crate::error::{InputError, InputResult};
 use crate::scene::mesh::{local_origin, DerivedNormals, TriangleMesh};
-use crate::shading::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
-use crate::shading::material::{BlinnPhong, CookTorrance, Material, Specular};
+use crate::scene::textures::PendingImage;
+use crate::shading::material::Material;
 
 /// The geometry and materials of one OBJ file, in the file's own coordinates.
 #[derive(Debug)]
@@ -30,9 +32,15 @@ pub struct ObjContents {
     pub origin: DVec3,
     /// The MTL materials, converted.
     pub materials: Vec<Material>,
+    /// The images the materials' textures (`map_Kd`) name, not decoded: the caller decodes
+    /// those a rendered material uses (`scene::textures::decode_used_images`).
+    pub images: Vec<PendingImage>,
     /// Why the file's material library could not be used, if it names one that failed to load.
     /// Only worth a warning when the caller actually renders the file's own materials.
     pub material_warning: Option<String>,
+    /// One warning per MTL statement the materials hold that pointshade does not use, naming
+    /// the statement and the materials (again only worth showing if they are rendered).
+    pub material_warnings: Vec<String>,
 }
 
 /// Material index meaning "no material assigned in the file".
@@ -161,24 +169,18 @@ pub fn load_obj_underived(path: &Path) -> InputResult<(ObjContents, Vec<DerivedN
     }
     mesh.uvs = (all_have_uvs && uvs.len() == mesh.positions.len()).then_some(uvs);
 
-    let materials = materials
-        .iter()
-        .map(|m| material_from_mtl(m).map_err(|e| InputError::new(path, format!("material '{}': {e}", m.name))))
-        .collect::<InputResult<Vec<_>>>()?;
+    let mtl = mtl::convert(&materials, &dir, path, mesh.uvs.is_some())?;
     Ok((
         ObjContents {
             mesh,
             origin,
-            materials,
+            materials: mtl.materials,
+            images: mtl.images,
             material_warning,
+            material_warnings: mtl.warnings,
         },
         derived,
     ))
-}
-
-/// A colour of an MTL file (read in f64, as tobj reads everything with `use_f64`).
-fn single(c: [f64; 3]) -> [f32; 3] {
-    c.map(|v| v as f32)
 }
 
 /// tobj's models and materials for an OBJ file's `bytes`, whose MTL files are looked up in `dir`.
@@ -245,60 +247,10 @@ fn has_vertex_attributes(bytes: &[u8]) -> bool {
     })
 }
 
-/// Converts one MTL material to the BRDF module's [`Material`].
-///
-/// - `Pr` (roughness) or `Pm` (metallic) present → Cook-Torrance with the GGX + height-correlated
-///   Smith + Schlick terms of the PBR workflow that extension comes from, α = Pr² (Pr is a
-///   perceptual roughness there), metallic when Pm ≥ 0.5 (then Kd tints the specular colour and
-///   the diffuse part is off), F0 from `Ni` (default 1.5) otherwise.
-/// - `Ks` non-black and `Ns` given → Blinn-Phong with `specular_color = Ks`, `shininess = Ns`.
-/// - Otherwise Lambert with `albedo = Kd`.
-pub fn material_from_mtl(m: &tobj::Material) -> Result<Material, String> {
-    let albedo = m.diffuse.map_or([0.8, 0.8, 0.8], single);
-    let param = |key: &str| -> Result<Option<f32>, String> {
-        m.unknown_param
-            .get(key)
-            .map(|v| {
-                v.trim()
-                    .parse::<f32>()
-                    .map_err(|_| format!("{key} '{v}' is not a number"))
-            })
-            .transpose()
-    };
-    let (pr, pm) = (param("Pr")?, param("Pm")?);
-    let mut material = Material::lambert(&m.name, albedo);
-    if pr.is_some() || pm.is_some() {
-        let metallic = pm.unwrap_or(0.0) >= 0.5;
-        let roughness = pr.unwrap_or(0.5);
-        material.specular = Specular::CookTorrance(CookTorrance {
-            alpha: roughness * roughness,
-            d: MicrofacetDistribution::Ggx,
-            g: MaskingShadowing::SmithGgxCorrelated,
-            f: FresnelTerm::Schlick,
-            metallic,
-            specular_color: if metallic { albedo } else { [1.0; 3] },
-            ior: m.optical_density.map_or(1.5, |n| n as f32),
-            ..CookTorrance::default()
-        });
-        if metallic {
-            material.kd = 0.0;
-        }
-    } else if let (Some(ks), Some(ns)) = (m.specular.map(single), m.shininess.map(|s| s as f32)) {
-        if ks.iter().any(|&c| c > 0.0) {
-            material.specular = Specular::BlinnPhong(BlinnPhong {
-                ks: 1.0,
-                shininess: ns,
-                color: ks,
-            });
-        }
-    }
-    material.validate()?;
-    Ok(material)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::shading::material::Specular;
 
     #[test]
     fn a_mesh_in_map_coordinates_keeps_its_precision_relative_to_its_centre() {

@@ -36,7 +36,16 @@ struct Facing<'m> {
     ng: Vec3,
     ns: Vec3,
     cos_o: f32,
-    textured: Option<PbrPoint>,
+    textured: Option<Textured>,
+}
+
+/// A textured material's BRDF parameters at one point, looked up once for all lights.
+#[derive(Clone, Copy)]
+enum Textured {
+    /// A `gltf-pbr` material's base colour, metallic and roughness.
+    Pbr(PbrPoint),
+    /// Another model's albedo (`Material::albedo_texture`).
+    Albedo([f32; 3]),
 }
 
 /// A light in front of a point: its sample, cos θ_i and the BRDF's dot products.
@@ -172,7 +181,7 @@ impl<O: Occluder> Shader<'_, O> {
     /// Whether `material`'s BRDF parameters vary with its textures here (then each point
     /// looks them up: see `facing`).
     fn textured_brdf(&self, material: &Material) -> bool {
-        self.textures.is_some() && matches!(&material.specular, Specular::GltfPbr(p) if p.textures.varies_brdf())
+        self.textures.is_some() && material.varies_brdf()
     }
 
     /// Emitted radiance of `sp`, and what shading under the lights needs of it — `None` when
@@ -200,9 +209,13 @@ impl<O: Occluder> Shader<'_, O> {
         }
         // Textured glTF materials: their BRDF parameters at this point, looked up once for all
         // lights.
+        let uvs = [sp.uv, sp.uv1];
         let textured = match (self.textures, &material.specular) {
             (Some(images), Specular::GltfPbr(p)) if p.textures.varies_brdf() => {
-                Some(p.point_at(material.albedo, [sp.uv, sp.uv1], images))
+                Some(Textured::Pbr(p.point_at(material.albedo, uvs, images)))
+            }
+            (Some(images), _) if material.albedo_texture.is_some() => {
+                Some(Textured::Albedo(material.albedo_at(uvs, images)))
             }
             _ => None,
         };
@@ -254,7 +267,8 @@ impl<O: Occluder> Shader<'_, O> {
     #[inline(always)]
     fn reflected(&self, facing: &Facing, lit: &Lit) -> Vec3 {
         let f = Vec3::from(match &facing.textured {
-            Some(point) => point.eval(&lit.dots),
+            Some(Textured::Pbr(point)) => point.eval(&lit.dots),
+            Some(Textured::Albedo(albedo)) => facing.material.eval_with_albedo(*albedo, &lit.dots),
             None => facing.material.eval(&lit.dots),
         });
         f * lit.ls.irradiance * lit.cos_i

@@ -1,0 +1,270 @@
+//! MTL materials → the BRDF module's [`Material`]s: the model their keys choose, the albedo
+//! texture `map_Kd` names, and one warning for each MTL statement that nothing reads.
+//!
+//! | MTL | pointshade |
+//! |---|---|
+//! | `Kd` | albedo (Lambert; Blinn-Phong's diffuse; Cook-Torrance's, or its specular colour when metallic) |
+//! | `Ks` + `Ns` (Ks not black) | Blinn-Phong: specular colour `Ks`, shininess `Ns` |
+//! | `Pr`, `Pm` (the PBR extension) | Cook-Torrance, GGX + height-correlated Smith + Schlick, α = Pr², metallic when Pm ≥ 0.5 |
+//! | `Ni` | a dielectric Cook-Torrance material's index of refraction |
+//! | `map_Kd` (`-clamp on`) | an sRGB texture multiplying the albedo, bilinear, repeated (clamped) |
+//!
+//! Everything else (`Ka`, `Ke`, `d`, `illum`, `map_Ks`, `map_Ns`, `map_Pr`, `map_Pm`, `norm`,
+//! `map_Bump`, …) is left out with a warning naming the statement and the materials that hold it.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use crate::error::{InputError, InputResult};
+use crate::scene::textures::{ImageSource, PendingImage};
+use crate::shading::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
+use crate::shading::material::{BlinnPhong, CookTorrance, Material, Specular};
+use crate::shading::texture::{TextureRef, Wrap};
+
+/// The materials of an OBJ file's MTL libraries, converted.
+pub(super) struct MtlMaterials {
+    /// One per MTL material, in the file's order.
+    pub materials: Vec<Material>,
+    /// The images their textures name (`TextureRef::image` indexes this list).
+    pub images: Vec<PendingImage>,
+    /// One per unused MTL statement.
+    pub warnings: Vec<String>,
+}
+
+/// Converts `materials` (read by tobj from `obj`'s libraries); texture files are looked up in
+/// `dir`, the OBJ file's folder. `has_uvs`: whether the mesh has texture coordinates (without
+/// them a texture cannot be looked up, and is one more unused statement).
+pub(super) fn convert(
+    materials: &[tobj::Material],
+    dir: &Path,
+    obj: &Path,
+    has_uvs: bool,
+) -> InputResult<MtlMaterials> {
+    let mut out = MtlMaterials {
+        materials: Vec::with_capacity(materials.len()),
+        images: Vec::new(),
+        warnings: Vec::new(),
+    };
+    // Statement → the materials holding it unused (ordered, so warnings come in a fixed order).
+    let mut unused: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    for m in materials {
+        let named = |e: String| InputError::new(obj, format!("material '{}': {e}", m.name));
+        let mut material = material_from_mtl(m).map_err(named)?;
+        let mut leave = |statement: &str| unused.entry(statement.to_string()).or_default().push(m.name.clone());
+        for statement in unused_statements(m, &material) {
+            leave(statement);
+        }
+        if let Some(value) = &m.diffuse_texture {
+            let metallic = matches!(material.specular, Specular::CookTorrance(ct) if ct.metallic);
+            let texture = texture_statement(value).map_err(|e| named(format!("map_Kd: {e}")))?;
+            for option in &texture.ignored_options {
+                leave(&format!("map_Kd option {option}"));
+            }
+            if metallic {
+                // k_d = 0: the albedo is the specular colour, which no texture modulates.
+                leave("map_Kd (on a metallic material)");
+            } else if !has_uvs {
+                leave("map_Kd (the mesh has no texture coordinates)");
+            } else {
+                let image = out.images.len() as u32;
+                out.images.push(PendingImage {
+                    origin: obj.to_path_buf(),
+                    label: format!("material '{}' map_Kd ('{}')", m.name, texture.file),
+                    source: ImageSource::Uri {
+                        dir: dir.to_path_buf(),
+                        uri: texture.file,
+                    },
+                });
+                let wrap = if texture.clamp { Wrap::ClampToEdge } else { Wrap::Repeat };
+                material.albedo_texture = Some(TextureRef {
+                    wrap_u: wrap,
+                    wrap_v: wrap,
+                    ..TextureRef::gltf_default(image)
+                });
+            }
+        }
+        out.materials.push(material);
+    }
+    out.warnings = unused
+        .into_iter()
+        .map(|(statement, names)| {
+            format!(
+                "{}: MTL statement {statement} is not used by pointshade (material(s) {})",
+                obj.display(),
+                names.join(", ")
+            )
+        })
+        .collect();
+    Ok(out)
+}
+
+/// Converts one MTL material to the BRDF module's [`Material`] (its textures aside).
+///
+/// - `Pr` (roughness) or `Pm` (metallic) present → Cook-Torrance with the GGX + height-correlated
+///   Smith + Schlick terms of the PBR workflow that extension comes from, α = Pr² (Pr is a
+///   perceptual roughness there), metallic when Pm ≥ 0.5 (then Kd tints the specular colour and
+///   the diffuse part is off), F0 from `Ni` (default 1.5) otherwise.
+/// - `Ks` non-black and `Ns` given → Blinn-Phong with `specular_color = Ks`, `shininess = Ns`.
+/// - Otherwise Lambert with `albedo = Kd`.
+pub fn material_from_mtl(m: &tobj::Material) -> Result<Material, String> {
+    let albedo = m.diffuse.map_or([0.8, 0.8, 0.8], single);
+    let (pr, pm) = (param(m, "Pr")?, param(m, "Pm")?);
+    let mut material = Material::lambert(&m.name, albedo);
+    if pr.is_some() || pm.is_some() {
+        let metallic = pm.unwrap_or(0.0) >= 0.5;
+        let roughness = pr.unwrap_or(0.5);
+        material.specular = Specular::CookTorrance(CookTorrance {
+            alpha: roughness * roughness,
+            d: MicrofacetDistribution::Ggx,
+            g: MaskingShadowing::SmithGgxCorrelated,
+            f: FresnelTerm::Schlick,
+            metallic,
+            specular_color: if metallic { albedo } else { [1.0; 3] },
+            ior: m.optical_density.map_or(1.5, |n| n as f32),
+            ..CookTorrance::default()
+        });
+        if metallic {
+            material.kd = 0.0;
+        }
+    } else if let (Some(ks), Some(ns)) = (m.specular.map(single), m.shininess.map(|s| s as f32)) {
+        if ks.iter().any(|&c| c > 0.0) {
+            material.specular = Specular::BlinnPhong(BlinnPhong {
+                ks: 1.0,
+                shininess: ns,
+                color: ks,
+            });
+        }
+    }
+    material.validate()?;
+    Ok(material)
+}
+
+/// A colour of an MTL file (read in f64, as tobj reads everything with `use_f64`).
+fn single(c: [f64; 3]) -> [f32; 3] {
+    c.map(|v| v as f32)
+}
+
+/// A numeric statement tobj keeps as text (`Pr`, `Pm`).
+fn param(m: &tobj::Material, key: &str) -> Result<Option<f32>, String> {
+    m.unknown_param
+        .get(key)
+        .map(|v| {
+            v.trim()
+                .parse::<f32>()
+                .map_err(|_| format!("{key} '{v}' is not a number"))
+        })
+        .transpose()
+}
+
+/// The statements of `m` that `material` (what [`material_from_mtl`] made of it) does not read,
+/// `map_Kd` aside ([`convert`] decides about it).
+fn unused_statements<'a>(m: &'a tobj::Material, material: &Material) -> Vec<&'a str> {
+    let (blinn_phong, cook_torrance) = match material.specular {
+        Specular::BlinnPhong(_) => (true, None),
+        Specular::CookTorrance(ct) => (false, Some(ct)),
+        _ => (false, None),
+    };
+    let dielectric = cook_torrance.is_some_and(|ct| !ct.metallic);
+    let mut out = Vec::new();
+    let mut unless = |present: bool, used: bool, statement: &'a str| {
+        if present && !used {
+            out.push(statement);
+        }
+    };
+    unless(m.ambient.is_some(), false, "Ka");
+    unless(m.emissive.is_some(), false, "Ke");
+    unless(m.specular.is_some(), blinn_phong, "Ks");
+    unless(m.shininess.is_some(), blinn_phong, "Ns");
+    unless(m.optical_density.is_some(), dielectric, "Ni");
+    unless(m.dissolve.is_some(), false, "d");
+    unless(m.illumination_model.is_some(), false, "illum");
+    unless(m.ambient_texture.is_some(), false, "map_Ka");
+    unless(m.specular_texture.is_some(), false, "map_Ks");
+    unless(m.shininess_texture.is_some(), false, "map_Ns");
+    unless(m.dissolve_texture.is_some(), false, "map_d");
+    unless(m.normal_texture.is_some(), false, "map_Bump/bump");
+    for key in m.unknown_param.keys() {
+        unless(true, matches!(key.as_str(), "Pr" | "Pm"), key);
+    }
+    out.sort_unstable();
+    out
+}
+
+/// A texture statement's value: `[-option values…]… file`.
+#[derive(Debug)]
+struct TextureStatement {
+    /// The file name (the rest of the line after the options; it may contain spaces).
+    file: String,
+    /// `-clamp on`.
+    clamp: bool,
+    /// Options read and not applied (`-s`, `-o`, `-bm`, …), by name.
+    ignored_options: Vec<String>,
+}
+
+/// Parses a texture statement's value. Options take their documented number of values (`-o`,
+/// `-s`, `-t`: one to three numbers); an option pointshade does not know is an error, since the
+/// file name cannot be told from its values.
+fn texture_statement(value: &str) -> Result<TextureStatement, String> {
+    let mut words = value.split_whitespace().peekable();
+    let mut out = TextureStatement {
+        file: String::new(),
+        clamp: false,
+        ignored_options: Vec::new(),
+    };
+    while let Some(option) = words.next_if(|w| w.starts_with('-')) {
+        let values = match option {
+            "-blendu" | "-blendv" | "-bm" | "-boost" | "-cc" | "-clamp" | "-imfchan" | "-texres" | "-type" => 1,
+            "-mm" => 2,
+            "-o" | "-s" | "-t" => 3,
+            other => return Err(format!("unknown option '{other}'")),
+        };
+        let mut read = Vec::new();
+        for k in 0..values {
+            // -o/-s/-t take one to three numbers: stop at the first word that is not one.
+            let optional = k > 0 && matches!(option, "-o" | "-s" | "-t");
+            match words.peek() {
+                Some(w) if !optional || w.parse::<f64>().is_ok() => read.push(words.next().unwrap_or_default()),
+                _ if optional => break,
+                _ => return Err(format!("option {option} needs {values} value(s)")),
+            }
+        }
+        match (option, read.as_slice()) {
+            ("-clamp", ["on"]) => out.clamp = true,
+            ("-clamp", ["off"]) => out.clamp = false,
+            ("-clamp", v) => return Err(format!("-clamp takes on or off, not '{}'", v.join(" "))),
+            _ => out.ignored_options.push(option.to_string()),
+        }
+    }
+    out.file = words.collect::<Vec<_>>().join(" ");
+    if out.file.is_empty() {
+        return Err("no file name".into());
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn texture_statements_read_their_options_and_file_name() {
+        let t = texture_statement("spot_texture.png").unwrap();
+        assert_eq!((t.file.as_str(), t.clamp), ("spot_texture.png", false));
+        let t = texture_statement("-clamp on -s 2 2 -bm 0.5 my texture.png").unwrap();
+        assert_eq!((t.file.as_str(), t.clamp), ("my texture.png", true));
+        assert_eq!(t.ignored_options, ["-s", "-bm"]);
+        let t = texture_statement("-o 0.5 file.png").unwrap();
+        assert_eq!(
+            (t.file.as_str(), t.ignored_options.as_slice()),
+            ("file.png", &["-o".to_string()][..])
+        );
+        assert!(texture_statement("-clamp on").unwrap_err().contains("no file name"));
+        assert!(texture_statement("-frobnicate 1 a.png")
+            .unwrap_err()
+            .contains("unknown option"));
+        assert!(texture_statement("-clamp maybe a.png")
+            .unwrap_err()
+            .contains("on or off"));
+        assert!(texture_statement("-mm 1").unwrap_err().contains("needs 2"));
+    }
+}

@@ -1,0 +1,196 @@
+//! What an OBJ's MTL asks for: `map_Kd` textures the albedo through the scene's texture
+//! machinery, and every statement pointshade does not use is one warning naming it.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use crate::support::gltf_builder::{temp_dir, write_png};
+
+/// meshes/plane.obj (with texture coordinates) behind `mtllib m.mtl` / `usemtl m`, with `mtl` as
+/// m.mtl, in a fresh folder; returns the OBJ's path.
+fn textured_plane(name: &str, mtl: &str, with_uvs: bool) -> PathBuf {
+    let dir = temp_dir(&format!("mtl-{name}"));
+    let plane = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/plane.obj")).unwrap();
+    let plane = if with_uvs {
+        plane
+    } else {
+        // Faces as position//normal, no `vt` lines: a mesh without texture coordinates.
+        plane
+            .lines()
+            .filter(|l| !l.starts_with("vt "))
+            .map(|l| match l.strip_prefix("f ") {
+                // a/b/c → a//c
+                Some(f) => {
+                    let corners: Vec<String> = f
+                        .split(' ')
+                        .map(|c| {
+                            let parts: Vec<&str> = c.split('/').collect();
+                            format!("{}//{}", parts[0], parts[2])
+                        })
+                        .collect();
+                    format!("f {}", corners.join(" "))
+                }
+                None => l.to_string(),
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    std::fs::write(dir.join("m.obj"), format!("mtllib m.mtl\nusemtl m\n{plane}\n")).unwrap();
+    std::fs::write(dir.join("m.mtl"), mtl).unwrap();
+    dir.join("m.obj")
+}
+
+fn render(obj: &Path, out: &Path, extra: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pointshade"))
+        .arg("render")
+        .arg(obj)
+        .arg("-o")
+        .arg(out)
+        .args(["--width", "48", "--height", "36", "--spp", "1"])
+        .args(extra)
+        .output()
+        .unwrap()
+}
+
+fn exr(path: &Path) -> Vec<f32> {
+    image::open(path).unwrap().into_rgb32f().into_raw()
+}
+
+/// sRGB → linear (IEC 61966-2-1) of an 8-bit code.
+fn srgb(code: u8) -> f64 {
+    let c = code as f64 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+#[test]
+fn map_kd_multiplies_the_albedo_by_the_decoded_texture() {
+    // A uniform texture of sRGB code (200, 120, 40) renders as the albedo Kd × its linear value:
+    // the same image as the untextured material with that albedo (to f32 rounding of the
+    // bilinear weights), for each model the MTL keys choose.
+    for (model, extra) in [
+        ("lambert", ""),
+        ("blinn-phong", "Ks 0.3 0.3 0.3\nNs 20\n"),
+        ("cook-torrance", "Pr 0.4\n"),
+    ] {
+        let kd = [0.9, 0.5, 0.7];
+        let code = [200u8, 120, 40];
+        let textured = textured_plane(
+            &format!("uniform-{model}"),
+            &format!("newmtl m\nKd {} {} {}\n{extra}map_Kd t.png\n", kd[0], kd[1], kd[2]),
+            true,
+        );
+        write_png(
+            &textured.with_file_name("t.png"),
+            2,
+            2,
+            &[[code[0], code[1], code[2], 255]; 4],
+        );
+        let albedo: Vec<f64> = (0..3).map(|c| kd[c] * srgb(code[c])).collect();
+        let constant = textured_plane(
+            &format!("constant-{model}"),
+            &format!("newmtl m\nKd {} {} {}\n{extra}", albedo[0], albedo[1], albedo[2]),
+            true,
+        );
+        let (a, b) = (textured.with_file_name("a.exr"), constant.with_file_name("b.exr"));
+        let r = render(&textured, &a, &["--explain"]);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        let explain = String::from_utf8_lossy(&r.stdout);
+        assert!(
+            explain.contains("albedo (MTL map_Kd): m") && explain.contains("map_Kd ('t.png') (2x2)"),
+            "--explain lists the texture:\n{explain}"
+        );
+        assert!(render(&constant, &b, &[]).status.success());
+        let (a, b) = (exr(&a), exr(&b));
+        let peak = b.iter().cloned().fold(0.0f32, f32::max);
+        assert!(peak > 0.0, "{model}: the plane is lit");
+        let worst = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
+        assert!(worst <= 1e-5 * peak, "{model}: worst difference {worst} of peak {peak}");
+    }
+}
+
+#[test]
+fn map_kd_varies_over_the_surface() {
+    // Two texels, black and white, across u: the textured plane has dark and bright pixels where
+    // the untextured one is uniformly lit.
+    let obj = textured_plane("two-texels", "newmtl m\nKd 1 1 1\nmap_Kd -clamp on t.png\n", true);
+    write_png(
+        &obj.with_file_name("t.png"),
+        2,
+        1,
+        &[[0, 0, 0, 255], [255, 255, 255, 255]],
+    );
+    let out = obj.with_file_name("out.exr");
+    assert!(render(&obj, &out, &["--quiet"]).status.success());
+    let lit: Vec<f32> = exr(&out).chunks(3).map(|p| p[0]).filter(|&v| v > 0.0).collect();
+    let (lo, hi) = lit
+        .iter()
+        .fold((f32::MAX, 0.0f32), |(lo, hi), &v| (lo.min(v), hi.max(v)));
+    assert!(!lit.is_empty() && hi > 20.0 * lo, "dark and bright parts: {lo} .. {hi}");
+}
+
+#[test]
+fn every_unused_mtl_statement_is_one_warning_naming_it() {
+    let obj = textured_plane(
+        "unused",
+        "newmtl m\nKa 1 1 1\nKd 0.5 0.5 0.5\nKs 0 0 0\nillum 2\nd 1\nmap_Kd -s 2 2 t.png\nmap_Ks s.png\n\
+         map_Bump -bm 0.3 n.png\nnorm n.png\nmap_Pr r.png\n",
+        true,
+    );
+    write_png(&obj.with_file_name("t.png"), 1, 1, &[[128, 128, 128, 255]]);
+    let r = render(&obj, &obj.with_file_name("out.png"), &[]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    let warnings: Vec<&str> = stderr.lines().filter(|l| l.contains("MTL statement")).collect();
+    for statement in [
+        "Ka",
+        "Ks",
+        "illum",
+        "d",
+        "map_Ks",
+        "map_Bump/bump",
+        "norm",
+        "map_Pr",
+        "map_Kd option -s",
+    ] {
+        let named: Vec<_> = warnings
+            .iter()
+            .filter(|w| w.contains(&format!("MTL statement {statement} is not used")))
+            .collect();
+        assert_eq!(named.len(), 1, "one warning for {statement}:\n{stderr}");
+        assert!(named[0].contains("material(s) m"), "{}", named[0]);
+    }
+    assert_eq!(warnings.len(), 9, "no warning for what is used (Kd, map_Kd):\n{stderr}");
+    // Without texture coordinates map_Kd cannot be looked up: a warning, and no texture.
+    let no_uvs = textured_plane("no-uvs", "newmtl m\nKd 0.5 0.5 0.5\nmap_Kd t.png\n", false);
+    let r = render(&no_uvs, &no_uvs.with_file_name("out.png"), &["--explain"]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    assert!(String::from_utf8_lossy(&r.stderr).contains("map_Kd (the mesh has no texture coordinates)"));
+    assert!(String::from_utf8_lossy(&r.stdout).contains("no rendered material has an albedo"));
+}
+
+#[test]
+fn a_missing_or_broken_map_kd_image_is_a_one_line_error_and_no_output() {
+    let obj = textured_plane("missing", "newmtl m\nKd 1 1 1\nmap_Kd nowhere.png\n", true);
+    let out = obj.with_file_name("out.png");
+    let r = render(&obj, &out, &[]);
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert!(!r.status.success() && !out.exists(), "{stderr}");
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    assert!(stderr.contains("m.obj") && stderr.contains("nowhere.png"), "{stderr}");
+    std::fs::write(obj.with_file_name("nowhere.png"), b"not a png").unwrap();
+    let r = render(&obj, &out, &[]);
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert!(!r.status.success() && !out.exists(), "{stderr}");
+    assert!(stderr.contains("cannot decode"), "{stderr}");
+    let bad = textured_plane("bad-option", "newmtl m\nKd 1 1 1\nmap_Kd -zz 1 t.png\n", true);
+    let r = render(&bad, &bad.with_file_name("out.png"), &[]);
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        !r.status.success() && stderr.contains("unknown option '-zz'"),
+        "{stderr}"
+    );
+}
