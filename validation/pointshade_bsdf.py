@@ -74,6 +74,10 @@ def register():
                     for slot in ("base_color", "metallic_roughness", "normal")
                     if textures.Image.present(props, slot)
                 }
+            # The other models: an albedo texture (MTL map_Kd, sRGB) multiplies `albedo` per point.
+            self.albedo_image = None
+            if self.model != "gltf-pbr" and textures.Image.present(props, "albedo"):
+                self.albedo_image = textures.Image(props, "albedo", srgb=True)
             self.normal_scale = _float(props, "normal_scale", 1.0)
             # With a normal texture the plugin handles two-sidedness itself (pointshade turns the
             # *mapped* normal to face the viewer; Mitsuba's `twosided` would turn the interpolated one).
@@ -203,7 +207,10 @@ def register():
                 nh = dr.clip(mi.Frame3f.cos_theta(h), 0.0, 1.0)
                 value = self._gltf_pbr(ci, co, nh, dr.dot(wo, h), self.albedo, self.gltf_metallic, self.alpha)
                 return dr.select(active, value * ci, 0.0)
-            value = self.albedo * (self.kd / dr.pi)
+            albedo = self.albedo
+            if self.albedo_image is not None:
+                albedo = albedo * self.albedo_image.sample(si, active)
+            value = albedo * (self.kd / dr.pi)
             if self.model != "lambert":
                 h = dr.normalize(wi + wo)
                 nh = mi.Frame3f.cos_theta(h)

@@ -24,7 +24,7 @@ use crate::scene::Scene;
 use crate::shading::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
 use crate::shading::light::{Falloff, Light, LightKind};
 use crate::shading::material::{Material, Specular};
-use crate::shading::texture::TextureImage;
+use crate::shading::texture::{Filter, TextureImage, TextureRef, Wrap};
 use crate::surface::camera::{FovAxis, Projection};
 
 /// Which BSDFs the export uses.
@@ -95,11 +95,14 @@ pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice, mesh_prefix: &str) -> 
                 m.name
             ));
         }
-        if m.albedo_texture.is_some() {
-            differences.push(format!(
-                "material '{}': its MTL map_Kd albedo texture is not exported yet (Mitsuba renders the constant Kd)",
+        match (m.albedo_texture, albedo_bitmap(m, bsdfs)) {
+            (Some(_), Some(r)) => meshes.push(textures::png_file(&scene.textures, r.image as usize, mesh_prefix)),
+            (Some(_), None) => differences.push(format!(
+                "material '{}': an albedo texture (MTL map_Kd) is exported only on a Lambert material with Kd = 1, \
+                 coordinate set 0, bilinear filtering and no transform (Mitsuba renders the constant Kd)",
                 m.name
-            ));
+            )),
+            _ => {}
         }
         if m.emits() && m.two_sided {
             differences.push(format!(
@@ -123,7 +126,14 @@ pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice, mesh_prefix: &str) -> 
         let _ = writeln!(shapes, "{}", xml(None));
         let _ = writeln!(emitting, "{}", xml(emitter.as_deref()));
     };
-    let attributes = |material: u32| textures::vertex_attributes(&scene.materials[material as usize], &scene.mesh);
+    // What the plugin reads per vertex (nothing for Mitsuba's own bitmap, which reads the OBJ's).
+    let attributes = |material: u32| {
+        let m = &scene.materials[material as usize];
+        match albedo_bitmap(m, bsdfs) {
+            Some(_) => VertexAttributes::default(),
+            None => textures::vertex_attributes(m, &scene.mesh),
+        }
+    };
     for (i, object) in scene.objects.iter().enumerate() {
         let used = object.materials(&scene.mesh);
         let is_obj = crate::scene::extension(&object.mesh).as_deref() == Some("obj");
@@ -135,6 +145,16 @@ pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice, mesh_prefix: &str) -> 
         }
         // Mitsuba cannot read the file, would give all of an OBJ's faces one BSDF, or the
         // plugin needs texture coordinates and tangents.
+        for &m in used
+            .iter()
+            .filter(|&&m| albedo_bitmap(&scene.materials[m as usize], bsdfs).is_some())
+        {
+            differences.push(format!(
+                "material '{}': its map_Kd bitmap is exact only on a single-material OBJ, which Mitsuba reads \
+                 with its texture coordinates (a PLY part carries none)",
+                scene.materials[m as usize].name
+            ));
+        }
         for (material, bytes) in ply::parts(&scene.mesh, object.triangles.clone(), attributes) {
             let name = format!("{mesh_prefix}.object{i}.mat{material}.ply");
             add(&|e| ply_shape(&name, material, e), material);
@@ -313,7 +333,20 @@ fn bsdf(
 ) -> (String, &'static str) {
     let diffuse_reflectance = m.albedo.map(|a| a * m.kd);
     let native = choice == BsdfChoice::NativeWhereExact;
-    let (inner, note) = if native && !m.has_specular() && diffuse_reflectance.iter().all(|&r| r <= 1.0) {
+    let (inner, note) = if let Some(r) = albedo_bitmap(m, choice) {
+        let wrap = match r.wrap_u {
+            Wrap::Repeat => "repeat",
+            Wrap::MirroredRepeat => "mirror",
+            Wrap::ClampToEdge => "clamp",
+        };
+        (
+            format!(
+                "<bsdf type=\"diffuse\"><texture type=\"bitmap\" name=\"reflectance\"><string name=\"filename\" value=\"{}\"/><string name=\"filter_type\" value=\"bilinear\"/><string name=\"wrap_mode\" value=\"{wrap}\"/></texture></bsdf>",
+                xml_escape(&textures::png_file_name(prefix, r.image as usize))
+            ),
+            "Mitsuba diffuse with a bitmap reflectance (exact)",
+        )
+    } else if native && !m.has_specular() && diffuse_reflectance.iter().all(|&r| r <= 1.0) {
         (
             format!(
                 "<bsdf type=\"diffuse\">{}</bsdf>",
@@ -343,8 +376,8 @@ fn bsdf(
             "pointshade BSDF plugin (exact by construction)",
         )
     };
-    let note = if m.albedo_texture.is_some() {
-        "the constant Kd, without its map_Kd texture (not exported yet)"
+    let note = if m.albedo_texture.is_some() && albedo_bitmap(m, choice).is_none() {
+        "the constant Kd, without its map_Kd texture (see the differences)"
     } else {
         note
     };
@@ -358,6 +391,17 @@ fn bsdf(
     (format!("  {with_id}"), note)
 }
 
+/// The albedo texture of `m` when Mitsuba's `diffuse` BSDF with a `bitmap` reflectance computes
+/// exactly what pointshade does: a Lambert material with k_d·albedo = 1 (the bitmap has no
+/// factor), texture-coordinate set 0 (the mesh's, which Mitsuba reads from the OBJ with the same
+/// v flip), bilinear filtering, the same wrapping both ways and no transform.
+fn albedo_bitmap(m: &Material, choice: BsdfChoice) -> Option<TextureRef> {
+    let r = m.albedo_texture?;
+    let unit = m.albedo.iter().all(|&a| a * m.kd == 1.0);
+    let plain = r.tex_coord == 0 && r.filter == Filter::Bilinear && r.transform.is_none() && r.wrap_u == r.wrap_v;
+    (choice == BsdfChoice::NativeWhereExact && !m.has_specular() && unit && plain).then_some(r)
+}
+
 fn plugin_bsdf(m: &Material, images: &[TextureImage], prefix: &str) -> String {
     let mut p = format!(
         "<bsdf type=\"pointshade\"><string name=\"model\" value=\"{}\"/>{}<float name=\"kd\" value=\"{}\"/>",
@@ -365,6 +409,9 @@ fn plugin_bsdf(m: &Material, images: &[TextureImage], prefix: &str) -> String {
         rgb("albedo", m.albedo),
         m.kd
     );
+    if !matches!(m.specular, Specular::GltfPbr(_)) {
+        p.push_str(&textures::brdf_texture_properties(m, images, prefix));
+    }
     match &m.specular {
         Specular::None => {}
         Specular::BlinnPhong(bp) => {

@@ -100,13 +100,13 @@ impl MitsubaJob {
 
     /// [`Self::write`] for an export of the same scene with the same file prefix into the same
     /// folder as one already written (another sample count, other BSDFs): the mesh and image
-    /// files are the same, so only the XML files are written. Fails if one of those files is
-    /// missing.
+    /// files already there are the same, so only the XML files and the files not written yet
+    /// (a Mitsuba bitmap reads the OBJ itself where the plugin reads a PLY part) are written.
     pub fn write_reusing_files(exported: &MitsubaExport, stem: &Path, size: (u32, u32)) -> InputResult<Self> {
         Self::write_with(exported, stem, size, false)
     }
 
-    fn write_with(exported: &MitsubaExport, stem: &Path, size: (u32, u32), files: bool) -> InputResult<Self> {
+    fn write_with(exported: &MitsubaExport, stem: &Path, size: (u32, u32), all_files: bool) -> InputResult<Self> {
         let dir = stem.parent().unwrap_or(Path::new("."));
         let xmls: Vec<(PathBuf, Vec<u8>)> = exported
             .passes()
@@ -119,26 +119,13 @@ impl MitsubaJob {
             })
             .collect();
         let xml_paths = xmls.iter().map(|(p, _)| p.clone()).collect();
-        if files {
-            let meshes = exported
-                .meshes
-                .iter()
-                .map(|(name, bytes)| (dir.join(name), bytes.clone()));
-            write_all_or_nothing(&xmls.into_iter().chain(meshes).collect::<Vec<_>>())?;
-        } else {
-            if let Some(missing) = exported
-                .meshes
-                .iter()
-                .map(|(name, _)| dir.join(name))
-                .find(|p| !p.is_file())
-            {
-                return Err(InputError::new(
-                    &missing,
-                    "missing: the export it belongs to was not written",
-                ));
-            }
-            write_all_or_nothing(&xmls)?;
-        }
+        let files = exported
+            .meshes
+            .iter()
+            .map(|(name, bytes)| (dir.join(name), bytes))
+            .filter(|(path, _)| all_files || !path.is_file())
+            .map(|(path, bytes)| (path, bytes.clone()));
+        write_all_or_nothing(&xmls.into_iter().chain(files).collect::<Vec<_>>())?;
         Ok(Self { xmls: xml_paths, size })
     }
 }

@@ -24,6 +24,24 @@ pub fn image_file(prefix: &str, k: usize) -> String {
     format!("{prefix}.image{k}.rgba")
 }
 
+/// The file name of image `k` as an 8-bit RGB PNG (what Mitsuba's `bitmap` texture reads).
+pub fn png_file_name(prefix: &str, k: usize) -> String {
+    format!("{prefix}.image{k}.png")
+}
+
+/// Image `k` of `images` as an 8-bit RGB PNG of the texels pointshade decoded (alpha dropped:
+/// an albedo texture reads RGB), with its file name.
+pub fn png_file(images: &[TextureImage], k: usize, prefix: &str) -> (String, Vec<u8>) {
+    let image = &images[k];
+    let rgb: Vec<u8> = image.texels.iter().flat_map(|t| [t[0], t[1], t[2]]).collect();
+    let mut bytes = Vec::new();
+    image::RgbImage::from_raw(image.width, image.height, rgb)
+        .expect("a decoded image holds width × height texels")
+        .write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
+        .expect("PNG encoding into memory does not fail");
+    (png_file_name(prefix, k), bytes)
+}
+
 /// Every image of the scene (the decoded ones are exactly those its rendered materials read) as
 /// (file name, raw RGBA texels).
 pub fn image_files(images: &[TextureImage], prefix: &str) -> Vec<(String, Vec<u8>)> {
@@ -38,7 +56,11 @@ pub fn image_files(images: &[TextureImage], prefix: &str) -> Vec<(String, Vec<u8
 /// and tangents when it has a normal texture and the mesh has tangents.
 pub fn vertex_attributes(m: &Material, mesh: &TriangleMesh) -> VertexAttributes {
     let Specular::GltfPbr(p) = &m.specular else {
-        return VertexAttributes::default();
+        let mut out = VertexAttributes::default();
+        if let Some(r) = m.albedo_texture {
+            out.uv[usize::from(r.tex_coord.min(1))] = true;
+        }
+        return out;
     };
     let t = &p.textures;
     let mut out = VertexAttributes::default();
@@ -84,11 +106,13 @@ fn slot_properties(slot: &str, r: &TextureRef, images: &[TextureImage], prefix: 
     )
 }
 
-/// The plugin properties of a glTF material's BRDF textures (base colour, metallic-roughness,
-/// normal with its scale); empty for other materials.
+/// The plugin properties of a material's BRDF textures: a glTF material's base colour,
+/// metallic-roughness and normal (with its scale), another model's albedo texture.
 pub fn brdf_texture_properties(m: &Material, images: &[TextureImage], prefix: &str) -> String {
     let Some(t) = m.pbr_textures() else {
-        return String::new();
+        return m
+            .albedo_texture
+            .map_or_else(String::new, |r| slot_properties("albedo", &r, images, prefix));
     };
     let mut p = String::new();
     if let Some(r) = &t.base_color {
