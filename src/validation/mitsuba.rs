@@ -95,14 +95,8 @@ pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice, mesh_prefix: &str) -> 
                 m.name
             ));
         }
-        match (m.albedo_texture, albedo_bitmap(m, bsdfs)) {
-            (Some(_), Some(r)) => meshes.push(textures::png_file(&scene.textures, r.image as usize, mesh_prefix)),
-            (Some(_), None) => differences.push(format!(
-                "material '{}': an albedo texture (MTL map_Kd) is exported only on a Lambert material with Kd = 1, \
-                 coordinate set 0, bilinear filtering and no transform (Mitsuba renders the constant Kd)",
-                m.name
-            )),
-            _ => {}
+        if let Some(r) = albedo_bitmap(m, bsdfs) {
+            meshes.push(textures::png_file(&scene.textures, r.image as usize, mesh_prefix));
         }
         if m.emits() && m.two_sided {
             differences.push(format!(
@@ -346,7 +340,8 @@ fn bsdf(
             ),
             "Mitsuba diffuse with a bitmap reflectance (exact)",
         )
-    } else if native && !m.has_specular() && diffuse_reflectance.iter().all(|&r| r <= 1.0) {
+    } else if native && !m.has_specular() && m.albedo_texture.is_none() && diffuse_reflectance.iter().all(|&r| r <= 1.0)
+    {
         (
             format!(
                 "<bsdf type=\"diffuse\">{}</bsdf>",
@@ -375,11 +370,6 @@ fn bsdf(
             plugin_bsdf(m, images, prefix),
             "pointshade BSDF plugin (exact by construction)",
         )
-    };
-    let note = if m.albedo_texture.is_some() && albedo_bitmap(m, choice).is_none() {
-        "the constant Kd, without its map_Kd texture (see the differences)"
-    } else {
-        note
     };
     let wrapped = if m.two_sided && !textures::plugin_handles_sides(m) {
         format!("<bsdf type=\"twosided\">{inner}</bsdf>")
