@@ -271,12 +271,6 @@ impl NormalImage {
         }
     }
 
-    /// Smallest and largest RGB value over every pixel, in [0, 1].
-    pub fn rgb_range(&self) -> (f32, f32) {
-        let (lo, hi) = self.level_range();
-        ((lo / self.full_scale()) as f32, (hi / self.full_scale()) as f32)
-    }
-
     /// Smallest and largest RGB level over every pixel (a parallel, vectorised scan).
     pub fn level_range(&self) -> (f64, f64) {
         fn range<S: Sample>(s: &[[S; 4]]) -> Option<(f64, f64)> {
@@ -578,6 +572,7 @@ impl ImageSurface {
     /// 2c − 1 = 0, which no 8- or 16-bit value encodes — would give a zero normal here.
     #[inline(always)]
     pub fn lanes(&self, image: &NormalImage, row: u32, cols: [u32; LANES]) -> SurfaceLanes {
+        debug_assert_eq!(self.decoding, NormalDecoding::Signed, "tp pixels go through tp_lanes");
         let rgb = match &image.samples {
             Samples::Eight(s) => u8::unit_lanes(&s[self.row_range(row)], cols),
             Samples::Sixteen(s) => u16::unit_lanes(&s[self.row_range(row)], cols),
@@ -777,7 +772,6 @@ mod tests {
             has_alpha: true,
             source: "m.png".into(),
         };
-        assert_eq!(many.rgb_range(), (12.0 / 255.0, 201.0 / 255.0));
         assert_eq!(many.level_range(), (12.0, 201.0));
         assert!(TpScaling::new(0.0, f64::NAN).is_err());
     }

@@ -149,8 +149,9 @@ fn report_radiance(brdf: &str, n: [f64; 3], row: f64, col: f64) -> [f64; 3] {
 
 /// The report's 8-bit image of an RGB(A) PNG: global min-max of the RGB values used as the
 /// normal (background max ≤ 4 → n = 0), positions (row, col, 0), global min-max of L_o, ×255,
-/// truncated.
-fn report_image(input: &Path, brdf: &str) -> (u32, u32, Vec<u8>) {
+/// truncated. Also returns how many foreground pixels sit on the Cook-Torrance knife edge:
+/// |n·ω_o| or |n·ω_i| below 1e-15, 0 in exact arithmetic as far as float64 shows.
+fn report_image(input: &Path, brdf: &str) -> (u32, u32, Vec<u8>, usize) {
     let rgb = image::open(input).unwrap().into_rgb8();
     let (w, h) = rgb.dimensions();
     let values = rgb.as_raw();
@@ -161,6 +162,7 @@ fn report_image(input: &Path, brdf: &str) -> (u32, u32, Vec<u8>) {
     let mut lo_out = f64::INFINITY;
     let mut hi_out = f64::NEG_INFINITY;
     let mut radiance = Vec::with_capacity(values.len());
+    let mut knife_edges = 0;
     for (i, p) in rgb.pixels().enumerate() {
         let background = p.0.iter().all(|&v| v <= 4);
         let n = if background {
@@ -169,6 +171,12 @@ fn report_image(input: &Path, brdf: &str) -> (u32, u32, Vec<u8>) {
             p.0.map(|v| (v as f64 - lo) / (hi - lo))
         };
         let (row, col) = ((i as u32 / w) as f64, (i as u32 % w) as f64);
+        let on_edge = |to: [f64; 3]| dot(n, unit(to)).abs() < 1e-15;
+        if !background
+            && (on_edge(sub([1.0, 300.0, 1.0], [row, col, 0.0])) || on_edge(sub([row, col, 0.0], [0.0, 1.0, 1.0])))
+        {
+            knife_edges += 1;
+        }
         let l = report_radiance(brdf, n, row, col);
         for v in l {
             assert!(v.is_finite());
@@ -178,7 +186,7 @@ fn report_image(input: &Path, brdf: &str) -> (u32, u32, Vec<u8>) {
         }
     }
     let level = |v: f64| ((v - lo_out) / (hi_out - lo_out) * 255.0).clamp(0.0, 255.0) as u8;
-    (w, h, radiance.into_iter().map(level).collect())
+    (w, h, radiance.into_iter().map(level).collect(), knife_edges)
 }
 
 #[test]
@@ -197,7 +205,7 @@ fn tp_images_match_an_independent_float64_evaluation_to_one_level() {
                 "the report's output is an RGB PNG"
             );
             let ours = ours.into_rgb8();
-            let (w, h, reference) = report_image(&input, brdf);
+            let (w, h, reference, knife_edges) = report_image(&input, brdf);
             assert_eq!(ours.dimensions(), (w, h));
             let mut off_by_one = 0usize;
             let mut distinct = std::collections::BTreeSet::new();
@@ -221,7 +229,8 @@ fn tp_images_match_an_independent_float64_evaluation_to_one_level() {
                 distinct.len()
             );
             eprintln!(
-                "{name} {brdf}: {off_by_one} of {} values differ from the f64 reference by one level",
+                "{name} {brdf}: {off_by_one} of {} values differ from the f64 reference by one level; \
+                 {knife_edges} pixels on the knife edge (|n·ω| < 1e-15)",
                 reference.len()
             );
         }
