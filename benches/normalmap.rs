@@ -16,14 +16,13 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
+use pointshade::brdf::LocalDots;
 use pointshade::film::Image;
+use pointshade::lanes::LaneInstructions;
+use pointshade::normal_map::image::NormalImage;
+use pointshade::normal_map::scene_file::{ModelName, NormalMapScene, Preset};
 use pointshade::normal_map::{image_surface, shade_image_with, TpPrecision};
-use pointshade::plan::RenderPlan;
-use pointshade::scene::normal_map::{ModelName, NormalMapScene, Preset};
-use pointshade::shading::brdf::LaneInstructions;
-use pointshade::shading::brdf::LocalDots;
 use pointshade::shading::convention::assignment_dots;
-use pointshade::surface::normal_image::NormalImage;
 use pointshade::surface::SurfacePoint;
 
 /// Median and minimum of a set of times.
@@ -212,7 +211,7 @@ fn main() {
     }
     let image = NormalImage::load(&path).expect("normal.png decodes");
     let scene = NormalMapScene::from_preset(&path, Preset::Tp, ModelName::CookTorrance);
-    let plan = RenderPlan::for_normal_map(&scene, &image, "benchmark");
+    let plan = pointshade::normal_map::plan::plan(&scene, &image, "benchmark");
     // What numpy's shade() does too: the tp scaling's global min and max, then every pixel.
     let shade_with = |instructions: LaneInstructions, precision: TpPrecision| {
         let surface = image_surface(&scene, &image).expect("normal.png has a range");

@@ -20,16 +20,16 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use pointshade::accel::packet::PACKET;
+use pointshade::accel::shadow::ShadowRay;
 use pointshade::accel::{Bvh, BvhPreset, Hit};
 use pointshade::film::PixelRect;
+use pointshade::light::LightKind;
 use pointshade::render::tile::{block_order, pixel_block};
 use pointshade::render::tiles;
+use pointshade::scene::camera::Camera;
 use pointshade::scene::framing::{default_lights, frame_bounds};
 use pointshade::scene::mesh::TriangleMesh;
 use pointshade::scene::obj::load_obj;
-use pointshade::shading::light::LightKind;
-use pointshade::shading::shadow::ShadowRay;
-use pointshade::surface::camera::Camera;
 
 const SIZE: u32 = 512;
 /// Passes over the ray set per timed run.

@@ -9,10 +9,13 @@
 //! mesh scene's normals → a normal image).
 
 pub mod accel;
-pub mod bake;
+pub mod brdf;
 pub mod cli;
 pub mod error;
 pub mod film;
+pub mod lanes;
+pub mod light;
+pub mod material;
 pub mod normal_map;
 pub mod output;
 pub mod plan;
@@ -21,4 +24,5 @@ pub mod reports;
 pub mod scene;
 pub mod shading;
 pub mod surface;
+pub mod texture;
 pub mod validation;

@@ -3,7 +3,7 @@
 of one folder.
 
 Reads every `use crate::…` and `use super::…` (and `crate::a::b` paths written inline) outside
-`#[cfg(test)]` modules, maps each to the file that defines the module it names, and reports every
+comments and `#[cfg(test)]` modules, maps each to the file that defines the module it names, and reports every
 strongly connected component of more than one node:
 
     python3 tools/import_circles.py            # report; exit 0
@@ -32,7 +32,9 @@ def module_of(file):
 
 
 def product_text(text):
-    """`text` without its `#[cfg(test)]` items (the module or function that follows)."""
+    """`text` without its comments (a doc link is not a dependency) and its `#[cfg(test)]` items
+    (the module or function that follows)."""
+    text = re.sub(r"(?m)^\s*//.*$", "", text)
     out, i = [], 0
     while True:
         j = text.find("#[cfg(test)]", i)

@@ -11,9 +11,9 @@
 
 use glam::Vec2;
 
+use crate::material::Material;
 use crate::scene::mesh::TriangleMesh;
-use crate::shading::material::Material;
-use crate::shading::texture::{ColorSpace, TextureImage, TextureRef};
+use crate::texture::{ColorSpace, TextureImage, TextureRef};
 
 /// Decides, hit by hit, whether the triangle is there where a ray crosses it.
 pub trait HitFilter {
@@ -138,8 +138,8 @@ mod tests {
     use glam::Vec3;
 
     use super::*;
-    use crate::shading::material::{Cutout, Specular};
-    use crate::shading::texture::{Filter, Wrap};
+    use crate::material::{Cutout, Specular};
+    use crate::texture::{Filter, Wrap};
 
     /// One triangle with u running 0 → 1 from vertex 0 to vertex 1, material `material`.
     fn mesh(material: u32) -> TriangleMesh {

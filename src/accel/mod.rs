@@ -13,6 +13,7 @@
 
 pub mod alpha;
 pub mod packet;
+pub mod shadow;
 pub mod triangle;
 mod walk;
 pub mod wide;
@@ -24,9 +25,9 @@ use glam::{Vec3, Vec3A};
 use obvhs::BvhBuildParams;
 use rayon::prelude::*;
 
+use crate::accel::shadow::{Occluder, ShadowRay};
 use crate::scene::mesh::TriangleMesh;
 use crate::scene::Scene;
-use crate::shading::shadow::{Occluder, ShadowRay};
 use alpha::{AlphaMask, HitFilter, Opaque};
 use packet::{RayPacket, PACKET};
 use triangle::WatertightRay;
@@ -590,7 +591,7 @@ mod tests {
         let (mesh, n) = doubled_torus();
         let trees: Vec<Bvh> = BvhPreset::ALL.iter().map(|&p| Bvh::build(&mesh, p)).collect();
         let (lo, hi) = mesh.bounds().unwrap();
-        let camera = crate::surface::camera::Camera::new(crate::scene::framing::frame_bounds(lo, hi), 64, 64).unwrap();
+        let camera = crate::scene::camera::Camera::new(crate::scene::framing::frame_bounds(lo, hi), 64, 64).unwrap();
         let bits = |h: Option<Hit>| h.map(|h| (h.triangle, [h.t, h.b1, h.b2].map(f32::to_bits)));
         let mut hits = 0;
         for py in 0..64 {

@@ -252,10 +252,10 @@ mod tests {
     use crate::accel::triangle::WatertightRay;
     use crate::accel::wide::WideRay;
     use crate::accel::{Bvh, BvhPreset};
+    use crate::scene::camera::Camera;
     use crate::scene::framing::frame_bounds;
     use crate::scene::mesh::TriangleMesh;
     use crate::scene::procedural::torus;
-    use crate::surface::camera::Camera;
 
     const SIZE: u32 = 192;
 

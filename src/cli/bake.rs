@@ -1,14 +1,14 @@
 //! `pointshade bake`: a mesh scene → BVH → one camera ray per pixel centre → its camera-space
-//! normals as an RGBA PNG in the NPM3D assignment's format (see [`crate::bake`]).
+//! normals as an RGBA PNG in the NPM3D assignment's format (see [`crate::normal_map::bake`]).
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use crate::accel::Bvh;
-use crate::bake::bake_normals;
 use crate::cli::worker_pool;
 use crate::error::InputError;
-use crate::output::assignment::encode_normal_png;
+use crate::normal_map::bake::bake_normals;
+use crate::normal_map::formats::encode_normal_png;
 use crate::output::{write_all_or_nothing, Format};
 use crate::scene;
 

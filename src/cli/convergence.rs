@@ -7,7 +7,7 @@ use crate::error::InputError;
 use crate::film::SamplerKind;
 use crate::output::read_linear;
 use crate::reports::convergence::{check, own_reference, run, write_outputs, ErrorMetric, Reference, Sweep};
-use crate::shading::shadow::ShadowOffset;
+use crate::scene::shadows::ShadowOffset;
 use crate::validation::run::MitsubaRunner;
 
 /// Arguments of `pointshade convergence`.

@@ -7,14 +7,13 @@ use std::time::Instant;
 use crate::cli::{option_error, worker_pool};
 use crate::error::InputError;
 use crate::film::overflow_error;
-use crate::normal_map::{image_surface, shade_image};
-use crate::output::assignment::encode_min_max_png;
+use crate::normal_map::formats::encode_min_max_png;
+use crate::normal_map::image::NormalImage;
+use crate::normal_map::likeness::NormalLikeness;
+use crate::normal_map::scene_file::{ModelName, NormalMapScene, Preset};
+use crate::normal_map::{image_surface, plan, shade_image};
 use crate::output::{encode, write_all_or_nothing, Format};
-use crate::plan::RenderPlan;
 use crate::scene::extension;
-use crate::scene::normal_map::{ModelName, NormalMapScene, Preset};
-use crate::surface::normal_image::NormalImage;
-use crate::surface::normal_likeness::NormalLikeness;
 
 /// Arguments of `pointshade normalmap`.
 #[derive(clap::Args)]
@@ -111,9 +110,9 @@ pub fn run(args: NormalMapArgs) -> Result<(), InputError> {
         (Preset::Physical, Format::Png) => format!("sRGB PNG, exposure {} stops", scene.exposure),
         (_, Format::Exr) => "linear float32 EXR of L_o".into(),
     };
-    let plan = RenderPlan::for_normal_map(&scene, &image, &description);
+    let plan = plan::plan(&scene, &image, &description);
     if args.explain {
-        print!("{}", plan.explain_normal_map(&scene, &image));
+        print!("{}", plan::explain(&plan, &scene, &image));
     }
     let (shaded, stats) = pool.install(|| shade_image(&scene, &plan, &image, &surface));
     if let Some((x, y, p)) = shaded.first_non_finite() {

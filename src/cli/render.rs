@@ -10,7 +10,7 @@ use crate::film::{Image, PixelRect, SamplerKind};
 use crate::output::exr::encode_exr;
 use crate::output::{aov_path, encode, write_all_or_nothing, Format};
 use crate::plan::{Aov, RenderPlan};
-use crate::shading::shadow::{ShadowOffset, ShadowTerminator};
+use crate::scene::shadows::{ShadowOffset, ShadowTerminator};
 use crate::{render, scene};
 
 /// Arguments of `pointshade render`.

@@ -41,7 +41,7 @@ pub struct FilmSettings {
     /// Seconds the BVH build and the render may take (`--time-budget`); `None` = no limit. The
     /// render then runs in passes, more samples per pixel or a finer adaptive threshold each,
     /// within `spp` and down to `adaptive_threshold`, while the next pass is predicted to end
-    /// in time (see `render::progressive`).
+    /// in time (see `render::budget`).
     pub time_budget: Option<f32>,
 }
 

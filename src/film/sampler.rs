@@ -64,7 +64,7 @@ impl SamplerKind {
     /// Whether a render can add samples until a time budget is spent and still end with the
     /// image of a fixed setting: sobol and independent because a pixel's first n samples are the
     /// same whatever the count, the adaptive samplers because a finer threshold reuses the
-    /// samples of a coarser one (`render::progressive`). The grid moves every point when its
+    /// samples of a coarser one (`render::budget`). The grid moves every point when its
     /// side changes.
     pub fn takes_time_budget(self) -> bool {
         self != Self::Grid

@@ -4,7 +4,6 @@
 //! never leaves partial output behind. [`assignment`] holds the NPM3D assignment's formats
 //! (min-max 8-bit renders, RGBA normal images).
 
-pub mod assignment;
 pub mod exr;
 
 use std::io::Cursor;

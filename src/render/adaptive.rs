@@ -36,57 +36,12 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-use super::progressive::SampleCache;
+use super::refine::{ActivePixel, Settings, DARK_FLOOR};
 use super::rounds;
+use super::sample_cache::SampleCache;
 use super::subdivision::{self, Scratch};
-use super::tile::{block_order, Context, PixelSums, SampleJob, SurfaceSample};
-use super::{assemble, par_tiles, place_tile, tiles};
+use super::tile::{assemble, block_order, par_tiles, place_tile, tiles, Context, PixelSums, SampleJob, SurfaceSample};
 use crate::film::{FilmSettings, PixelRect, SamplerKind};
-
-/// Floor of a pixel's scale in the convergence test, as a share of its neighbourhood's level.
-pub(super) const DARK_FLOOR: f32 = 0.05;
-
-/// What refinement needs of the film and the plan: the same for both samplers.
-#[derive(Clone, Copy, Debug)]
-pub struct Settings {
-    /// Most samples per pixel.
-    pub spp: u32,
-    /// The film's adaptive threshold (tolerance relative to a pixel's scale).
-    pub threshold: f32,
-    /// AOVs per sample.
-    pub aovs: usize,
-    /// The film's sampling seed.
-    pub seed: u64,
-    /// Display white (see [`display_white`]), the floor of a pixel's scale.
-    pub white: f32,
-}
-
-/// An active pixel: where it is, where its sums go, and what its neighbourhood says. The cells
-/// read `beside` and `scale` (their tests compare cells with the neighbours' centres and fix the
-/// tolerance once); the Sobol rounds read `low` (their contrast test) and rescale as their
-/// estimate moves; both read `centre` and `level`.
-pub struct ActivePixel {
-    /// Film column.
-    pub x: u32,
-    /// Film row.
-    pub y: u32,
-    /// Its slot in the tile's sums.
-    pub slot: u32,
-    /// Its centre sample.
-    pub centre: Vec3,
-    /// Centre samples of its four neighbours (left, right, above, below), where on the film.
-    pub beside: [Option<Vec3>; 4],
-    /// Scale of the tolerance: the largest of display white, the centre, and a floor relative to
-    /// the neighbourhood's level (see `adaptive`).
-    pub scale: f32,
-    /// Largest channel of the neighbourhood's centre samples.
-    pub level: f32,
-    /// Smallest of the neighbourhood's centre samples' largest channels.
-    pub low: f32,
-    /// The centre values bend at the pixel itself; else it refines only because they bend at a
-    /// neighbour (the dilation), and the cells take a first look of 3×3 instead of 4×4.
-    pub bends: bool,
-}
 
 /// Renders `region` adaptively; returns the per-pixel sums and sample counts (row-major).
 pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) -> (PixelSums, Vec<u32>) {
@@ -135,7 +90,7 @@ fn grow(film: &FilmSettings, r: PixelRect, by: u32) -> PixelRect {
 /// Refines the region of `centres` at `threshold` (the film's, or a time budget's pass's);
 /// returns the per-pixel sums and sample counts (row-major). `caches` holds one entry per tile
 /// of the region: where there is a cache, samples are looked up by film position before they
-/// are traced, and the ones traced are kept (see `progressive::SampleCache`).
+/// are traced, and the ones traced are kept (see `sample_cache::SampleCache`).
 pub fn refine(
     ctx: &Context,
     centres: &Centres,

@@ -6,30 +6,30 @@
 //! pixel how many samples it takes. Every pixel is a pure function of the scene and its
 //! coordinates (and, for adaptive sampling, of its neighbours' centre samples), so the image
 //! depends neither on the thread count nor on the tiling, and crops merge bit-identically into
-//! the full frame. With a time budget, `render/progressive.rs` renders in passes until the budget;
+//! the full frame. With a time budget, `render/budget.rs` renders in passes until the budget;
 //! the image is that of the sample count or threshold reached.
 
 mod adaptive;
-mod progressive;
-pub use progressive::threshold_ladder;
+mod budget;
+pub use budget::threshold_ladder;
+mod refine;
 mod rounds;
+mod sample_cache;
 mod subdivision;
 pub mod tile;
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::accel::Bvh;
-use crate::film::{overflow_error, sampler::pixel_offsets, Image, PixelRect};
+use crate::film::{overflow_error, Image, PixelRect};
 use crate::plan::{Aov, RenderPlan};
 use crate::scene::Scene;
-use tile::{block_order, Context, PixelSums, SampleJob};
-
-/// Side of the square tiles the region is cut into.
-pub const TILE: u32 = 16;
+use tile::{assemble, par_tiles, tile_samples, Context, PixelSums};
+pub use tile::{tiles, TILE};
 
 /// Counters and per-stage times of one render.
 #[derive(Clone, Debug, Default)]
@@ -108,7 +108,7 @@ fn render_from(
     let adaptive = film.sampler.is_adaptive();
     let (sums, counts, spp, threshold) = match deadline {
         Some(deadline) if adaptive => {
-            let (sums, counts, threshold) = progressive::render_adaptive(&ctx, region, deadline, on_tile);
+            let (sums, counts, threshold) = budget::render_adaptive(&ctx, region, deadline, on_tile);
             (sums, Some(counts), film.spp, Some(threshold))
         }
         None if adaptive => {
@@ -116,7 +116,7 @@ fn render_from(
             (sums, Some(counts), film.spp, Some(film.adaptive_threshold))
         }
         Some(deadline) => {
-            let (sums, spp) = progressive::render(&ctx, region, deadline, on_tile);
+            let (sums, spp) = budget::render(&ctx, region, deadline, on_tile);
             (sums, None, spp, None)
         }
         None => (fixed(&ctx, region, on_tile), None, film.spp, None),
@@ -165,54 +165,6 @@ fn render_from(
     })
 }
 
-/// `region` cut into tiles of at most [`TILE`]×[`TILE`] pixels, row by row.
-pub fn tiles(region: PixelRect) -> Vec<PixelRect> {
-    let mut out = Vec::new();
-    for y0 in (region.y0..region.y1).step_by(TILE as usize) {
-        for x0 in (region.x0..region.x1).step_by(TILE as usize) {
-            out.push(PixelRect {
-                x0,
-                y0,
-                x1: (x0 + TILE).min(region.x1),
-                y1: (y0 + TILE).min(region.y1),
-            });
-        }
-    }
-    out
-}
-
-/// The tiles as parallel jobs of one tile each. Left to itself, rayon cuts a slice into about
-/// two runs per thread, and a run is not split once a thread has started it: on the dragon the
-/// thread whose run held the most refined pixels finished 77 ms after the other, which sat idle
-/// (docs/performance-log.md). One tile per job lets an idle thread steal any tile not
-/// yet started; tiles take milliseconds, so the extra jobs cost nothing measurable. A zip with
-/// another indexed iterator keeps the one tile per job (rayon's zip takes the smaller maximum).
-fn par_tiles(tiles: &[PixelRect]) -> impl IndexedParallelIterator<Item = &PixelRect> {
-    tiles.par_iter().with_max_len(1)
-}
-
-/// Copies per-tile sums into one region-sized buffer (row-major).
-fn assemble(region: PixelRect, tiles: &[PixelRect], parts: Vec<PixelSums>, aovs: usize) -> PixelSums {
-    let mut all = PixelSums::new((region.width() * region.height()) as usize, aovs);
-    for (t, part) in tiles.iter().zip(parts) {
-        place_tile(region, t, &part.radiance, &mut all.radiance);
-        place_tile(region, t, &part.surface, &mut all.surface);
-        for (tile_aov, aov) in part.aovs.iter().zip(&mut all.aovs) {
-            place_tile(region, t, tile_aov, aov);
-        }
-    }
-    all
-}
-
-/// Copies the row-major values of `tile` into the row-major values of `region`, row by row.
-fn place_tile<T: Copy>(region: PixelRect, tile: &PixelRect, values: &[T], into: &mut [T]) {
-    let width = tile.width() as usize;
-    for (row, y) in values.chunks_exact(width).zip(tile.y0..tile.y1) {
-        let at = ((y - region.y0) * region.width() + (tile.x0 - region.x0)) as usize;
-        into[at..at + width].copy_from_slice(row);
-    }
-}
-
 /// Fixed sampling: every pixel takes the film's spp samples from its sampler.
 fn fixed(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) -> PixelSums {
     let tiles = tiles(region);
@@ -227,31 +179,4 @@ fn fixed(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) -> Pi
         })
         .collect();
     assemble(region, &tiles, parts, naovs)
-}
-
-/// Most samples traced in one call of [`Context::trace`]: bounds the job list (12 bytes a job)
-/// when a pixel takes thousands of samples. Flushes fall between pixels, so each pixel still adds
-/// its samples in order.
-const JOBS_PER_TRACE: usize = 4096;
-
-/// Traces samples `first` to `first + count − 1` of every pixel of tile `t` from the film's
-/// sampler (pixel by pixel, 4×4 blocks in order) and adds them to `sums`.
-fn tile_samples(ctx: &Context, t: PixelRect, first: u32, count: u32, sums: &mut PixelSums) {
-    let film = &ctx.scene.film;
-    let mut offsets = vec![Vec2::ZERO; count as usize];
-    let mut jobs = Vec::with_capacity(((t.width() * t.height() * count) as usize).min(2 * JOBS_PER_TRACE));
-    let mut scratch = Vec::new();
-    for (x, y) in block_order(t) {
-        pixel_offsets(film.sampler, film.seed, x, y, first, &mut offsets);
-        let slot = (y - t.y0) * t.width() + (x - t.x0);
-        let corner = Vec2::new(x as f32, y as f32);
-        jobs.extend(offsets.iter().map(|&o| SampleJob { slot, film: corner + o }));
-        if jobs.len() >= JOBS_PER_TRACE {
-            ctx.trace(&jobs, sums, &mut scratch);
-            jobs.clear();
-        }
-    }
-    if !jobs.is_empty() {
-        ctx.trace(&jobs, sums, &mut scratch);
-    }
 }

@@ -16,7 +16,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::adaptive::{ActivePixel, Settings, DARK_FLOOR};
+use super::refine::{ActivePixel, Settings, DARK_FLOOR};
 use super::tile::{PixelSums, SampleJob};
 use crate::film::{sampler::pixel_offsets, SamplerKind};
 

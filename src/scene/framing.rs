@@ -8,12 +8,12 @@ use glam::Vec3;
 
 use crate::error::{InputError, InputResult};
 use crate::film::FilmSettings;
+use crate::light::{Falloff, Light, LightKind};
+use crate::material::Material;
+use crate::scene::camera::{CameraSpec, FovAxis, Projection};
 use crate::scene::obj::{load_obj, NO_MATERIAL};
 use crate::scene::textures::decode_used_images;
 use crate::scene::{Scene, SceneObject};
-use crate::shading::light::{Falloff, Light, LightKind};
-use crate::shading::material::Material;
-use crate::surface::camera::{CameraSpec, FovAxis, Projection};
 
 /// Vertical field of view of the automatic camera, in degrees.
 const AUTO_FOV: f32 = 35.0;
@@ -136,7 +136,7 @@ pub fn scene_for_bare_mesh(path: &Path) -> InputResult<Scene> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::surface::camera::Camera;
+    use crate::scene::camera::Camera;
 
     #[test]
     fn automatic_camera_sees_every_corner_of_the_box_at_any_scale() {

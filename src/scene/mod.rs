@@ -4,24 +4,25 @@
 //! materials, and all objects merged into one world-space [`TriangleMesh`]. Loading is the only
 //! stage that reads user files, so every [`InputError`] comes from here.
 
+pub mod camera;
 pub mod file;
 pub mod framing;
 pub mod gltf;
 pub mod mesh;
-pub mod normal_map;
 pub mod obj;
 pub mod procedural;
+pub mod shadows;
 pub mod textures;
 
 use std::path::{Path, PathBuf};
 
 use crate::error::{InputError, InputResult};
 use crate::film::FilmSettings;
-use crate::shading::light::Light;
-use crate::shading::material::Material;
-use crate::shading::shadow::{ShadowOffset, ShadowTerminator};
-use crate::shading::texture::TextureImage;
-use crate::surface::camera::CameraSpec;
+use crate::light::Light;
+use crate::material::Material;
+use crate::scene::camera::CameraSpec;
+use crate::scene::shadows::{ShadowOffset, ShadowTerminator};
+use crate::texture::TextureImage;
 pub use mesh::TriangleMesh;
 
 /// A validated scene, ready to plan and render.

@@ -12,8 +12,8 @@ use std::path::PathBuf;
 use rayon::prelude::*;
 
 use crate::error::{InputError, InputResult};
-use crate::shading::material::Material;
-use crate::shading::texture::TextureImage;
+use crate::material::Material;
+use crate::texture::TextureImage;
 
 /// Where an image's encoded bytes are.
 #[derive(Clone, Debug)]
@@ -114,8 +114,8 @@ fn decode(p: &PendingImage) -> InputResult<TextureImage> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shading::material::{PbrTextures, Specular};
-    use crate::shading::texture::TextureRef;
+    use crate::material::{PbrTextures, Specular};
+    use crate::texture::TextureRef;
 
     fn reference(image: u32) -> Option<TextureRef> {
         Some(TextureRef::gltf_default(image))

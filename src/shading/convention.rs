@@ -11,9 +11,10 @@
 //!   With the lights' `Falloff::None` (L_i = colour × intensity) this is the report's
 //!   L_o = L_i · f(ω_i, ω_o) · (n·ω_i).
 //!
-//! [`Material::eval`]: crate::shading::material::Material::eval
+//! [`Material::eval`]: crate::material::Material::eval
 
-use super::brdf::{dot3 as dot, map3, LocalDots, Mask, Real};
+use crate::brdf::LocalDots;
+use crate::lanes::{dot3 as dot, map3, Mask, Real};
 
 /// Which convention the shader follows; chosen once per render by the plan.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -3,15 +3,12 @@
 //! A [`SurfacePoint`] is made from a camera ray's hit ([`primary`]) or from a pixel of a normal
 //! image ([`normal_image`], the normal-map mode); neither it nor the shader knows which.
 
-pub mod camera;
-pub mod normal_image;
-pub mod normal_likeness;
 pub mod normal_texture;
 pub mod primary;
 
 use glam::{Vec2, Vec3};
 
-use crate::shading::brdf::{map3, F32x8, Real, LANES};
+use crate::lanes::{map3, F32x8, Real, LANES};
 
 /// A point on a surface, seen from a direction, ready to be shaded.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,7 +38,7 @@ pub struct SurfacePoint {
 }
 
 /// Surface points of one material, each coordinate in the lanes of `R` — [`LANES`] of them in
-/// [`F32x8`] by default, four `tp` pixels in [`F64x4`](crate::shading::brdf::F64x4), one point
+/// [`F32x8`] by default, four `tp` pixels in [`F64x4`](crate::lanes::F64x4), one point
 /// in a scalar: what the shader's lane path reads. Only the fields that path uses (the
 /// assignment convention has no sides, textures or shadow rays); the normal-map mode fills them
 /// straight from the image.

@@ -11,10 +11,10 @@
 use glam::{Vec2, Vec3};
 
 use crate::accel::Hit;
+use crate::material::Material;
 use crate::scene::mesh::TriangleMesh;
-use crate::shading::material::Material;
-use crate::shading::texture::{ColorSpace, TextureImage};
 use crate::surface::SurfacePoint;
+use crate::texture::{ColorSpace, TextureImage};
 
 /// Replaces `point.shading_normal` by the normal its material's normal texture gives at the
 /// point. Leaves it unchanged where the material has no normal texture, the vertices have no
@@ -63,8 +63,8 @@ pub fn apply_normal_texture(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shading::material::{NormalTexture, PbrTextures, Specular};
-    use crate::shading::texture::TextureRef;
+    use crate::material::{NormalTexture, PbrTextures, Specular};
+    use crate::texture::TextureRef;
     use glam::Vec4;
 
     /// A quad in the xy plane facing +z, u along +x and v along −y (the image's top row at

@@ -19,13 +19,13 @@ use glam::{Mat4, Vec3};
 
 use super::ply::{self, VertexAttributes};
 use super::textures;
+use crate::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
 use crate::film::SamplerKind;
+use crate::light::{Falloff, Light, LightKind};
+use crate::material::{Material, Specular};
+use crate::scene::camera::{FovAxis, Projection};
 use crate::scene::Scene;
-use crate::shading::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
-use crate::shading::light::{Falloff, Light, LightKind};
-use crate::shading::material::{Material, Specular};
-use crate::shading::texture::{Filter, TextureImage, TextureRef, Wrap};
-use crate::surface::camera::{FovAxis, Projection};
+use crate::texture::{Filter, TextureImage, TextureRef, Wrap};
 
 /// Which BSDFs the export uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -641,8 +641,8 @@ mod tests {
 
     #[test]
     fn emission_is_a_pass_of_its_own_and_normal_mapped_materials_keep_their_sides_in_the_plugin() {
-        use crate::shading::material::{NormalTexture, PbrTextures};
-        use crate::shading::texture::TextureRef;
+        use crate::material::{NormalTexture, PbrTextures};
+        use crate::texture::TextureRef;
         let mut s = load(&format!(
             "{CAMERA}[film]\nsampler = \"grid\"\n[[light]]\ntype = \"point\"\nposition = [0.0, 1.0, 2.0]\n[[object]]\nmesh = \"tri.obj\"\n"
         ));

@@ -57,9 +57,9 @@ mod tests {
 
     use super::*;
     use crate::film::Image;
+    use crate::material::{Material, Specular};
     use crate::reports::stability::scale_cases::contact_scene;
-    use crate::shading::material::{Material, Specular};
-    use crate::shading::texture::{TextureImage, TextureRef};
+    use crate::texture::{TextureImage, TextureRef};
     use crate::validation::compare::compare;
 
     fn image(values: &[f32]) -> Image {

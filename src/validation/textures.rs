@@ -6,7 +6,7 @@
 //!   JPEG or PNG decoder Mitsuba would have used.
 //! - A texture slot becomes plugin properties `{slot}_file`, `_width`, `_height`, `_set`
 //!   (texture-coordinate set), `_wrap` ("u v"), `_filter` and, with `KHR_texture_transform`,
-//!   `_transform` (the six numbers of [`crate::shading::texture::UvTransform::m`]).
+//!   `_transform` (the six numbers of [`crate::texture::UvTransform::m`]).
 //! - The parts of a textured material carry the texture coordinates and tangents the plugin
 //!   interpolates ([`super::ply::VertexAttributes`]).
 //! - An emissive material's surfaces get an `area` emitter whose radiance is the plugin's
@@ -15,9 +15,9 @@
 use std::fmt::Write as _;
 
 use super::ply::VertexAttributes;
+use crate::material::{Material, Specular};
 use crate::scene::mesh::TriangleMesh;
-use crate::shading::material::{Material, Specular};
-use crate::shading::texture::{Filter, TextureImage, TextureRef, Wrap};
+use crate::texture::{Filter, TextureImage, TextureRef, Wrap};
 
 /// The file name of image `k` of an export whose files start with `prefix`.
 pub fn image_file(prefix: &str, k: usize) -> String {
@@ -158,8 +158,8 @@ mod tests {
     use glam::Vec2;
 
     use super::*;
-    use crate::shading::material::{NormalTexture, PbrTextures};
-    use crate::shading::texture::UvTransform;
+    use crate::material::{NormalTexture, PbrTextures};
+    use crate::texture::UvTransform;
 
     fn reference(image: u32, tex_coord: u8) -> TextureRef {
         TextureRef {

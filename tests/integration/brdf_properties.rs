@@ -3,8 +3,10 @@
 //! (f(ω_i, ω_o) = f(ω_o, ω_i)); Lambert's white furnace returns k_d·albedo; the normalised
 //! Cook-Torrance lobes (Smith masking, F ≤ 1) never reflect more than they receive.
 
-use pointshade::shading::brdf::{FresnelTerm, LocalDots, MaskingShadowing, MicrofacetDistribution, Scalar};
-use pointshade::shading::material::{BlinnPhong, CookTorrance, Material, Specular};
+use pointshade::brdf::{FresnelTerm, LocalDots, MaskingShadowing, MicrofacetDistribution};
+
+use pointshade::lanes::Scalar;
+use pointshade::material::{BlinnPhong, CookTorrance, Material, Specular};
 use proptest::prelude::*;
 use std::f64::consts::PI;
 

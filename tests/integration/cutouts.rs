@@ -10,8 +10,8 @@ use glam::{Quat, Vec3};
 use serde_json::json;
 
 use pointshade::accel::{Bvh, BvhPreset};
-use pointshade::bake::bake_normals;
 use pointshade::film::{Image, SamplerKind};
+use pointshade::normal_map::bake::bake_normals;
 use pointshade::plan::RenderPlan;
 use pointshade::render::render_scene;
 use pointshade::scene::{self, Scene};

@@ -12,10 +12,10 @@ use serde_json::json;
 
 use pointshade::accel::Bvh;
 use pointshade::film::{Image, SamplerKind};
+use pointshade::light::{Falloff, LightKind};
 use pointshade::plan::RenderPlan;
 use pointshade::render::render;
 use pointshade::scene::{self, LoadOptions, Scene};
-use pointshade::shading::light::{Falloff, LightKind};
 use support::gltf_builder::{square, temp_dir, write_png, GltfBuilder};
 
 /// Renders `scene` at `size` with one grid sample per pixel centre.

@@ -7,10 +7,10 @@ use crate::support;
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
+use pointshade::light::{Falloff, LightKind};
+use pointshade::material::Specular;
 use pointshade::plan::RenderPlan;
 use pointshade::scene::{self, LoadOptions};
-use pointshade::shading::light::{Falloff, LightKind};
-use pointshade::shading::material::Specular;
 
 fn gltf_dir() -> PathBuf {
     support::shared_data("gltf")

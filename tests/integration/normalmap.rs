@@ -11,10 +11,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use glam::{DVec3, Vec3};
+use pointshade::light::{Falloff, Light, LightKind};
+use pointshade::normal_map::image::{TpScaling, Viewer};
+use pointshade::normal_map::scene_file::{ModelName, NormalMapScene, Preset};
 use pointshade::normal_map::shade_tp_pixel;
-use pointshade::scene::normal_map::{ModelName, NormalMapScene, Preset};
-use pointshade::shading::light::{Falloff, Light, LightKind};
-use pointshade::surface::normal_image::{TpScaling, Viewer};
 
 const BRDFS: [&str; 3] = ["lambert", "blinn-phong", "cook-torrance"];
 
@@ -252,10 +252,9 @@ fn all_finite(v: DVec3) -> bool {
 /// pixel with one point at a time: `shade_tp_pixel` for the tp preset (float64, rounded to f32 as
 /// the image path stores it), the scalar shader on `ImageSurface::point` for the physical one
 /// (one- and two-sided). Equal as numbers.
-fn assert_image_path_is_the_single_pixel_function(image: &pointshade::surface::normal_image::NormalImage) {
+fn assert_image_path_is_the_single_pixel_function(image: &pointshade::normal_map::image::NormalImage) {
+    use pointshade::lanes::LaneInstructions;
     use pointshade::normal_map::{image_surface, shade_image_with, shader, TpPrecision};
-    use pointshade::plan::RenderPlan;
-    use pointshade::shading::brdf::LaneInstructions;
     let scaling = TpScaling::of(image).unwrap();
     let mut sets = vec![LaneInstructions::Portable, LaneInstructions::detect()];
     sets.dedup();
@@ -264,7 +263,7 @@ fn assert_image_path_is_the_single_pixel_function(image: &pointshade::surface::n
             let mut scene = NormalMapScene::from_preset(&image.source, preset, brdf);
             scene.material.two_sided = two_sided;
             let surface = image_surface(&scene, image).unwrap();
-            let plan = RenderPlan::for_normal_map(&scene, image, "test");
+            let plan = pointshade::normal_map::plan::plan(&scene, image, "test");
             let one = shader(&scene, preset.convention());
             for &set in &sets {
                 let (shaded, _) = shade_image_with(&scene, &plan, image, &surface, set, TpPrecision::Float64);
@@ -293,7 +292,7 @@ fn assert_image_path_is_the_single_pixel_function(image: &pointshade::surface::n
 
 #[test]
 fn single_pixel_function_is_the_image_path() {
-    use pointshade::surface::normal_image::NormalImage;
+    use pointshade::normal_map::image::NormalImage;
     // Synthetic images first (always run): 8- and 16-bit, with background runs, isolated
     // foreground pixels and rows whose foreground count is not a multiple of eight, so every
     // branch of the row code (whole blocks, partial blocks, runs of eight neighbours, padded
@@ -329,7 +328,7 @@ fn single_pixel_function_is_the_image_path() {
 #[test]
 #[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn single_pixel_function_is_the_image_path_on_the_assignments_image() {
-    use pointshade::surface::normal_image::NormalImage;
+    use pointshade::normal_map::image::NormalImage;
     let input = shared_normal_map("nmap2.png");
     assert_image_path_is_the_single_pixel_function(&NormalImage::load(&input).unwrap());
 }

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use pointshade::film::SamplerKind;
 use pointshade::output::read_linear;
-use pointshade::shading::shadow::ShadowOffset;
+use pointshade::scene::shadows::ShadowOffset;
 use pointshade::validation::compare::compare;
 use pointshade::validation::mitsuba::{export, BsdfChoice};
 use pointshade::validation::rounding::nudged_texture_coordinates;

@@ -19,11 +19,12 @@
 //! Blinn-Phong with s = 1e6 from vectors stays within 2e-6 thanks to the ln_1p form.
 
 use super::{num, rel_err, Case, REL_TOL};
-use crate::shading::brdf::{
+use crate::brdf::{
     blinn_phong, fresnel_conductor, fresnel_schlick, fresnel_schlick_sg, lambert, schlick_f0_dielectric, LocalDots,
-    MaskingShadowing, MicrofacetDistribution, Scalar,
+    MaskingShadowing, MicrofacetDistribution,
 };
-use crate::shading::material::{BlinnPhong, CookTorrance, Material, Specular};
+use crate::lanes::Scalar;
+use crate::material::{BlinnPhong, CookTorrance, Material, Specular};
 
 /// What one case evaluates; every input is rounded to f32 first, so both precisions see the
 /// same numbers.

@@ -17,8 +17,8 @@
 use rayon::prelude::*;
 
 use super::{num, rel_err, Case, Options, Rng, REL_TOL};
-use crate::shading::brdf::{FresnelTerm, LocalDots, MaskingShadowing, MicrofacetDistribution};
-use crate::shading::material::{BlinnPhong, CookTorrance, Material, Specular};
+use crate::brdf::{FresnelTerm, LocalDots, MaskingShadowing, MicrofacetDistribution};
+use crate::material::{BlinnPhong, CookTorrance, Material, Specular};
 
 /// Families the sweep reports on, one pair of rows each.
 const FAMILIES: usize = 2 + 2 * 4;
@@ -187,7 +187,7 @@ fn directions(rng: &mut Rng) -> ([f32; 3], [f32; 3], [f32; 3], bool) {
     (n32, wi32, wo32, well)
 }
 
-fn eval<R: crate::shading::brdf::Scalar>(m: &Material, n: [f32; 3], wi: [f32; 3], wo: [f32; 3]) -> [f64; 3] {
+fn eval<R: crate::lanes::Scalar>(m: &Material, n: [f32; 3], wi: [f32; 3], wo: [f32; 3]) -> [f64; 3] {
     let cast = |v: [f32; 3]| v.map(R::of);
     match LocalDots::from_unit_vectors(cast(n), cast(wi), cast(wo)) {
         Some(d) => m.eval(&d).map(|v| v.as_f64()),

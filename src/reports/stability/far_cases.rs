@@ -124,8 +124,8 @@ mod tests {
     use glam::DVec3;
 
     use super::*;
+    use crate::light::LightKind;
     use crate::scene::mesh::angle_weighted_normals;
-    use crate::shading::light::LightKind;
 
     /// The row can fail: the same far scene as it was rendered before f64 origins — world
     /// coordinates in f32, normals derived from them — is far below the bound.

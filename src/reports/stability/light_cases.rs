@@ -9,14 +9,14 @@
 use glam::Vec3;
 
 use super::{num, rel_err, Case, REL_TOL};
+use crate::accel::shadow::SceneExtent;
+use crate::accel::shadow::{NoOcclusion, Occluder};
 use crate::accel::{Bvh, BvhPreset};
+use crate::light::{Falloff, Light, LightKind};
+use crate::material::Material;
 use crate::scene::procedural;
 use crate::shading::convention::ShadingConvention;
-use crate::shading::light::{Falloff, Light, LightKind};
-use crate::shading::material::Material;
 use crate::shading::shader::Shader;
-use crate::shading::shadow::SceneExtent;
-use crate::shading::shadow::{NoOcclusion, Occluder};
 use crate::surface::SurfacePoint;
 
 const ALBEDO: f32 = 0.6;

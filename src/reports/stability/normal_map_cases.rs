@@ -8,17 +8,17 @@
 //! vector and adds the diffuse part alone; a flat image (min = max) is refused before any
 //! division.
 //!
-//! [`Material::eval`]: crate::shading::material::Material::eval
+//! [`Material::eval`]: crate::material::Material::eval
 
 use glam::{DVec3, Vec3};
 
 use super::{num, rel_err, Case, Rng, REL_TOL};
+use crate::light::LightKind;
+use crate::normal_map::image::{TpScaling, Viewer};
+use crate::normal_map::scene_file::{NormalMapScene, Preset};
 use crate::normal_map::shade_tp_pixel;
 use crate::scene::file::ModelName;
-use crate::scene::normal_map::{NormalMapScene, Preset};
 use crate::shading::convention::assignment_dots;
-use crate::shading::light::LightKind;
-use crate::surface::normal_image::{TpScaling, Viewer};
 
 /// Pixels with max(r, g, b) at or below this are background in the tp preset (4/255).
 const BACKGROUND: f64 = 4.0 / 255.0;

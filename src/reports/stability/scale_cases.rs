@@ -11,13 +11,13 @@ use glam::Vec3;
 use super::{num, Case};
 use crate::accel::Bvh;
 use crate::film::{FilmSettings, Image, SamplerKind};
+use crate::light::{Falloff, Light, LightKind};
+use crate::material::{CookTorrance, Material, Specular};
 use crate::plan::RenderPlan;
+use crate::scene::camera::{CameraSpec, FovAxis, Projection};
 use crate::scene::mesh::TriangleMesh;
 use crate::scene::procedural;
 use crate::scene::Scene;
-use crate::shading::light::{Falloff, Light, LightKind};
-use crate::shading::material::{CookTorrance, Material, Specular};
-use crate::surface::camera::{CameraSpec, FovAxis, Projection};
 
 const WIDTH: u32 = 160;
 const HEIGHT: u32 = 120;

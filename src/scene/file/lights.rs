@@ -5,11 +5,11 @@ use glam::{DVec3, Vec3};
 use serde::Deserialize;
 
 use super::{point3, vec3};
-use crate::shading::light::{Falloff, Light, LightKind};
+use crate::light::{Falloff, Light, LightKind};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(in crate::scene) struct LightSection {
+pub(crate) struct LightSection {
     #[serde(rename = "type")]
     kind: LightType,
     position: Option<[f64; 3]>,
@@ -47,7 +47,7 @@ enum FalloffName {
 
 /// The light a `[[light]]` section describes, its position relative to `origin` (the scene's,
 /// `Scene::origin`); `falloff` when the section does not say.
-pub(in crate::scene) fn light(l: &LightSection, default_falloff: Falloff, origin: DVec3) -> Result<Light, String> {
+pub(crate) fn light(l: &LightSection, default_falloff: Falloff, origin: DVec3) -> Result<Light, String> {
     let color = vec3("color", l.color)?;
     if color.min_element() < 0.0 {
         return Err(format!("light color must be ≥ 0, got {color}"));

@@ -4,12 +4,12 @@
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::shading::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
-use crate::shading::material::{BlinnPhong, CookTorrance, Material, Specular};
+use crate::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
+use crate::material::{BlinnPhong, CookTorrance, Material, Specular};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(in crate::scene) struct MaterialSection {
+pub(crate) struct MaterialSection {
     #[serde(default)]
     model: ModelName,
     albedo: Option<[f32; 3]>,
@@ -130,18 +130,14 @@ impl MaterialDefaults {
 }
 
 /// An error with the span of the value it is about, when narrower than the section.
-pub(in crate::scene) type Located = (Option<std::ops::Range<usize>>, String);
+pub(crate) type Located = (Option<std::ops::Range<usize>>, String);
 
 /// The material a `[material.NAME]` section describes, missing keys taken from `defaults`.
 ///
 /// A Cook-Torrance section that writes `eta` or `k` and no `fresnel` is a conductor (the exact
 /// Fresnel of that complex index), and a conductor's `kd` defaults to 0: a metal has no diffuse
 /// part, as in Mitsuba's `roughconductor` and pbrt's `conductor`.
-pub(in crate::scene) fn material(
-    name: &str,
-    m: &MaterialSection,
-    defaults: &MaterialDefaults,
-) -> Result<Material, Located> {
+pub(crate) fn material(name: &str, m: &MaterialSection, defaults: &MaterialDefaults) -> Result<Material, Located> {
     let plain = |msg: String| (None, msg);
     let mut material = defaults.material(name, m.model);
     material.albedo = m.albedo.unwrap_or(material.albedo);

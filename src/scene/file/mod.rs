@@ -15,23 +15,23 @@ use toml::Spanned;
 
 use crate::error::{InputError, InputResult};
 use crate::film::{FilmSettings, SamplerKind};
+use crate::light::Falloff;
+use crate::material::Material;
+use crate::scene::camera::{CameraSpec, FovAxis, Projection};
 use crate::scene::framing::{default_lights, default_material, frame_bounds};
 use crate::scene::gltf::load_gltf;
 use crate::scene::mesh::DerivedNormals;
 use crate::scene::mesh::{placed_origin, TriangleMesh};
 use crate::scene::obj::{load_obj_underived, NO_MATERIAL};
+use crate::scene::shadows::{ShadowOffset, ShadowTerminator};
 use crate::scene::textures::{decode_used_images, offset_images, PendingImage};
 use crate::scene::{extension, Scene, SceneObject};
-use crate::shading::light::Falloff;
-use crate::shading::material::Material;
-use crate::shading::shadow::{ShadowOffset, ShadowTerminator};
-use crate::surface::camera::{CameraSpec, FovAxis, Projection};
 
 mod lights;
 mod materials;
 
-pub(in crate::scene) use lights::{light, LightSection};
-pub(in crate::scene) use materials::{material, MaterialSection};
+pub(crate) use lights::{light, LightSection};
+pub(crate) use materials::{material, MaterialSection};
 pub use materials::{MaterialDefaults, ModelName};
 
 #[derive(Deserialize)]
@@ -371,21 +371,21 @@ fn load_object(path: &Path) -> Result<ObjectContents, ObjectError> {
 
 /// The text of a TOML scene file, kept so that errors found after parsing can name the line
 /// and column of the value they are about.
-pub(in crate::scene) struct TomlSource<'a> {
+pub(crate) struct TomlSource<'a> {
     path: &'a Path,
     text: String,
 }
 
 impl<'a> TomlSource<'a> {
     /// Reads `path`; a missing or unreadable file is an error naming it.
-    pub(in crate::scene) fn read(path: &'a Path) -> InputResult<Self> {
+    pub(crate) fn read(path: &'a Path) -> InputResult<Self> {
         let text = std::fs::read_to_string(path).map_err(|e| InputError::new(path, format!("cannot read: {e}")))?;
         Ok(TomlSource { path, text })
     }
 
     /// The file parsed as `T` (strictly, as the sections' serde attributes say), or the parser's
     /// error at its line and column.
-    pub(in crate::scene) fn parse<T: serde::de::DeserializeOwned>(&self) -> InputResult<T> {
+    pub(crate) fn parse<T: serde::de::DeserializeOwned>(&self) -> InputResult<T> {
         toml::from_str(&self.text).map_err(|e| match e.span() {
             Some(span) => self.at(span, e.message().to_string()),
             None => InputError::new(self.path, e.message()),
@@ -393,7 +393,7 @@ impl<'a> TomlSource<'a> {
     }
 
     /// `problem` at the start of byte range `span`: "FILE: line L, column C: problem".
-    pub(in crate::scene) fn at(&self, span: std::ops::Range<usize>, problem: String) -> InputError {
+    pub(crate) fn at(&self, span: std::ops::Range<usize>, problem: String) -> InputError {
         let (line, col) = line_col(&self.text, span.start);
         InputError::new(self.path, format!("line {line}, column {col}: {problem}"))
     }
@@ -416,7 +416,7 @@ fn names(index_of: &BTreeMap<String, u32>) -> String {
 }
 
 /// `file` relative to the directory `dir` of the scene file (absolute paths unchanged).
-pub(super) fn resolve(dir: &Path, file: &str) -> PathBuf {
+pub(crate) fn resolve(dir: &Path, file: &str) -> PathBuf {
     let p = Path::new(file);
     if p.is_absolute() {
         p.to_path_buf()
@@ -460,7 +460,7 @@ fn film_settings(f: &FilmSection) -> Result<FilmSettings, String> {
 
 /// A finite vector, or an error naming the key.
 /// A position read in f64, relative to the scene's `origin`, in f32 (finite in both).
-pub(super) fn point3(name: &str, v: [f64; 3], origin: DVec3) -> Result<Vec3, String> {
+pub(crate) fn point3(name: &str, v: [f64; 3], origin: DVec3) -> Result<Vec3, String> {
     let p = DVec3::from(v);
     let local = (p - origin).as_vec3();
     if p.is_finite() && local.is_finite() {
@@ -470,7 +470,7 @@ pub(super) fn point3(name: &str, v: [f64; 3], origin: DVec3) -> Result<Vec3, Str
     }
 }
 
-pub(super) fn vec3(name: &str, v: [f32; 3]) -> Result<Vec3, String> {
+pub(crate) fn vec3(name: &str, v: [f32; 3]) -> Result<Vec3, String> {
     let v = Vec3::from(v);
     if v.is_finite() {
         Ok(v)
@@ -503,7 +503,7 @@ fn camera(c: &CameraSection, origin: DVec3) -> Result<CameraSpec, String> {
         far_clip: c.far_clip.unwrap_or(f32::INFINITY),
     };
     // Build once at a nominal size to check the frame and projection now, with the file's span.
-    crate::surface::camera::Camera::new(spec, 1, 1)?;
+    crate::scene::camera::Camera::new(spec, 1, 1)?;
     Ok(spec)
 }
 

@@ -9,8 +9,8 @@
 use glam::{Mat4, Vec3};
 
 use crate::error::InputResult;
+use crate::scene::camera::{Camera, CameraSpec, FovAxis, Projection};
 use crate::scene::gltf::document::GltfDocument;
-use crate::surface::camera::{Camera, CameraSpec, FovAxis, Projection};
 
 /// A camera of the file, placed by a node.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -10,8 +10,8 @@
 use glam::{Mat4, Vec3};
 
 use crate::error::InputResult;
+use crate::light::{Falloff, Light, LightKind};
 use crate::scene::gltf::document::GltfDocument;
-use crate::shading::light::{Falloff, Light, LightKind};
 
 /// The light `light` placed by a node with world matrix `world`.
 pub fn light_at(d: &GltfDocument, light: &::gltf::khr_lights_punctual::Light, world: Mat4) -> InputResult<Light> {

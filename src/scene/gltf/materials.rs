@@ -10,11 +10,11 @@
 //! light from punctual lights only, so occlusion has nothing to act on and is not decoded.
 
 use crate::error::InputResult;
+use crate::material::{Cutout, GltfPbr, Material, NormalTexture, PbrTextures, Specular};
 use crate::scene::gltf::document::GltfDocument;
 use crate::scene::gltf::texture_transform::{self, SlotTransform};
 use crate::scene::textures::{ImageSource, PendingImage};
-use crate::shading::material::{Cutout, GltfPbr, Material, NormalTexture, PbrTextures, Specular};
-use crate::shading::texture::{Filter, TextureRef, UvTransform, Wrap};
+use crate::texture::{Filter, TextureRef, UvTransform, Wrap};
 
 /// The materials of a file, converted.
 pub struct Materials {

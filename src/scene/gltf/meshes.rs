@@ -18,12 +18,12 @@ use ::gltf::mesh::{Mode, Semantic};
 use glam::{Vec2, Vec3, Vec4};
 
 use crate::error::InputResult;
+use crate::material::Material;
 use crate::scene::gltf::accessor::{read_indices, read_vectors};
 use crate::scene::gltf::document::GltfDocument;
 use crate::scene::gltf::nodes::World;
 use crate::scene::gltf::tangents::generate_tangents;
 use crate::scene::mesh::{placed_origin, TriangleMesh};
-use crate::shading::material::Material;
 
 /// The geometry of a file's rendered scene.
 pub struct SceneGeometry {

@@ -22,13 +22,13 @@ use std::path::Path;
 
 use crate::error::{InputError, InputResult};
 use crate::film::FilmSettings;
+use crate::light::Light;
+use crate::material::Material;
 use crate::scene::framing::{default_lights, frame_bounds};
 use crate::scene::mesh::TriangleMesh;
+use crate::scene::shadows::ShadowOffset;
 use crate::scene::textures::{decode_used_images, PendingImage};
 use crate::scene::{Scene, SceneObject};
-use crate::shading::light::Light;
-use crate::shading::material::Material;
-use crate::shading::shadow::ShadowOffset;
 use cameras::GltfCamera;
 use document::SUPPORTED_EXTENSIONS;
 

@@ -7,7 +7,7 @@
 
 use ::gltf::json::Value;
 
-use crate::shading::texture::UvTransform;
+use crate::texture::UvTransform;
 
 /// A slot's transform and the coordinate set it names instead of the slot's own, if any.
 #[derive(Clone, Copy, Debug, PartialEq)]

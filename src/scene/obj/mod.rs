@@ -17,9 +17,9 @@ use std::path::Path;
 use glam::{DVec3, Vec2, Vec3};
 
 use crate::error::{InputError, InputResult};
+use crate::material::Material;
 use crate::scene::mesh::{local_origin, DerivedNormals, TriangleMesh};
 use crate::scene::textures::PendingImage;
-use crate::shading::material::Material;
 
 /// The geometry and materials of one OBJ file, in the file's own coordinates.
 #[derive(Debug)]
@@ -250,7 +250,7 @@ fn has_vertex_attributes(bytes: &[u8]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shading::material::Specular;
+    use crate::material::Specular;
 
     #[test]
     fn a_mesh_in_map_coordinates_keeps_its_precision_relative_to_its_centre() {

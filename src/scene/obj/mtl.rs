@@ -15,11 +15,11 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use crate::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
 use crate::error::{InputError, InputResult};
+use crate::material::{BlinnPhong, CookTorrance, Material, Specular};
 use crate::scene::textures::{ImageSource, PendingImage};
-use crate::shading::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
-use crate::shading::material::{BlinnPhong, CookTorrance, Material, Specular};
-use crate::shading::texture::{TextureRef, Wrap};
+use crate::texture::{TextureRef, Wrap};
 
 /// The materials of an OBJ file's MTL libraries, converted.
 pub(super) struct MtlMaterials {

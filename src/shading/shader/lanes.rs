@@ -12,11 +12,12 @@ use std::borrow::Borrow;
 use glam::Vec3;
 
 use super::{assignment_term, Shader, BATCH};
-use crate::shading::brdf::{dot3, map3, F32x8, LaneInstructions, LaneMask, LocalDots, Mask, Mask8, Real, LANES};
+use crate::accel::shadow::{Occluder, ShadowRay};
+use crate::brdf::LocalDots;
+use crate::lanes::{dot3, map3, F32x8, LaneInstructions, LaneMask, Mask, Mask8, Real, LANES};
+use crate::light::{Light, LightSamples};
+use crate::material::Material;
 use crate::shading::convention::{report_unit, ShadingConvention};
-use crate::shading::light::{Light, LightSamples};
-use crate::shading::material::Material;
-use crate::shading::shadow::{Occluder, ShadowRay};
 use crate::surface::{SurfaceLanes, SurfacePoint};
 
 /// Most groups of one material a batch of [`BATCH`] points is cut into: two of eight, and one more
@@ -386,12 +387,12 @@ mod tests {
         assert_shaded_as_one_by_one, batch_materials, lights, materials, physical, points, HalfOccluder,
     };
     use super::super::{Shader, BATCH};
-    use crate::shading::brdf::LANES;
+    use crate::accel::shadow::{NoOcclusion, SceneExtent};
+    use crate::lanes::LANES;
+    use crate::material::{Material, Specular};
     use crate::shading::convention::ShadingConvention;
-    use crate::shading::material::{Material, Specular};
-    use crate::shading::shadow::{NoOcclusion, SceneExtent};
-    use crate::shading::texture::TextureRef;
     use crate::surface::SurfacePoint;
+    use crate::texture::TextureRef;
 
     #[test]
     fn eight_lanes_shade_exactly_as_one_point_at_a_time() {

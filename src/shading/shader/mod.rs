@@ -14,13 +14,16 @@ use std::borrow::Borrow;
 
 use glam::Vec3;
 
-use crate::shading::brdf::{map3, LocalDots, Mask, Real};
+use crate::brdf::LocalDots;
+
+use crate::accel::shadow::{Occluder, SceneExtent, ShadowRay};
+use crate::lanes::{map3, Mask, Real};
+use crate::light::{Light, LightSample};
+use crate::material::{Material, PbrPoint, Specular};
+use crate::scene::shadows::ShadowOffset;
 use crate::shading::convention::{assignment_dots, ShadingConvention};
-use crate::shading::light::{Light, LightSample};
-use crate::shading::material::{Material, PbrPoint, Specular};
-use crate::shading::shadow::{Occluder, SceneExtent, ShadowOffset, ShadowRay};
-use crate::shading::texture::TextureImage;
 use crate::surface::{SurfaceLanes, SurfacePoint};
+use crate::texture::TextureImage;
 
 mod lanes;
 
@@ -328,9 +331,9 @@ fn assignment_term<R: Real>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shading::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
-    use crate::shading::light::{Falloff, LightKind};
-    use crate::shading::material::{BlinnPhong, CookTorrance};
+    use crate::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
+    use crate::light::{Falloff, LightKind};
+    use crate::material::{BlinnPhong, CookTorrance};
     use glam::Vec2;
 
     /// Every model and term combination the shader can meet.

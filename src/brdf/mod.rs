@@ -10,27 +10,24 @@
 //! ω_i·ω_h. Every term returns a finite, non-negative value for any finite input; the singular
 //! cases (grazing angles, α → 0, ω_i = −ω_o) have a documented value, tested next to the term.
 //!
-//! [`Material`]: crate::shading::material::Material
+//! [`Material`]: crate::material::Material
 
 mod dots;
 mod fresnel;
 mod lobes;
 mod masking;
 mod microfacet;
-mod real;
 
 pub use dots::LocalDots;
 pub use fresnel::{
-    fresnel_conductor, fresnel_schlick, fresnel_schlick_sg, schlick_f0_dielectric, FresnelTerm, MAX_CONDUCTOR_INDEX,
+    fresnel_conductor, fresnel_conductor_rgb, fresnel_schlick, fresnel_schlick_sg, schlick_f0_dielectric, FresnelTerm,
+    MAX_CONDUCTOR_INDEX,
 };
 pub use lobes::{blinn_phong, lambert};
 pub use masking::{
     g1_schlick, g1_smith_ggx, schlick_k_assignment, schlick_k_karis, smith_ggx_correlated, MaskingShadowing,
 };
 pub use microfacet::{beckmann_d, ggx_d, MicrofacetDistribution, MIN_ALPHA};
-pub use real::{
-    dot3, map3, normalize_or_zero, F32x8, F64x4, LaneInstructions, LaneMask, Lanes, Mask, Mask8, Real, Scalar, LANES,
-};
 
 /// A term name that is not one of the known ones, with the list of valid names.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -70,11 +67,11 @@ macro_rules! named_terms {
         }
 
         impl std::str::FromStr for $ty {
-            type Err = $crate::shading::brdf::UnknownTerm;
+            type Err = $crate::brdf::UnknownTerm;
             fn from_str(s: &str) -> Result<Self, Self::Err> {
                 match s {
                     $($name => Ok($ty::$variant),)+
-                    _ => Err($crate::shading::brdf::UnknownTerm { kind: $kind, name: s.to_string(), expected: Self::NAMES }),
+                    _ => Err($crate::brdf::UnknownTerm { kind: $kind, name: s.to_string(), expected: Self::NAMES }),
                 }
             }
         }

@@ -11,8 +11,8 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::accel::Bvh;
+use crate::scene::camera::Camera;
 use crate::scene::Scene;
-use crate::surface::camera::Camera;
 use crate::surface::primary::{surface_point, PointOptions};
 
 /// Camera-space unit normals of every pixel, row-major; `None` where the ray hits nothing.

@@ -1,7 +1,7 @@
 //! The dot products every BRDF term is a function of.
 
 use super::microfacet::one_minus_squared;
-use super::{dot3 as dot, Real, Scalar};
+use crate::lanes::{dot3 as dot, Real, Scalar};
 
 /// n·ω_i, n·ω_o, n·ω_h, sin²θ_h and ω_i·ω_h for one pair of directions at one surface point.
 ///

@@ -12,8 +12,6 @@
 
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
-use super::fresnel::fresnel_conductor;
-
 /// Which instructions the eight-lane code may be compiled for, best last. Lanes give the same
 /// bits with every choice (no fused multiply-add is enabled); wider registers only take fewer
 /// instructions.
@@ -168,15 +166,12 @@ pub trait Real:
 
     /// `a` where `mask`, else `b`.
     fn select(mask: Self::Mask, a: Self, b: Self) -> Self;
-    /// The exact conductor Fresnel term ([`fresnel_conductor`]) of the three colour channels.
-    /// One channel after another by default; f32 runs them as three lanes of one `F32x4`
-    /// (each lane the f32 bits of its channel, in a third of the instructions: the term takes
-    /// two square roots and three divisions, and showed as 6% of a copper render's profile).
+    /// This value as a plain `f32`, when `Self` is `f32` (`None` for f64 and lanes): lets a
+    /// per-channel kernel run a scalar point's three channels as the lanes of one [`F32x4`]
+    /// instead of one after another. Constant after inlining, so the test costs nothing.
     #[inline(always)]
-    fn fresnel_conductor_rgb(i_dot_h: Self, eta: [f32; 3], k: [f32; 3]) -> [Self; 3] {
-        map3([0, 1, 2], |c| {
-            fresnel_conductor(i_dot_h, Self::of(eta[c]), Self::of(k[c]))
-        })
+    fn as_single_f32(self) -> Option<f32> {
+        None
     }
 
     /// `a()` where `mask`, else `b()`: like [`Real::select`], but a side no lane takes is not
@@ -295,10 +290,8 @@ macro_rules! scalar_real {
 scalar_real!(
     f32,
     #[inline(always)]
-    fn fresnel_conductor_rgb(i_dot_h: f32, eta: [f32; 3], k: [f32; 3]) -> [f32; 3] {
-        let lanes = |v: [f32; 3]| Lanes([v[0], v[1], v[2], v[2]]);
-        let f = fresnel_conductor(F32x4::splat(i_dot_h), lanes(eta), lanes(k));
-        [f.0[0], f.0[1], f.0[2]]
+    fn as_single_f32(self) -> Option<f32> {
+        Some(self)
     }
 );
 scalar_real!(f64);

@@ -4,7 +4,7 @@
 //! [`ImageSurface::lanes`]; four in float64 lanes for `tp`, [`ImageSurface::tp_lanes`]), by the
 //! same generic functions.
 //!
-//! This is the normal-map mode's counterpart of [`super::primary`]: where a mesh render finds a
+//! This is the normal-map mode's counterpart of [`crate::surface::primary`]: where a mesh render finds a
 //! surface point with a camera ray and a BVH, here the point is read off a pixel — no geometry,
 //! no rays. How a colour
 //! becomes a normal, where the pixel sits in space and where the viewer is depend on the preset:
@@ -27,7 +27,7 @@ use rayon::prelude::*;
 
 use crate::error::{InputError, InputResult};
 use crate::film::MAX_PIXELS;
-use crate::shading::brdf::{map3, normalize_or_zero, F32x8, Lanes, Real, Scalar, LANES};
+use crate::lanes::{map3, normalize_or_zero, F32x8, Lanes, Real, Scalar, LANES};
 use crate::shading::convention::report_unit;
 use crate::surface::{SurfaceLanes, SurfacePoint};
 

@@ -1,24 +1,31 @@
 //! The normal-map driver: the pixels of a normal image become surface points
-//! ([`crate::surface::normal_image`]) and go through the same [`Shader`] and
-//! [`Material::eval`](crate::shading::material::Material::eval) as a mesh render's hits. No BVH,
+//! ([`crate::normal_map::image`]) and go through the same [`Shader`] and
+//! [`Material::eval`](crate::material::Material::eval) as a mesh render's hits. No BVH,
 //! no rays. The `tp` preset computes in float64, as the assignment's numpy code does; the
 //! `physical` preset in f32, as a mesh render. Rows are shaded in parallel; every pixel is a
 //! pure function of its colour and position, so the image does not depend on the thread count.
+
+pub mod bake;
+pub mod formats;
+pub mod image;
+pub mod likeness;
+pub mod plan;
+pub mod scene_file;
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use glam::{DVec3, Vec3};
 
+use crate::accel::shadow::NoOcclusion;
+use crate::accel::shadow::SceneExtent;
 use crate::film::Image;
+use crate::lanes::{LaneInstructions, Lanes, Scalar, LANES};
+use crate::normal_map::image::{ImageSurface, NormalDecoding, NormalImage, PixelPositions, TpScaling};
+use crate::normal_map::scene_file::{NormalMapScene, Preset};
 use crate::plan::RenderPlan;
-use crate::scene::normal_map::{NormalMapScene, Preset};
-use crate::shading::brdf::{LaneInstructions, Lanes, Scalar, LANES};
 use crate::shading::convention::ShadingConvention;
 use crate::shading::shader::Shader;
-use crate::shading::shadow::NoOcclusion;
-use crate::shading::shadow::SceneExtent;
-use crate::surface::normal_image::{ImageSurface, NormalDecoding, NormalImage, PixelPositions, TpScaling};
 use crate::surface::SurfaceLanes;
 
 /// Counters and per-stage times of one normal-map shading.
@@ -275,7 +282,7 @@ impl<G: LaneGroup> LaneRow<'_, G> {
     }
 
     /// [`LaneRow::run`] compiled with AVX2 (256-bit registers: an
-    /// [`F32x8`](crate::shading::brdf::F32x8) or `F64x4` operation is one instruction instead of
+    /// [`F32x8`](crate::lanes::F32x8) or `F64x4` operation is one instruction instead of
     /// two). No FMA: fused products round differently, and every path must give the same bits.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]

@@ -1,6 +1,6 @@
 //! The non-microfacet lobes: Lambert diffuse and Blinn-Phong specular.
 
-use super::Real;
+use crate::lanes::Real;
 
 /// Lambert: f_d = k_d · albedo / π (per channel). Constant in the directions.
 #[inline(always)]

@@ -1,6 +1,7 @@
 //! Fresnel terms F(ω_i·ω_h): the share of light a microfacet reflects.
 
-use super::{named_terms, Real};
+use super::named_terms;
+use crate::lanes::{map3, F32x4, Lanes, Real};
 
 /// Which Fresnel term a Cook-Torrance material uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -113,6 +114,19 @@ pub fn fresnel_conductor<R: Real>(i_dot_h: R, eta: R, k: R) -> R {
     )
 }
 
+/// [`fresnel_conductor`] of the three colour channels. For a scalar f32 point the channels run as
+/// three lanes of one [`F32x4`], each lane the f32 bits of its channel (the term takes two square
+/// roots and three divisions); otherwise one channel after another.
+#[inline(always)]
+pub fn fresnel_conductor_rgb<R: Real>(i_dot_h: R, eta: [f32; 3], k: [f32; 3]) -> [R; 3] {
+    if let Some(c) = i_dot_h.as_single_f32() {
+        let lanes = |v: [f32; 3]| Lanes([v[0], v[1], v[2], v[2]]);
+        let f = fresnel_conductor(F32x4::splat(c), lanes(eta), lanes(k));
+        return map3([0, 1, 2], |ch| R::of(f.0[ch]));
+    }
+    map3([0, 1, 2], |ch| fresnel_conductor(i_dot_h, R::of(eta[ch]), R::of(k[ch])))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -134,7 +148,6 @@ mod tests {
 
     #[test]
     fn three_channels_in_lanes_give_each_channels_f32_bits() {
-        use super::super::real::Real;
         // Copper, a dielectric seen from the denser side (κ = 0, η < 1), a perfect index match,
         // clamped extremes and NaN parameters, at angles from grazing to normal and beyond.
         let media: [([f32; 3], [f32; 3]); 4] = [
@@ -147,7 +160,7 @@ mod tests {
             for step in -2..=42 {
                 let c = step as f32 / 40.0;
                 for i_dot_h in [c, f32::NAN, 1e-30] {
-                    let lanes = f32::fresnel_conductor_rgb(i_dot_h, eta, k);
+                    let lanes = fresnel_conductor_rgb(i_dot_h, eta, k);
                     for ch in 0..3 {
                         let one = fresnel_conductor(i_dot_h, eta[ch], k[ch]);
                         assert_eq!(

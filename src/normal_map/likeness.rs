@@ -7,7 +7,7 @@
 //! length and direction. The check looks at the foreground as both presets define it loosely
 //! (alpha > 0 and some channel above 4/255) and counts the pixels that fail each test.
 
-use crate::surface::normal_image::NormalImage;
+use crate::normal_map::image::NormalImage;
 
 /// Decoded lengths outside [1 − this, 1 + this] count as far from unit length.
 pub const LENGTH_TOLERANCE: f32 = 0.2;

@@ -8,11 +8,13 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::shading::brdf::{
-    blinn_phong, fresnel_schlick, fresnel_schlick_sg, ggx_d, lambert, map3, schlick_f0_dielectric, FresnelTerm,
-    LocalDots, Mask, MaskingShadowing, MicrofacetDistribution, Real,
+use crate::brdf::{
+    blinn_phong, fresnel_conductor_rgb, fresnel_schlick, fresnel_schlick_sg, ggx_d, lambert, schlick_f0_dielectric,
+    FresnelTerm, LocalDots, MaskingShadowing, MicrofacetDistribution,
 };
-use crate::shading::texture::{ColorSpace, TextureImage, TextureRef};
+
+use crate::lanes::{map3, Mask, Real};
+use crate::texture::{ColorSpace, TextureImage, TextureRef};
 
 /// Blinn-Phong specular lobe: f_s = ks · color · (n·ω_h)^shininess.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -472,7 +474,7 @@ impl CookTorrance {
             FresnelTerm::Schlick => map3(self.f0::<R>(), |f0| fresnel_schlick(f0, i_dot_h)),
             FresnelTerm::SchlickSg => map3(self.f0::<R>(), |f0| fresnel_schlick_sg(f0, i_dot_h)),
             FresnelTerm::Conductor => {
-                let f = R::fresnel_conductor_rgb(i_dot_h, self.eta, self.k);
+                let f = fresnel_conductor_rgb(i_dot_h, self.eta, self.k);
                 map3([0, 1, 2], |c| f[c] * R::of(self.specular_color[c]))
             }
             FresnelTerm::Constant => map3(self.specular_color, R::of),

@@ -19,12 +19,12 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use crate::error::InputResult;
+use crate::light::{Falloff, Light, LightKind};
+use crate::material::{BlinnPhong, CookTorrance, Material};
+use crate::normal_map::image::{PixelPositions, Viewer};
 pub use crate::scene::file::ModelName;
 use crate::scene::file::{light, material, resolve, vec3, LightSection, MaterialDefaults, MaterialSection, TomlSource};
 use crate::shading::convention::ShadingConvention;
-use crate::shading::light::{Falloff, Light, LightKind};
-use crate::shading::material::{BlinnPhong, CookTorrance, Material};
-use crate::surface::normal_image::{PixelPositions, Viewer};
 
 /// A set of conventions and defaults for shading a normal image.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
@@ -370,7 +370,7 @@ fn names(materials: &BTreeMap<String, Spanned<MaterialSection>>) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shading::material::Specular;
+    use crate::material::Specular;
 
     fn scene(name: &str, text: &str) -> InputResult<NormalMapScene> {
         let dir = std::env::temp_dir().join(format!("pointshade-nm-scene-{}-{name}", std::process::id()));

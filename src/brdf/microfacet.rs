@@ -1,6 +1,7 @@
 //! Microfacet normal distributions D(ω_h).
 
-use super::{named_terms, Real};
+use super::named_terms;
+use crate::lanes::Real;
 
 /// Smallest roughness α the distributions accept; smaller values are raised to it (as Mitsuba
 /// does). Below it the lobe is narrower than f32 can resolve in n·ω_h anyway: at α = 1e-4 the

@@ -14,8 +14,8 @@
 use glam::Vec3;
 
 #[cfg(doc)]
-use crate::shading::brdf::F32x8;
-use crate::shading::brdf::{dot3 as dot, map3, normalize_or_zero, Mask, Real};
+use crate::lanes::F32x8;
+use crate::lanes::{dot3 as dot, map3, normalize_or_zero, Mask, Real};
 
 /// How a positional light's irradiance falls with distance.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -6,7 +6,8 @@
 //! angles, and stays accurate in f32 where n·ω_i·n·ω_o would underflow.
 
 use super::microfacet::MIN_ALPHA;
-use super::{named_terms, Real};
+use super::named_terms;
+use crate::lanes::Real;
 
 /// Which masking-shadowing term a Cook-Torrance material uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
