@@ -10,7 +10,9 @@ strongly connected component of more than one node:
     python3 tools/import_circles.py --check    # exit 1 if there is a circle (for CI)
 
 Stages are the folders and files directly under src/ (`scene`, `surface`, `shading`, `render`,
-…); within a folder the nodes are its files and sub-folders, and its mod.rs. Test modules are left out: a test
+…); within a folder the nodes are its files and sub-folders, and its mod.rs. A mod.rs's
+re-exports (`pub use child::Name`) are not its dependencies: a file that uses such a name
+depends on the child that defines it. Test modules are left out: a test
 may reach across stages without making the product's stages depend on each other.
 """
 
@@ -112,7 +114,27 @@ def targets(file, modules, facades):
     here = module_of(file)
     is_mod = file.name == "mod.rs"
     found = set()
-    text = expand_uses(product_text(file.read_text()))
+    text = product_text(file.read_text())
+    if is_mod:
+        # A folder's re-exports (`pub use child::Name;`) are its interface, not a dependency of
+        # its own code: whoever uses such a name is counted as using the child (see `reexports`).
+        # A re-exported name that mod.rs's own code uses is a dependency, kept as `child::Name`.
+        exports = re.findall(r"\bpub(?:\([^)]*\))?\s+use\s+([^;]*);", text)
+        text = re.sub(r"\bpub(?:\([^)]*\))?\s+use\s+[^;]*;", "", text)
+        body = re.sub(r"(?m)^\s*(?:pub(?:\([^)]*\))?\s+)?mod\s+\w+\s*;", "", text)
+        used = []
+        for tree in exports:
+            for path in expand_uses("use " + tree + ";").split("\n")[1:] or [tree]:
+                path = path.removesuffix("::_")
+                name = path.split("::")[-1].split(" as ")[-1].strip()
+                if re.search(r"(?<![A-Za-z0-9_:])" + re.escape(name) + r"\b", body):
+                    used.append(path)
+            if "{" not in tree:
+                name = tree.split("::")[-1].split(" as ")[-1].strip()
+                if re.search(r"(?<![A-Za-z0-9_:])" + re.escape(name) + r"\b", body):
+                    used.append(tree)
+        text += "\n" + "\n".join(f"use self::{u};" for u in used)
+    text = expand_uses(text)
     # Paths through a child module the file declares (`mod x;` … `x::f()`, `use x::T`, `self::x`).
     own = here
     for child in re.findall(r"^\s*(?:pub(?:\([^)]*\))?\s+)?mod\s+([A-Za-z_][A-Za-z0-9_]*)\s*;", text, re.M):
@@ -178,9 +200,12 @@ def circles(graph):
 
 
 def main():
+    global SRC
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--check", action="store_true", help="exit 1 if there is a circle")
+    p.add_argument("--src", type=Path, default=SRC, help="the source folder (default: this repository's src/)")
     args = p.parse_args()
+    SRC = args.src.resolve()
     files = sorted(SRC.rglob("*.rs"))
     modules = {tuple(module_of(f)): f for f in files}
     facades = {tuple(module_of(f)): reexports(f, modules) for f in files if f.name in ("mod.rs", "lib.rs")}

@@ -17,7 +17,8 @@ use std::mem::MaybeUninit;
 
 use glam::Vec4;
 
-use super::wide::{Node4, WideBvh, EMPTY, FIXED_STACK_DEPTH, LEAF};
+use super::alpha::HitFilter;
+use super::wide::{Nearest, Node4, QuadHit, TraversalStack, WideBvh, WideRay, EMPTY, FIXED_STACK_DEPTH, LEAF};
 
 /// Entries of the fixed stack: 3·21 + 1 = 64.
 const FIXED_STACK: usize = 64;
@@ -177,4 +178,78 @@ fn descend_nearest(node: &Node4, mask: u32, t_near: Vec4, stack: &mut impl Stack
         stack.push((c, t));
     }
     (order[n - 1].1, order[n - 1].0)
+}
+impl NodeTest for WideRay {
+    /// Which of the node's four boxes the segment [0, t_max] enters, and where.
+    ///
+    /// NaN-safe: a zero direction component gives ±∞ in `inv_dir`, and an origin exactly on that
+    /// slab's plane gives 0·∞ = NaN. `max`/`min` are applied with the per-axis value as the first
+    /// operand, which SSE (and glam's scalar fallback) answer with the other operand when it is
+    /// NaN: that axis then does not restrict the interval — right, since the ray runs inside
+    /// the (closed) slab.
+    #[inline(always)]
+    fn boxes(&self, node: &Node4, t_max: f32) -> (u32, Vec4) {
+        let mut t_near = Vec4::ZERO;
+        let mut t_far = Vec4::splat(t_max);
+        for axis in 0..3 {
+            let near = (node.bounds[axis][self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
+            let far = (node.bounds[axis][1 - self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
+            t_near = near.max(t_near);
+            t_far = far.min(t_far);
+        }
+        (t_near.cmple(t_far).bitmask(), t_near)
+    }
+}
+
+/// Single-ray queries: the traversal loops with [`WideRay`] as the node test and the quads'
+/// intersection at the leaves.
+impl WideBvh {
+    /// The closest hit with 0 < t < `t_max` in [`Nearest`]'s order that `filter` keeps:
+    /// (quad, lane, t).
+    #[inline(always)]
+    pub fn closest_hit(&self, ray: &WideRay, t_max: f32, filter: &impl HitFilter) -> Option<(u32, QuadHit)> {
+        if self.stack() == TraversalStack::Fixed {
+            self.closest_hit_with(ray, t_max, &mut FixedStack::new(), filter)
+        } else {
+            self.closest_hit_with(ray, t_max, &mut Vec::new(), filter)
+        }
+    }
+
+    /// Whether anything `filter` keeps lies at 0 < t < `t_max` (stops at the first such hit).
+    #[inline(always)]
+    pub fn any_hit(&self, ray: &WideRay, t_max: f32, filter: &impl HitFilter) -> bool {
+        if self.stack() == TraversalStack::Fixed {
+            self.any_hit_with(ray, t_max, &mut FixedStack::new(), filter)
+        } else {
+            self.any_hit_with(ray, t_max, &mut Vec::new(), filter)
+        }
+    }
+
+    #[inline(always)]
+    fn closest_hit_with(
+        &self,
+        ray: &WideRay,
+        t_max: f32,
+        stack: &mut impl Stack,
+        filter: &impl HitFilter,
+    ) -> Option<(u32, QuadHit)> {
+        let mut best = None;
+        let mut nearest = Nearest::before(t_max);
+        self.walk_nearest_first(ray, t_max, stack, |quad, _| {
+            let q = quad as usize;
+            if let Some(hit) = self.quads[q].intersect(ray, &self.quad_triangles[q], &mut nearest, filter) {
+                best = Some((quad, hit));
+            }
+            nearest.t
+        });
+        best
+    }
+
+    #[inline(always)]
+    fn any_hit_with(&self, ray: &WideRay, t_max: f32, stack: &mut impl Stack, filter: &impl HitFilter) -> bool {
+        self.walk_until(ray, t_max, stack, |quad, t_max| {
+            let q = quad as usize;
+            (!self.quads[q].hits_any(ray, t_max, || &self.quad_triangles[q], filter)).then_some(t_max)
+        })
+    }
 }

@@ -14,7 +14,6 @@ use rayon::prelude::*;
 
 use super::alpha::HitFilter;
 use super::triangle::WatertightRay;
-use super::walk::{FixedStack, NodeTest, Stack};
 use obvhs::bvh2::Bvh2;
 
 /// Marks a child slot that holds a leaf (the rest of the value is the quad index).
@@ -168,28 +167,6 @@ impl WideRay {
             axes: watertight.axes(),
             shear: watertight.shear_constants().map(Vec4::splat),
         }
-    }
-}
-
-impl NodeTest for WideRay {
-    /// Which of the node's four boxes the segment [0, t_max] enters, and where.
-    ///
-    /// NaN-safe: a zero direction component gives ±∞ in `inv_dir`, and an origin exactly on that
-    /// slab's plane gives 0·∞ = NaN. `max`/`min` are applied with the per-axis value as the first
-    /// operand, which SSE (and glam's scalar fallback) answer with the other operand when it is
-    /// NaN: that axis then does not restrict the interval — right, since the ray runs inside
-    /// the (closed) slab.
-    #[inline(always)]
-    fn boxes(&self, node: &Node4, t_max: f32) -> (u32, Vec4) {
-        let mut t_near = Vec4::ZERO;
-        let mut t_far = Vec4::splat(t_max);
-        for axis in 0..3 {
-            let near = (node.bounds[axis][self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
-            let far = (node.bounds[axis][1 - self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
-            t_near = near.max(t_near);
-            t_far = far.min(t_far);
-        }
-        (t_near.cmple(t_far).bitmask(), t_near)
     }
 }
 
@@ -522,55 +499,6 @@ impl WideBvh {
     #[inline(always)]
     pub fn primitive(&self, quad: u32, lane: usize) -> u32 {
         self.quad_triangles[quad as usize][lane]
-    }
-
-    /// The closest hit with 0 < t < `t_max` in [`Nearest`]'s order that `filter` keeps:
-    /// (quad, lane, t).
-    #[inline(always)]
-    pub fn closest_hit(&self, ray: &WideRay, t_max: f32, filter: &impl HitFilter) -> Option<(u32, QuadHit)> {
-        if self.stack() == TraversalStack::Fixed {
-            self.closest_hit_with(ray, t_max, &mut FixedStack::new(), filter)
-        } else {
-            self.closest_hit_with(ray, t_max, &mut Vec::new(), filter)
-        }
-    }
-
-    /// Whether anything `filter` keeps lies at 0 < t < `t_max` (stops at the first such hit).
-    #[inline(always)]
-    pub fn any_hit(&self, ray: &WideRay, t_max: f32, filter: &impl HitFilter) -> bool {
-        if self.stack() == TraversalStack::Fixed {
-            self.any_hit_with(ray, t_max, &mut FixedStack::new(), filter)
-        } else {
-            self.any_hit_with(ray, t_max, &mut Vec::new(), filter)
-        }
-    }
-
-    #[inline(always)]
-    fn closest_hit_with(
-        &self,
-        ray: &WideRay,
-        t_max: f32,
-        stack: &mut impl Stack,
-        filter: &impl HitFilter,
-    ) -> Option<(u32, QuadHit)> {
-        let mut best = None;
-        let mut nearest = Nearest::before(t_max);
-        self.walk_nearest_first(ray, t_max, stack, |quad, _| {
-            let q = quad as usize;
-            if let Some(hit) = self.quads[q].intersect(ray, &self.quad_triangles[q], &mut nearest, filter) {
-                best = Some((quad, hit));
-            }
-            nearest.t
-        });
-        best
-    }
-
-    #[inline(always)]
-    fn any_hit_with(&self, ray: &WideRay, t_max: f32, stack: &mut impl Stack, filter: &impl HitFilter) -> bool {
-        self.walk_until(ray, t_max, stack, |quad, t_max| {
-            let q = quad as usize;
-            (!self.quads[q].hits_any(ray, t_max, || &self.quad_triangles[q], filter)).then_some(t_max)
-        })
     }
 }
 

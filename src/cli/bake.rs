@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use crate::accel::Bvh;
-use crate::cli::worker_pool;
+use crate::cli::options::worker_pool;
 use crate::error::InputError;
 use crate::normal_map::bake::bake_normals;
 use crate::normal_map::formats::encode_normal_png;

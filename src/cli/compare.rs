@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use crate::cli::{comma_list, option_error};
+use crate::cli::options::{comma_list, option_error};
 use crate::error::InputError;
 use crate::film::Image;
 use crate::output::{encode, read_linear, write_all_or_nothing, Format};

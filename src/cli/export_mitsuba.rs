@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use crate::cli::option_error;
+use crate::cli::options::option_error;
 use crate::error::InputError;
 use crate::film::SamplerKind;
 use crate::output::write_all_or_nothing;

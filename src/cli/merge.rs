@@ -25,7 +25,7 @@ pub struct MergeArgs {
 pub fn run(args: MergeArgs) -> Result<(), InputError> {
     let format = Format::of_output(&args.output)?;
     if !(args.exposure.is_finite() && args.exposure.abs() <= 64.0) {
-        return Err(crate::cli::option_error(
+        return Err(crate::cli::options::option_error(
             "--exposure",
             format!("must be in [-64, 64], got {}", args.exposure),
         ));

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::cli::{option_error, worker_pool};
+use crate::cli::options::{option_error, worker_pool};
 use crate::error::InputError;
 use crate::film::overflow_error;
 use crate::normal_map::formats::encode_min_max_png;

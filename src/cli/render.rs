@@ -3,8 +3,8 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::cli::options::{option_error, worker_pool};
 use crate::cli::progress::Progress;
-use crate::cli::{option_error, worker_pool};
 use crate::error::InputError;
 use crate::film::{Image, PixelRect, SamplerKind};
 use crate::output::exr::encode_exr;

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use crate::cli::option_error;
+use crate::cli::options::option_error;
 use crate::error::InputError;
 use crate::output::write_all_or_nothing;
 use crate::reports::stability::{self, table, Options};

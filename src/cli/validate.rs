@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use crate::cli::option_error;
+use crate::cli::options::option_error;
 use crate::error::InputError;
 use crate::film::Image;
 use crate::output::{read_linear, write_all_or_nothing};

@@ -22,8 +22,9 @@ use crate::error::InputResult;
 use crate::light::{Falloff, Light, LightKind};
 use crate::material::{BlinnPhong, CookTorrance, Material};
 use crate::normal_map::image::{PixelPositions, Viewer};
+use crate::scene::file::values::{resolve, vec3};
 pub use crate::scene::file::ModelName;
-use crate::scene::file::{light, material, resolve, vec3, LightSection, MaterialDefaults, MaterialSection, TomlSource};
+use crate::scene::file::{light, material, LightSection, MaterialDefaults, MaterialSection, TomlSource};
 use crate::shading::convention::ShadingConvention;
 
 /// A set of conventions and defaults for shading a normal image.

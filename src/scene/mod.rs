@@ -8,21 +8,23 @@ pub mod camera;
 pub mod file;
 pub mod framing;
 pub mod gltf;
+mod load;
 pub mod mesh;
 pub mod obj;
 pub mod procedural;
 pub mod shadows;
 pub mod textures;
+pub mod uri;
 
 use std::path::{Path, PathBuf};
 
-use crate::error::{InputError, InputResult};
 use crate::film::FilmSettings;
 use crate::light::Light;
 use crate::material::Material;
 use crate::scene::camera::CameraSpec;
 use crate::scene::shadows::{ShadowOffset, ShadowTerminator};
 use crate::texture::TextureImage;
+pub use load::{load, load_with, LoadOptions};
 pub use mesh::TriangleMesh;
 
 /// A validated scene, ready to plan and render.
@@ -81,40 +83,6 @@ impl SceneObject {
         used.sort_unstable();
         used.dedup();
         used
-    }
-}
-
-/// Choices the command line makes about loading.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct LoadOptions {
-    /// `--camera N`: which camera of a glTF file to render through.
-    pub camera: Option<usize>,
-}
-
-/// Loads a scene from a `.toml` scene file, a bare `.obj` mesh or a `.gltf`/`.glb` file.
-pub fn load(path: &Path) -> InputResult<Scene> {
-    load_with(path, LoadOptions::default())
-}
-
-/// [`load`] with command-line choices.
-#[inline(never)] // a stage boundary that benches/instructions.sh counts
-pub fn load_with(path: &Path, options: LoadOptions) -> InputResult<Scene> {
-    let ext = extension(path);
-    let is_gltf = matches!(ext.as_deref(), Some("gltf" | "glb"));
-    if options.camera.is_some() && !is_gltf {
-        return Err(InputError::new(
-            "--camera",
-            "only glTF files (.gltf, .glb) have cameras to choose from",
-        ));
-    }
-    match ext.as_deref() {
-        Some("toml") => file::load_scene_file(path),
-        Some("obj") => framing::scene_for_bare_mesh(path),
-        Some("gltf" | "glb") => gltf::scene_for_gltf(path, options.camera),
-        _ => Err(InputError::new(
-            path,
-            "unsupported scene type (expected a .toml scene file, an .obj mesh or a .gltf/.glb file)",
-        )),
     }
 }
 

@@ -7,6 +7,7 @@
 use std::f32::consts::{PI, TAU};
 use std::fmt::Write as _;
 
+use crate::scene::TriangleMesh;
 use glam::{Vec2, Vec3};
 
 /// An indexed triangle mesh with optional per-vertex normals and texture coordinates, and
@@ -29,6 +30,21 @@ pub struct ProceduralMesh {
 pub type MtlEntry = (&'static str, [f32; 3]);
 
 impl ProceduralMesh {
+    /// This mesh as a scene mesh, every triangle with material 0; a mesh without normals gets
+    /// the angle-weighted vertex normals of its positions, as a loaded OBJ without `vn` does.
+    pub fn into_triangle_mesh(self) -> TriangleMesh {
+        let normals = self
+            .normals
+            .unwrap_or_else(|| crate::scene::mesh::angle_weighted_normals(&self.positions, &self.triangles));
+        TriangleMesh {
+            material_of_triangle: vec![0; self.triangles.len()],
+            positions: self.positions,
+            normals,
+            triangles: self.triangles,
+            ..Default::default()
+        }
+    }
+
     /// Wavefront OBJ text. Floats are written in Rust's shortest round-trip form, so reading the
     /// file back gives exactly these f32 values. `mtllib` names the MTL file if there are groups.
     pub fn to_obj(&self, header: &str, mtllib: Option<&str>) -> String {

@@ -92,7 +92,7 @@ fn decode(p: &PendingImage) -> InputResult<TextureImage> {
     let bytes: &[u8] = match &p.source {
         ImageSource::Bytes(b) => b,
         ImageSource::Uri { dir, uri } => {
-            read = crate::scene::gltf::document::read_uri(dir, uri).map_err(err)?;
+            read = crate::scene::uri::read_uri(dir, uri).map_err(err)?;
             &read
         }
     };

@@ -26,6 +26,8 @@ use crate::material::{Material, Specular};
 use crate::scene::camera::{FovAxis, Projection};
 use crate::scene::Scene;
 use crate::texture::{Filter, TextureImage, TextureRef, Wrap};
+use crate::validation::xml::rgb;
+use crate::validation::xml::xml_escape;
 
 /// Which BSDFs the export uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -313,10 +315,6 @@ fn is_roughconductor(m: &Material) -> bool {
     }
 }
 
-pub(super) fn rgb(name: &str, c: [f32; 3]) -> String {
-    format!("<rgb name=\"{name}\" value=\"{}, {}, {}\"/>", c[0], c[1], c[2])
-}
-
 /// The BSDF of material `index` (id `mat{index}`), and how it was mapped.
 fn bsdf(
     index: usize,
@@ -517,13 +515,6 @@ fn emitter(light: &Light, differences: &mut Vec<String>) -> String {
             )
         }
     }
-}
-
-pub(super) fn xml_escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
 }
 
 #[cfg(test)]

@@ -12,3 +12,4 @@ pub mod rounding;
 pub mod run;
 pub mod staleness;
 pub mod textures;
+pub mod xml;

@@ -97,7 +97,7 @@ fn slot_properties(slot: &str, r: &TextureRef, images: &[TextureImage], prefix: 
     });
     format!(
         "<string name=\"{slot}_file\" value=\"{}\"/><integer name=\"{slot}_width\" value=\"{}\"/><integer name=\"{slot}_height\" value=\"{}\"/><integer name=\"{slot}_set\" value=\"{}\"/><string name=\"{slot}_wrap\" value=\"{} {}\"/><string name=\"{slot}_filter\" value=\"{filter}\"/>{transform}",
-        super::mitsuba::xml_escape(&image_file(prefix, r.image as usize)),
+        super::xml::xml_escape(&image_file(prefix, r.image as usize)),
         image.width,
         image.height,
         r.tex_coord,
@@ -149,7 +149,7 @@ pub fn area_emitter(m: &Material, images: &[TextureImage], prefix: &str) -> Opti
         .map_or_else(String::new, |r| slot_properties("emissive", &r, images, prefix));
     Some(format!(
         "<emitter type=\"area\"><texture name=\"radiance\" type=\"pointshade_emission\">{}{texture}</texture></emitter>",
-        super::mitsuba::rgb("factor", p.emissive)
+        super::xml::rgb("factor", p.emissive)
     ))
 }
 

@@ -11,7 +11,7 @@ use std::sync::OnceLock;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::Point;
+use super::point::Point;
 
 const SIZE: (u32, u32) = (960, 640);
 
@@ -362,7 +362,7 @@ pub fn png(
 #[cfg(test)]
 mod tests {
     use super::{label, log_ticks, svg, tick_label, time_spread, ErrorMetric};
-    use crate::reports::convergence::Point;
+    use crate::reports::convergence::point::Point;
 
     fn point(all_seconds: Vec<f64>) -> Point {
         Point {

@@ -18,7 +18,7 @@
 //! is exact to 1e-7, see the term-level rows). Their rows check the bound 1e-6/α instead.
 //! Blinn-Phong with s = 1e6 from vectors stays within 2e-6 thanks to the ln_1p form.
 
-use super::{num, rel_err, Case, REL_TOL};
+use super::case::{num, rel_err, Case, REL_TOL};
 use crate::brdf::{
     blinn_phong, fresnel_conductor, fresnel_schlick, fresnel_schlick_sg, lambert, schlick_f0_dielectric, LocalDots,
     MaskingShadowing, MicrofacetDistribution,

@@ -16,7 +16,7 @@
 
 use rayon::prelude::*;
 
-use super::{num, rel_err, Case, Options, Rng, REL_TOL};
+use super::case::{num, rel_err, Case, Options, Rng, REL_TOL};
 use crate::brdf::{FresnelTerm, LocalDots, MaskingShadowing, MicrofacetDistribution};
 use crate::material::{BlinnPhong, CookTorrance, Material, Specular};
 

@@ -10,8 +10,8 @@
 
 use std::path::Path;
 
+use super::case::{num, Case};
 use super::scale_cases::{render, share_within};
-use super::{num, Case};
 use crate::scene::{self, Scene};
 
 const WIDTH: u32 = 160;

@@ -4,25 +4,11 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::{Case, Options, Rng};
+use super::case::{Case, Options, Rng};
 use crate::accel::triangle::WatertightRay;
 use crate::accel::{Bvh, BvhPreset, TraversalStack};
 use crate::scene::mesh::TriangleMesh;
 use crate::scene::procedural::{self, ProceduralMesh};
-
-/// A procedural mesh as a scene mesh (one material).
-pub fn scene_mesh(p: ProceduralMesh) -> TriangleMesh {
-    let normals = p
-        .normals
-        .unwrap_or_else(|| crate::scene::mesh::angle_weighted_normals(&p.positions, &p.triangles));
-    TriangleMesh {
-        material_of_triangle: vec![0; p.triangles.len()],
-        positions: p.positions,
-        normals,
-        triangles: p.triangles,
-        ..Default::default()
-    }
-}
 
 /// The unit cube with every face fanned from its centre over edge points that crowd
 /// geometrically towards the corners (spacing down to 2^-20 ≈ 1e-6): a closed mesh of slivers whose
@@ -72,7 +58,7 @@ pub fn sliver_cube() -> TriangleMesh {
             }
         }
     }
-    scene_mesh(ProceduralMesh {
+    ProceduralMesh::into_triangle_mesh(ProceduralMesh {
         positions,
         triangles,
         ..Default::default()
@@ -187,7 +173,7 @@ fn depth_case(name: &str, mesh: &TriangleMesh, expect: TraversalStack) -> Case {
 /// Zero-area triangles (a repeated vertex, collinear vertices, a point) lying in a quad, and a
 /// 1e-7-wide sliver: rays on a grid must hit only real triangles, at finite barycentrics.
 fn degenerate_case() -> Case {
-    let mut mesh = scene_mesh(procedural::plane(1.0, 1));
+    let mut mesh = procedural::plane(1.0, 1).into_triangle_mesh();
     let extra = [
         [
             Vec3::new(-0.5, 0.0, 0.0),
@@ -261,8 +247,8 @@ fn degenerate_case() -> Case {
 /// SKIPPED and its rays go to the other meshes, so the total stays `options.cases`.
 pub fn run(options: &Options, notes: &mut Vec<String>) -> Vec<Case> {
     let mut out = Vec::new();
-    let sphere = scene_mesh(procedural::icosphere(5));
-    let torus = scene_mesh(procedural::torus(1.0, 0.35, 128, 48));
+    let sphere = procedural::icosphere(5).into_triangle_mesh();
+    let torus = procedural::torus(1.0, 0.35, 128, 48).into_triangle_mesh();
     let slivers = sliver_cube();
     let dragon_path = options.shared_meshes.as_ref().map(|d| d.join("stanford-dragon.obj"));
     let dragon = dragon_path
@@ -355,7 +341,6 @@ pub fn run(options: &Options, notes: &mut Vec<String>) -> Vec<Case> {
         &nested_chain(600),
         TraversalStack::Growable,
     ));
-    out.extend(super::scale_cases::run(notes));
     out
 }
 
@@ -383,7 +368,7 @@ pub fn nested_chain(levels: usize) -> TriangleMesh {
         }
         size /= 1.02;
     }
-    scene_mesh(ProceduralMesh {
+    ProceduralMesh::into_triangle_mesh(ProceduralMesh {
         positions,
         triangles,
         ..Default::default()
@@ -422,7 +407,7 @@ mod tests {
 
     #[test]
     fn no_ray_escapes_the_closed_test_meshes() {
-        let sphere = scene_mesh(procedural::icosphere(3));
+        let sphere = procedural::icosphere(3).into_triangle_mesh();
         let c = escape_case("sphere", &sphere, 20_000, 1, &|_: &mut Rng| Vec3::ZERO);
         assert!(c.passed(), "{:?}", c.failure);
         let c = escape_case("sliver cube", &sliver_cube(), 20_000, 2, &|rng: &mut Rng| {
@@ -434,7 +419,7 @@ mod tests {
     #[test]
     fn an_open_mesh_does_let_rays_escape() {
         // The check can fail: remove one triangle of the sphere and rays aimed at it get out.
-        let mut sphere = scene_mesh(procedural::icosphere(1));
+        let mut sphere = procedural::icosphere(1).into_triangle_mesh();
         sphere.triangles.pop();
         sphere.material_of_triangle.pop();
         let c = escape_case("holed sphere", &sphere, 20_000, 1, &|_: &mut Rng| Vec3::ZERO);
@@ -449,7 +434,7 @@ mod tests {
 
     #[test]
     fn interior_points_are_inside_a_sphere() {
-        let sphere = scene_mesh(procedural::icosphere(2));
+        let sphere = procedural::icosphere(2).into_triangle_mesh();
         let pts = interior_points(&sphere, 10, &mut Rng::new(1, 2));
         assert_eq!(pts.len(), 10);
         assert!(pts.iter().all(|p| p.length() < 1.0));

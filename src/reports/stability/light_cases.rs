@@ -8,7 +8,7 @@
 
 use glam::Vec3;
 
-use super::{num, rel_err, Case, REL_TOL};
+use super::case::{num, rel_err, Case, REL_TOL};
 use crate::accel::shadow::SceneExtent;
 use crate::accel::shadow::{NoOcclusion, Occluder};
 use crate::accel::{Bvh, BvhPreset};
@@ -153,7 +153,7 @@ pub fn run() -> Vec<Case> {
     ));
 
     // A light inside a closed sphere: the inner surface is lit, the outer surface is not.
-    let mesh = super::geometry_cases::scene_mesh(procedural::icosphere(4));
+    let mesh = procedural::icosphere(4).into_triangle_mesh();
     let bvh = Bvh::build(&mesh, BvhPreset::DEFAULT);
     let inside = [point_light(Vec3::new(0.1, -0.2, 0.05), 3.0)];
     let on = mesh.positions[17];

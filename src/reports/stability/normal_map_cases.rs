@@ -12,7 +12,7 @@
 
 use glam::{DVec3, Vec3};
 
-use super::{num, rel_err, Case, Rng, REL_TOL};
+use super::case::{num, rel_err, Case, Rng, REL_TOL};
 use crate::light::LightKind;
 use crate::normal_map::image::{TpScaling, Viewer};
 use crate::normal_map::scene_file::{NormalMapScene, Preset};

@@ -8,7 +8,7 @@
 
 use glam::Vec3;
 
-use super::{num, Case};
+use super::case::{num, Case};
 use crate::accel::Bvh;
 use crate::film::{FilmSettings, Image, SamplerKind};
 use crate::light::{Falloff, Light, LightKind};
@@ -51,7 +51,7 @@ fn cube() -> TriangleMesh {
 
 /// The scene scaled by `scale` about the origin, then moved by `offset` on every axis.
 pub fn contact_scene(scale: f32, offset: f32) -> Scene {
-    let mut mesh = super::geometry_cases::scene_mesh(procedural::plane(3.0, 1));
+    let mut mesh = procedural::plane(3.0, 1).into_triangle_mesh();
     mesh.append(cube(), 0);
     let place = |p: Vec3| p * scale + Vec3::splat(offset);
     for p in &mut mesh.positions {

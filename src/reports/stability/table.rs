@@ -1,6 +1,6 @@
 //! The printed table, the per-group summary, the closing line, and the CSV file.
 
-use super::{Case, Report};
+use super::case::{Case, Report};
 
 /// Column widths are fitted to the contents; long texts are not cut.
 fn render_rows(header: &[&str], rows: &[Vec<String>]) -> String {
@@ -181,7 +181,7 @@ pub fn csv(report: &Report) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::reports::stability::num;
+    use crate::reports::stability::case::num;
 
     fn case(name: &str, rel: Option<f64>, singular: bool, fail: bool) -> Case {
         let mut c = Case::new("brdf", name, "a, b");

@@ -4,7 +4,7 @@
 use glam::{DVec3, Vec3};
 use serde::Deserialize;
 
-use super::{point3, vec3};
+use super::values::{point3, vec3};
 use crate::light::{Falloff, Light, LightKind};
 
 #[derive(Deserialize)]

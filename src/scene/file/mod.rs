@@ -7,7 +7,7 @@
 //! [`super::normal_map`]; their sections are `lights` and `materials`.
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use glam::{DVec3, EulerRot, Mat3, Mat4, Quat, Vec3};
 use serde::Deserialize;
@@ -29,6 +29,8 @@ use crate::scene::{extension, Scene, SceneObject};
 
 mod lights;
 mod materials;
+use values::{point3, resolve, vec3};
+pub(crate) mod values;
 
 pub(crate) use lights::{light, LightSection};
 pub(crate) use materials::{material, MaterialSection};
@@ -415,16 +417,6 @@ fn names(index_of: &BTreeMap<String, u32>) -> String {
     }
 }
 
-/// `file` relative to the directory `dir` of the scene file (absolute paths unchanged).
-pub(crate) fn resolve(dir: &Path, file: &str) -> PathBuf {
-    let p = Path::new(file);
-    if p.is_absolute() {
-        p.to_path_buf()
-    } else {
-        dir.join(p)
-    }
-}
-
 fn film_settings(f: &FilmSection) -> Result<FilmSettings, String> {
     let d = FilmSettings::default();
     let sampler = match &f.sampler {
@@ -456,27 +448,6 @@ fn film_settings(f: &FilmSection) -> Result<FilmSettings, String> {
     };
     s.validate()?;
     Ok(s)
-}
-
-/// A finite vector, or an error naming the key.
-/// A position read in f64, relative to the scene's `origin`, in f32 (finite in both).
-pub(crate) fn point3(name: &str, v: [f64; 3], origin: DVec3) -> Result<Vec3, String> {
-    let p = DVec3::from(v);
-    let local = (p - origin).as_vec3();
-    if p.is_finite() && local.is_finite() {
-        Ok(local)
-    } else {
-        Err(format!("{name} must be finite, got {p}"))
-    }
-}
-
-pub(crate) fn vec3(name: &str, v: [f32; 3]) -> Result<Vec3, String> {
-    let v = Vec3::from(v);
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(format!("{name} must be finite, got {v}"))
-    }
 }
 
 fn camera(c: &CameraSection, origin: DVec3) -> Result<CameraSpec, String> {

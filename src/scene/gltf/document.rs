@@ -222,21 +222,6 @@ fn describe(e: ::gltf::Error) -> String {
     }
 }
 
-/// Reads a URI (relative file or `data:`) the way the gltf crate's importer does; errors name
-/// the URI (file URIs: the file).
-pub fn read_uri(dir: &Path, uri: &str) -> Result<Vec<u8>, String> {
-    ::gltf::buffer::Data::from_source(::gltf::buffer::Source::Uri(uri), Some(dir))
-        .map(|d| d.0)
-        .map_err(|e| {
-            let shown = if uri.starts_with("data:") {
-                "an embedded data: URI".to_string()
-            } else {
-                format!("'{}'", dir.join(uri).display())
-            };
-            format!("cannot read {shown}: {e}")
-        })
-}
-
 fn load_buffers(doc: &::gltf::Document, dir: &Path, mut blob: Option<Vec<u8>>) -> Result<Vec<Vec<u8>>, String> {
     let mut buffers = Vec::new();
     for buffer in doc.buffers() {
@@ -245,7 +230,9 @@ fn load_buffers(doc: &::gltf::Document, dir: &Path, mut blob: Option<Vec<u8>>) -
             ::gltf::buffer::Source::Bin => blob
                 .take()
                 .ok_or_else(|| format!("buffer {i} refers to the GLB binary chunk, which is missing"))?,
-            ::gltf::buffer::Source::Uri(uri) => read_uri(dir, uri).map_err(|e| format!("buffer {i}: {e}"))?,
+            ::gltf::buffer::Source::Uri(uri) => {
+                crate::scene::uri::read_uri(dir, uri).map_err(|e| format!("buffer {i}: {e}"))?
+            }
         };
         if data.len() < buffer.length() {
             return Err(format!(

@@ -1,0 +1,34 @@
+//! What every subcommand shares: errors naming an option, the worker pool, comma lists.
+
+use crate::error::InputError;
+
+/// An error about a command-line option rather than a file.
+pub(crate) fn option_error(option: &str, problem: impl std::fmt::Display) -> InputError {
+    InputError::new(option, problem)
+}
+
+/// The worker threads of a command's `--threads` (all cores when absent). Everything parallel,
+/// loading included, runs inside it, so the option bounds the whole command.
+pub(crate) fn worker_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, InputError> {
+    if threads == Some(0) {
+        return Err(option_error("--threads", "must be at least 1"));
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build()
+        .map_err(|e| option_error("--threads", e))
+}
+
+/// The comma-separated values of `option` (`text`), each read by `parse`; an error naming the
+/// option and what it expects (`expected`) if any is not one.
+pub(crate) fn comma_list<T>(
+    option: &str,
+    text: &str,
+    expected: &str,
+    parse: impl Fn(&str) -> Option<T>,
+) -> Result<Vec<T>, InputError> {
+    text.split(',')
+        .map(|s| parse(s.trim()))
+        .collect::<Option<Vec<T>>>()
+        .ok_or_else(|| option_error(option, format!("expected {expected}, got '{text}'")))
+}

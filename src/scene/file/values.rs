@@ -1,0 +1,36 @@
+//! Values of a scene file: paths relative to it, points (rebased to the scene origin) and vectors.
+
+use std::path::{Path, PathBuf};
+
+use glam::{DVec3, Vec3};
+
+/// `file` relative to the directory `dir` of the scene file (absolute paths unchanged).
+pub(crate) fn resolve(dir: &Path, file: &str) -> PathBuf {
+    let p = Path::new(file);
+    if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        dir.join(p)
+    }
+}
+
+/// A finite vector, or an error naming the key.
+/// A position read in f64, relative to the scene's `origin`, in f32 (finite in both).
+pub(crate) fn point3(name: &str, v: [f64; 3], origin: DVec3) -> Result<Vec3, String> {
+    let p = DVec3::from(v);
+    let local = (p - origin).as_vec3();
+    if p.is_finite() && local.is_finite() {
+        Ok(local)
+    } else {
+        Err(format!("{name} must be finite, got {p}"))
+    }
+}
+
+pub(crate) fn vec3(name: &str, v: [f32; 3]) -> Result<Vec3, String> {
+    let v = Vec3::from(v);
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("{name} must be finite, got {v}"))
+    }
+}
