@@ -22,7 +22,7 @@ use pointshade::lanes::LaneInstructions;
 use pointshade::normal_map::image::NormalImage;
 use pointshade::normal_map::scene_file::{ModelName, NormalMapScene, Preset};
 use pointshade::normal_map::{image_surface, shade_image_with, TpPrecision};
-use pointshade::shading::convention::assignment_dots;
+use pointshade::shading::convention::clamped_dots;
 use pointshade::surface::SurfacePoint;
 
 /// Median and minimum of a set of times.
@@ -177,7 +177,7 @@ fn time_material_eval(scene: &NormalMapScene, image: &NormalImage, repeats: usiz
         .filter_map(|sp| {
             let ls = scene.lights[0].sample(sp.position)?;
             let n = sp.shading_normal.to_array();
-            let a = assignment_dots(n, (-ls.wi).to_array(), sp.to_viewer.to_array(), true);
+            let a = clamped_dots(n, (-ls.wi).to_array(), sp.to_viewer.to_array(), true);
             a.half_vector.then_some(a.dots)
         })
         .collect();

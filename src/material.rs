@@ -51,9 +51,9 @@ pub struct CookTorrance {
 }
 
 impl CookTorrance {
-    /// The assignment's model and parameters: GGX, Schlick–Smith, Schlick; α = 0.7, metallic,
+    /// The `tp` preset's model and parameters, the assignment's: GGX, Schlick–Smith, Schlick; α = 0.7, metallic,
     /// specular colour [0.98, 0.82, 0.76], n = 5. η and κ default to Mitsuba's "none" (F ≡ 1).
-    pub const ASSIGNMENT: CookTorrance = CookTorrance {
+    pub const TP_PRESET: CookTorrance = CookTorrance {
         alpha: 0.7,
         d: MicrofacetDistribution::Ggx,
         g: MaskingShadowing::SchlickSmith,
@@ -67,9 +67,9 @@ impl CookTorrance {
 }
 
 impl Default for CookTorrance {
-    /// [`CookTorrance::ASSIGNMENT`].
+    /// [`CookTorrance::TP_PRESET`].
     fn default() -> Self {
-        Self::ASSIGNMENT
+        Self::TP_PRESET
     }
 }
 
@@ -157,11 +157,12 @@ pub struct PbrPoint {
     pub alpha: f32,
 }
 
-/// The specular part of a material.
+/// A material's BRDF model: Lambert alone, Lambert plus a specular lobe (Blinn-Phong,
+/// Cook-Torrance), or glTF's metallic-roughness BRDF, which holds its own diffuse part.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Specular {
-    /// None: a Lambert material.
-    None,
+pub enum BrdfModel {
+    /// k_d·albedo/π alone: no specular lobe.
+    Lambert,
     /// Blinn-Phong.
     BlinnPhong(BlinnPhong),
     /// Cook-Torrance.
@@ -181,8 +182,8 @@ pub struct Material {
     pub kd: f32,
     /// Reflect on both sides (normals turned towards the viewer) or only on the front.
     pub two_sided: bool,
-    /// The specular lobe.
-    pub specular: Specular,
+    /// The BRDF model and its parameters.
+    pub model: BrdfModel,
     /// An sRGB texture whose RGB multiplies `albedo` per point (MTL `map_Kd`), for the Lambert,
     /// Blinn-Phong and Cook-Torrance models; a `gltf-pbr` material's base colour texture is in
     /// its [`PbrTextures`].
@@ -197,30 +198,30 @@ impl Material {
             albedo,
             kd: 1.0,
             two_sided: true,
-            specular: Specular::None,
+            model: BrdfModel::Lambert,
             albedo_texture: None,
         }
     }
 
     /// Whether the material has a specular lobe (the plan skips specular work otherwise).
     pub fn has_specular(&self) -> bool {
-        !matches!(self.specular, Specular::None)
+        !matches!(self.model, BrdfModel::Lambert)
     }
 
     /// The model's name as written in scene files.
     pub fn model_name(&self) -> &'static str {
-        match self.specular {
-            Specular::None => "lambert",
-            Specular::BlinnPhong(_) => "blinn-phong",
-            Specular::CookTorrance(_) => "cook-torrance",
-            Specular::GltfPbr(_) => "gltf-pbr",
+        match self.model {
+            BrdfModel::Lambert => "lambert",
+            BrdfModel::BlinnPhong(_) => "blinn-phong",
+            BrdfModel::CookTorrance(_) => "cook-torrance",
+            BrdfModel::GltfPbr(_) => "gltf-pbr",
         }
     }
 
     /// A two-sided glTF metallic-roughness material with constant parameters.
     pub fn gltf_pbr(name: &str, base_color: [f32; 3], metallic: f32, roughness: f32) -> Self {
         Self {
-            specular: Specular::GltfPbr(GltfPbr {
+            model: BrdfModel::GltfPbr(GltfPbr {
                 metallic,
                 roughness,
                 emissive: [0.0; 3],
@@ -233,24 +234,24 @@ impl Material {
 
     /// The glTF textures of this material, if it is a `gltf-pbr` one.
     pub fn pbr_textures(&self) -> Option<&PbrTextures> {
-        match &self.specular {
-            Specular::GltfPbr(p) => Some(&p.textures),
+        match &self.model {
+            BrdfModel::GltfPbr(p) => Some(&p.textures),
             _ => None,
         }
     }
 
     /// Mutable access to the glTF textures (to renumber images when scenes are assembled).
     pub fn pbr_textures_mut(&mut self) -> Option<&mut PbrTextures> {
-        match &mut self.specular {
-            Specular::GltfPbr(p) => Some(&mut p.textures),
+        match &mut self.model {
+            BrdfModel::GltfPbr(p) => Some(&mut p.textures),
             _ => None,
         }
     }
 
     /// Every texture reference of the material, for renumbering and dropping images.
     pub fn texture_refs_mut(&mut self) -> impl Iterator<Item = &mut TextureRef> {
-        let pbr = match &mut self.specular {
-            Specular::GltfPbr(p) => Some(&mut p.textures),
+        let pbr = match &mut self.model {
+            BrdfModel::GltfPbr(p) => Some(&mut p.textures),
             _ => None,
         };
         pbr.into_iter()
@@ -284,14 +285,14 @@ impl Material {
 
     /// Whether the material emits light (a `gltf-pbr` material with a non-zero emissive factor).
     pub fn emits(&self) -> bool {
-        matches!(&self.specular, Specular::GltfPbr(p) if p.emissive.iter().any(|&e| e > 0.0))
+        matches!(&self.model, BrdfModel::GltfPbr(p) if p.emissive.iter().any(|&e| e > 0.0))
     }
 
     /// The cut-out of an `alphaMode` MASK material and the base colour texture whose alpha
     /// multiplies its factor; `None` for a surface that is there everywhere.
     pub fn cutout(&self) -> Option<(Cutout, Option<TextureRef>)> {
-        match &self.specular {
-            Specular::GltfPbr(p) => p.cutout.map(|c| (c, p.textures.base_color)),
+        match &self.model {
+            BrdfModel::GltfPbr(p) => p.cutout.map(|c| (c, p.textures.base_color)),
             _ => None,
         }
     }
@@ -300,7 +301,7 @@ impl Material {
     /// the emissive texture when `images` are given (the plan samples textures), else the factor.
     #[inline]
     pub fn emission(&self, uvs: [Vec2; 2], images: Option<&[TextureImage]>) -> Vec3 {
-        let Specular::GltfPbr(p) = &self.specular else {
+        let BrdfModel::GltfPbr(p) = &self.model else {
             return Vec3::ZERO;
         };
         let factor = Vec3::from(p.emissive);
@@ -338,17 +339,17 @@ impl Material {
     #[inline(always)]
     pub fn eval_with_albedo<R: Real>(&self, albedo: [f32; 3], dots: &LocalDots<R>) -> [R; 3] {
         let d = self.diffuse_of::<R>(albedo);
-        match &self.specular {
-            Specular::None => d,
-            Specular::BlinnPhong(bp) => {
+        match &self.model {
+            BrdfModel::Lambert => d,
+            BrdfModel::BlinnPhong(bp) => {
                 let s = blinn_phong(R::of(bp.ks), dots.n_dot_h, dots.sin2_h, R::of(bp.shininess));
                 map3([0, 1, 2], |c| d[c] + s * R::of(bp.color[c]))
             }
-            Specular::CookTorrance(ct) => {
+            BrdfModel::CookTorrance(ct) => {
                 let s = ct.eval(dots);
                 map3([0, 1, 2], |c| d[c] + s[c])
             }
-            Specular::GltfPbr(p) => p.constant_point(albedo).eval(dots),
+            BrdfModel::GltfPbr(p) => p.constant_point(albedo).eval(dots),
         }
     }
 
@@ -356,14 +357,14 @@ impl Material {
     pub fn validate(&self) -> Result<(), String> {
         check_color("albedo", self.albedo)?;
         check_non_negative("kd", self.kd)?;
-        match &self.specular {
-            Specular::None => {}
-            Specular::BlinnPhong(bp) => {
+        match &self.model {
+            BrdfModel::Lambert => {}
+            BrdfModel::BlinnPhong(bp) => {
                 check_non_negative("ks", bp.ks)?;
                 check_non_negative("shininess", bp.shininess)?;
                 check_color("specular_color", bp.color)?;
             }
-            Specular::CookTorrance(ct) => {
+            BrdfModel::CookTorrance(ct) => {
                 if !(0.0..=1.0).contains(&ct.alpha) {
                     return Err(format!("roughness must be in [0, 1], got {}", ct.alpha));
                 }
@@ -374,7 +375,7 @@ impl Material {
                 check_color("eta", ct.eta)?;
                 check_color("k", ct.k)?;
             }
-            Specular::GltfPbr(p) => {
+            BrdfModel::GltfPbr(p) => {
                 // glTF keeps baseColorFactor in [0, 1]; above 1 the diffuse weight 1 − F turns
                 // negative (a metal's F0 is the base colour) and base · (1 − F) can overflow to −∞.
                 if !self.albedo.iter().all(|v| (0.0..=1.0).contains(v)) {
@@ -535,7 +536,7 @@ mod tests {
         // The report's material: α = 0.7, metallic, specular colour [0.98, 0.82, 0.76], kd = 1,
         // albedo [0.4, 0.7, 0.4]; GGX, Schlick–Smith, Schlick.
         let m = Material {
-            specular: Specular::CookTorrance(CookTorrance::default()),
+            model: BrdfModel::CookTorrance(CookTorrance::default()),
             ..Material::lambert("tp", [0.4, 0.7, 0.4])
         };
         let (ci, co, nh, ih) = (0.6f64, 0.8f64, 0.95f64, 0.9f64);
@@ -560,7 +561,7 @@ mod tests {
     #[test]
     fn blinn_phong_material_adds_tinted_lobe_to_diffuse() {
         let m = Material {
-            specular: Specular::BlinnPhong(BlinnPhong {
+            model: BrdfModel::BlinnPhong(BlinnPhong {
                 ks: 0.5,
                 shininess: 10.0,
                 color: [1.0, 0.5, 0.0],
@@ -580,7 +581,7 @@ mod tests {
     fn pure_specular_with_kd_zero_and_lambert_without_lobe() {
         let m = Material {
             kd: 0.0,
-            specular: Specular::CookTorrance(CookTorrance::default()),
+            model: BrdfModel::CookTorrance(CookTorrance::default()),
             ..Material::lambert("m", [1.0; 3])
         };
         assert!(m.eval(&dots(0.5, 0.5, 1.0, 1.0))[0] > 0.0);
@@ -680,17 +681,17 @@ mod tests {
         let mut m = Material::lambert("m", [0.5, f32::NAN, 0.5]);
         assert!(m.validate().unwrap_err().contains("albedo"));
         m.albedo = [0.5; 3];
-        m.specular = Specular::CookTorrance(CookTorrance {
+        m.model = BrdfModel::CookTorrance(CookTorrance {
             alpha: 1.5,
             ..CookTorrance::default()
         });
         assert!(m.validate().unwrap_err().contains("roughness"));
-        m.specular = Specular::CookTorrance(CookTorrance {
+        m.model = BrdfModel::CookTorrance(CookTorrance {
             ior: 0.0,
             ..CookTorrance::default()
         });
         assert!(m.validate().unwrap_err().contains("ior"));
-        m.specular = Specular::BlinnPhong(BlinnPhong {
+        m.model = BrdfModel::BlinnPhong(BlinnPhong {
             ks: -1.0,
             shininess: 1.0,
             color: [1.0; 3],

@@ -138,7 +138,7 @@ mod tests {
     use glam::Vec3;
 
     use super::*;
-    use crate::material::{Cutout, Specular};
+    use crate::material::{BrdfModel, Cutout};
     use crate::texture::{Filter, Wrap};
 
     /// One triangle with u running 0 → 1 from vertex 0 to vertex 1, material `material`.
@@ -155,7 +155,7 @@ mod tests {
 
     fn masked(alpha: f32, texture: bool) -> Material {
         let mut m = Material::gltf_pbr("leaf", [1.0; 3], 0.0, 1.0);
-        if let Specular::GltfPbr(p) = &mut m.specular {
+        if let BrdfModel::GltfPbr(p) = &mut m.model {
             p.cutout = Some(Cutout { cutoff: 0.5, alpha });
             p.textures.base_color = texture.then_some(TextureRef {
                 image: 1,

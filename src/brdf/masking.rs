@@ -30,9 +30,10 @@ named_terms!(
     SmithGgxCorrelated => "smith-ggx-correlated",
 );
 
-/// k of the assignment's Schlick–Smith term: k = α·√(2/π).
+/// k of Schlick's fit to the Smith–Beckmann masking term: k = α·√(2/π) (the Schlick–Smith G
+/// of the assignment).
 #[inline(always)]
-pub fn schlick_k_assignment<R: Real>(alpha: R) -> R {
+pub fn schlick_k_beckmann<R: Real>(alpha: R) -> R {
     alpha * (R::lit(2.0) / R::PI()).sqrt()
 }
 
@@ -85,7 +86,7 @@ impl MaskingShadowing {
         let alpha = alpha.max(R::lit(MIN_ALPHA));
         match self {
             Self::SchlickSmith => {
-                let k = schlick_k_assignment(alpha);
+                let k = schlick_k_beckmann(alpha);
                 g1_schlick(n_dot_i, k) * g1_schlick(n_dot_o, k)
             }
             Self::SchlickKaris => {
@@ -114,7 +115,7 @@ impl MaskingShadowing {
             // G1(c)/c = 1/(c(1 − k) + k).
             Self::SchlickSmith | Self::SchlickKaris => {
                 let k = if self == Self::SchlickSmith {
-                    schlick_k_assignment(alpha)
+                    schlick_k_beckmann(alpha)
                 } else {
                     schlick_k_karis(alpha)
                 };

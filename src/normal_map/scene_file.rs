@@ -50,7 +50,7 @@ impl Preset {
     /// How the shader forms its dot products.
     pub fn convention(self) -> ShadingConvention {
         match self {
-            Preset::Tp => ShadingConvention::Assignment,
+            Preset::Tp => ShadingConvention::Clamped,
             Preset::Physical => ShadingConvention::Physical,
         }
     }
@@ -114,7 +114,7 @@ impl Preset {
                     shininess: 1.0,
                     color: [1.0; 3],
                 },
-                cook_torrance: CookTorrance::ASSIGNMENT,
+                cook_torrance: CookTorrance::TP_PRESET,
             },
             // One-sided: a decoded normal facing away from the viewer (noise at silhouettes, the
             // near-black surround of normal.png) shades black instead of being turned around.
@@ -371,7 +371,7 @@ fn names(materials: &BTreeMap<String, Spanned<MaterialSection>>) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::material::Specular;
+    use crate::material::BrdfModel;
 
     fn scene(name: &str, text: &str) -> InputResult<NormalMapScene> {
         let dir = std::env::temp_dir().join(format!("pointshade-nm-scene-{}-{name}", std::process::id()));
@@ -392,15 +392,15 @@ mod tests {
         assert_eq!(s.lights[0].falloff, Falloff::None);
         assert_eq!(s.material.albedo, [0.4, 0.7, 0.4]);
         assert_eq!(
-            s.material.specular,
-            Specular::BlinnPhong(BlinnPhong {
+            s.material.model,
+            BrdfModel::BlinnPhong(BlinnPhong {
                 ks: 1.0,
                 shininess: 1.0,
                 color: [1.0; 3]
             })
         );
         let ct = NormalMapScene::from_preset(Path::new("n.png"), Preset::Tp, ModelName::CookTorrance);
-        assert_eq!(ct.material.specular, Specular::CookTorrance(CookTorrance::ASSIGNMENT));
+        assert_eq!(ct.material.model, BrdfModel::CookTorrance(CookTorrance::TP_PRESET));
     }
 
     #[test]
@@ -416,7 +416,7 @@ mod tests {
         assert_eq!(s.preset, Preset::Tp);
         assert!(s.image.ends_with("n.png"));
         assert_eq!(s.material.albedo, [0.4, 0.7, 0.4], "albedo from the preset");
-        let Specular::CookTorrance(ct) = s.material.specular else {
+        let BrdfModel::CookTorrance(ct) = s.material.model else {
             panic!()
         };
         assert_eq!((ct.alpha, ct.specular_color), (0.3, [0.98, 0.82, 0.76]));

@@ -114,7 +114,7 @@ fn decode(p: &PendingImage) -> InputResult<TextureImage> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::material::{PbrTextures, Specular};
+    use crate::material::{BrdfModel, PbrTextures};
     use crate::texture::TextureRef;
 
     fn reference(image: u32) -> Option<TextureRef> {
@@ -123,7 +123,7 @@ mod tests {
 
     fn textured(name: &str, base: u32, emissive: u32, emits: bool) -> Material {
         let mut m = Material::gltf_pbr(name, [1.0; 3], 0.0, 1.0);
-        if let Specular::GltfPbr(p) = &mut m.specular {
+        if let BrdfModel::GltfPbr(p) = &mut m.model {
             p.textures = PbrTextures {
                 base_color: reference(base),
                 emissive: reference(emissive),

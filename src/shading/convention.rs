@@ -4,7 +4,7 @@
 //! - [`ShadingConvention::Physical`] (every mesh render, the normal-map `physical` preset): unit
 //!   normals, ω_i towards the light, the material's sidedness (one- or two-sided) decides where a
 //!   light contributes.
-//! - [`ShadingConvention::Assignment`] (the normal-map `tp` preset): the conventions behind the
+//! - [`ShadingConvention::Clamped`] (the normal-map `tp` preset): the conventions behind the
 //!   NPM3D TP4 report's images, reproduced on purpose — the normal is used as given (the image's
 //!   min-max-scaled colour, not unit length), ω_i points *from the light towards the point*, ω_o
 //!   towards the viewer, and every dot product is clamped to [0, 1] instead of testing sides.
@@ -21,8 +21,9 @@ use crate::lanes::{dot3 as dot, map3, Mask, Real};
 pub enum ShadingConvention {
     /// Physical: unit normals, ω_i towards the light, sidedness from the material.
     Physical,
-    /// The NPM3D TP4 assignment: normals as given, ω_i from the light, dots clamped to [0, 1].
-    Assignment,
+    /// Normals as given, ω_i from the light towards the point, every dot product clamped to
+    /// [0, 1]: the NPM3D TP4 assignment's convention, which the `tp` preset reproduces.
+    Clamped,
 }
 
 impl ShadingConvention {
@@ -30,7 +31,7 @@ impl ShadingConvention {
     pub fn describe(self) -> &'static str {
         match self {
             Self::Physical => "physical: unit normals, ω_i towards the light, material sidedness",
-            Self::Assignment => {
+            Self::Clamped => {
                 "assignment (tp): normals used as given, ω_i from the light towards the point, \
                  every dot product clamped to [0, 1]"
             }
@@ -38,9 +39,9 @@ impl ShadingConvention {
     }
 }
 
-/// The dot products of the assignment's convention at one point for one light.
+/// The dot products of the clamped convention at one point for one light.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AssignmentDots<R: Real> {
+pub struct ClampedDots<R: Real> {
     /// n·ω_i, n·ω_o, n·ω_h, ω_i·ω_h, each clamped to [0, 1]; the last two are 0 when there is no
     /// half vector.
     pub dots: LocalDots<R>,
@@ -79,12 +80,7 @@ pub fn report_unit<R: Real>(v: [R; 3]) -> ([R; 3], R::Mask) {
 /// ω_h = (ω_i + ω_o)/‖ω_i + ω_o‖ ([`report_unit`]), with the sum formed once and its own length
 /// taken (no √(2 + 2 ω_i·ω_o), which cancels as ω_i → −ω_o); a zero (or NaN) length means no half vector.
 #[inline(always)]
-pub fn assignment_dots<R: Real>(
-    n: [R; 3],
-    wi_from_light: [R; 3],
-    wo: [R; 3],
-    with_half_vector: bool,
-) -> AssignmentDots<R> {
+pub fn clamped_dots<R: Real>(n: [R; 3], wi_from_light: [R; 3], wo: [R; 3], with_half_vector: bool) -> ClampedDots<R> {
     let wi = wi_from_light;
     let n_dot_i = clamp01(dot(n, wi));
     let n_dot_o = clamp01(dot(n, wo));
@@ -96,7 +92,7 @@ pub fn assignment_dots<R: Real>(
     // Without a half vector report 0 (ω_h is the zero vector there: nothing NaN in any lane).
     let keep = |v: R| R::select(half_vector, v, R::zero());
     // sin²θ_h = (1 − c)(1 + c) from the clamped c: the report's D is a function of that c.
-    AssignmentDots {
+    ClampedDots {
         dots: LocalDots::from_cosines(n_dot_i, n_dot_o, keep(clamp01(dot(n, wh))), keep(clamp01(dot(wi, wh)))),
         half_vector,
     }
@@ -110,7 +106,7 @@ mod tests {
     fn products_are_clamped_and_the_normal_is_not_normalised() {
         // n of length > 1 (as a min-max-scaled colour can be): n·ω_i = 1.2 is clamped to 1.
         let n = [0.0, 0.0, 1.2f64];
-        let d = assignment_dots(n, [0.0, 0.0, 1.0], [0.0, 0.6, 0.8], true);
+        let d = clamped_dots(n, [0.0, 0.0, 1.0], [0.0, 0.6, 0.8], true);
         assert!(d.half_vector);
         assert_eq!(d.dots.n_dot_i, 1.0);
         assert!((d.dots.n_dot_o - 0.96).abs() < 1e-15, "1.2 · 0.8");
@@ -119,7 +115,7 @@ mod tests {
         let ih = 1.8 / 3.6f64.sqrt();
         assert!((d.dots.i_dot_h - ih).abs() < 1e-15);
         // Negative products become 0.
-        let back = assignment_dots([0.0, 0.0, -1.0f32], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0], true);
+        let back = clamped_dots([0.0, 0.0, -1.0f32], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0], true);
         assert_eq!(
             (back.dots.n_dot_i, back.dots.n_dot_o, back.dots.n_dot_h),
             (0.0, 0.0, 0.0)
@@ -128,7 +124,7 @@ mod tests {
 
     #[test]
     fn opposite_light_and_view_directions_have_no_half_vector() {
-        let d = assignment_dots([0.3, 0.4, 0.5f32], [0.0, 0.6, 0.8], [0.0, -0.6, -0.8], true);
+        let d = clamped_dots([0.3, 0.4, 0.5f32], [0.0, 0.6, 0.8], [0.0, -0.6, -0.8], true);
         assert!(!d.half_vector);
         assert_eq!((d.dots.n_dot_h, d.dots.i_dot_h), (0.0, 0.0));
         assert!((d.dots.n_dot_i - 0.64).abs() < 1e-6);
@@ -137,11 +133,11 @@ mod tests {
 
     #[test]
     fn zero_normal_and_zero_view_direction_give_finite_zeros() {
-        let d = assignment_dots([0.0f32; 3], [0.6, 0.0, 0.8], [0.0, 0.0, 1.0], true);
+        let d = clamped_dots([0.0f32; 3], [0.6, 0.0, 0.8], [0.0, 0.0, 1.0], true);
         assert_eq!(d.dots.n_dot_i, 0.0);
         assert_eq!(d.dots.n_dot_h, 0.0);
         // ω_o = 0 (the viewer at the point): ω_h = ω_i.
-        let d = assignment_dots([0.0, 0.0, 1.0f32], [0.6, 0.0, 0.8], [0.0; 3], true);
+        let d = clamped_dots([0.0, 0.0, 1.0f32], [0.6, 0.0, 0.8], [0.0; 3], true);
         assert!(d.half_vector);
         assert_eq!(d.dots.n_dot_o, 0.0);
         assert!((d.dots.i_dot_h - 1.0).abs() < 1e-6);
@@ -149,7 +145,7 @@ mod tests {
 
     #[test]
     fn lambert_asks_for_no_half_vector() {
-        let d = assignment_dots([0.0, 0.0, 1.0f64], [0.0, 0.6, 0.8], [0.0, 0.0, 1.0], false);
+        let d = clamped_dots([0.0, 0.0, 1.0f64], [0.0, 0.6, 0.8], [0.0, 0.0, 1.0], false);
         assert!(!d.half_vector);
         assert!((d.dots.n_dot_i - 0.8).abs() < 1e-15);
         assert_eq!((d.dots.n_dot_h, d.dots.i_dot_h), (0.0, 0.0));

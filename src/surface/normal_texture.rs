@@ -63,7 +63,7 @@ pub fn apply_normal_texture(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::material::{NormalTexture, PbrTextures, Specular};
+    use crate::material::{BrdfModel, NormalTexture, PbrTextures};
     use crate::texture::TextureRef;
     use glam::Vec4;
 
@@ -80,7 +80,7 @@ mod tests {
             ..Default::default()
         };
         let mut m = Material::gltf_pbr("m", [1.0; 3], 0.0, 0.5);
-        if let Specular::GltfPbr(p) = &mut m.specular {
+        if let BrdfModel::GltfPbr(p) = &mut m.model {
             p.textures = PbrTextures {
                 normal: Some(NormalTexture {
                     texture: TextureRef::gltf_default(0),

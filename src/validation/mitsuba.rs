@@ -22,7 +22,7 @@ use super::textures;
 use crate::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
 use crate::film::SamplerKind;
 use crate::light::{Falloff, Light, LightKind};
-use crate::material::{Material, Specular};
+use crate::material::{BrdfModel, Material};
 use crate::scene::camera::{FovAxis, Projection};
 use crate::scene::Scene;
 use crate::texture::{Filter, TextureImage, TextureRef, Wrap};
@@ -91,7 +91,7 @@ pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice, mesh_prefix: &str) -> 
     for (index, m) in scene.materials.iter().enumerate() {
         let (xml, note) = bsdf(index, m, bsdfs, &scene.textures, mesh_prefix);
         material_notes.push(format!("{}: {note}", m.name));
-        if matches!(&m.specular, Specular::GltfPbr(p) if p.cutout.is_some()) {
+        if matches!(&m.model, BrdfModel::GltfPbr(p) if p.cutout.is_some()) {
             differences.push(format!(
                 "material '{}': alphaMode MASK (Mitsuba's direct integrator does not pass rays through cut-outs)",
                 m.name
@@ -303,8 +303,8 @@ fn sensor(scene: &Scene, spp: u32, differences: &mut Vec<String>) -> String {
 
 /// Whether Mitsuba's `roughconductor` computes exactly this Cook-Torrance lobe.
 fn is_roughconductor(m: &Material) -> bool {
-    match &m.specular {
-        Specular::CookTorrance(ct) => {
+    match &m.model {
+        BrdfModel::CookTorrance(ct) => {
             m.kd == 0.0
                 && ct.d == MicrofacetDistribution::Ggx
                 && ct.g == MaskingShadowing::SmithGgx
@@ -347,7 +347,7 @@ fn bsdf(
             ),
             "Mitsuba diffuse (exact)",
         )
-    } else if let (true, true, Specular::CookTorrance(ct)) = (native, is_roughconductor(m), &m.specular) {
+    } else if let (true, true, BrdfModel::CookTorrance(ct)) = (native, is_roughconductor(m), &m.model) {
         let (eta, k) = match ct.f {
             FresnelTerm::Conductor => (ct.eta, ct.k),
             // Mitsuba's "none" conductor: η = 0, κ = 1 gives F ≡ 1, then × specular_reflectance.
@@ -397,12 +397,12 @@ fn plugin_bsdf(m: &Material, images: &[TextureImage], prefix: &str) -> String {
         rgb("albedo", m.albedo),
         m.kd
     );
-    if !matches!(m.specular, Specular::GltfPbr(_)) {
+    if !matches!(m.model, BrdfModel::GltfPbr(_)) {
         p.push_str(&textures::brdf_texture_properties(m, images, prefix));
     }
-    match &m.specular {
-        Specular::None => {}
-        Specular::BlinnPhong(bp) => {
+    match &m.model {
+        BrdfModel::Lambert => {}
+        BrdfModel::BlinnPhong(bp) => {
             let _ = write!(
                 p,
                 "<float name=\"ks\" value=\"{}\"/><float name=\"shininess\" value=\"{}\"/>{}",
@@ -411,7 +411,7 @@ fn plugin_bsdf(m: &Material, images: &[TextureImage], prefix: &str) -> String {
                 rgb("specular_color", bp.color)
             );
         }
-        Specular::CookTorrance(ct) => {
+        BrdfModel::CookTorrance(ct) => {
             let _ = write!(
                 p,
                 "<float name=\"alpha\" value=\"{}\"/><string name=\"d\" value=\"{}\"/><string name=\"g\" value=\"{}\"/><string name=\"f\" value=\"{}\"/><boolean name=\"metallic\" value=\"{}\"/><float name=\"ior\" value=\"{}\"/>{}{}{}",
@@ -426,7 +426,7 @@ fn plugin_bsdf(m: &Material, images: &[TextureImage], prefix: &str) -> String {
                 rgb("k", ct.k)
             );
         }
-        Specular::GltfPbr(g) => {
+        BrdfModel::GltfPbr(g) => {
             let _ = write!(
                 p,
                 "<float name=\"metallic\" value=\"{}\"/><float name=\"roughness\" value=\"{}\"/>{}",
@@ -639,7 +639,7 @@ mod tests {
         ));
         let texture = TextureRef::gltf_default(0);
         let mut m = Material::gltf_pbr("glow", [1.0; 3], 0.0, 0.5);
-        if let Specular::GltfPbr(p) = &mut m.specular {
+        if let BrdfModel::GltfPbr(p) = &mut m.model {
             p.emissive = [1.0, 0.5, 0.25];
             p.textures = PbrTextures {
                 normal: Some(NormalTexture { texture, scale: 1.0 }),

@@ -15,7 +15,7 @@
 use std::fmt::Write as _;
 
 use super::ply::VertexAttributes;
-use crate::material::{Material, Specular};
+use crate::material::{BrdfModel, Material};
 use crate::scene::mesh::TriangleMesh;
 use crate::texture::{Filter, TextureImage, TextureRef, Wrap};
 
@@ -55,7 +55,7 @@ pub fn image_files(images: &[TextureImage], prefix: &str) -> Vec<(String, Vec<u8
 /// The attributes the parts of material `m` need: the texture-coordinate sets its textures read,
 /// and tangents when it has a normal texture and the mesh has tangents.
 pub fn vertex_attributes(m: &Material, mesh: &TriangleMesh) -> VertexAttributes {
-    let Specular::GltfPbr(p) = &m.specular else {
+    let BrdfModel::GltfPbr(p) = &m.model else {
         let mut out = VertexAttributes::default();
         if let Some(r) = m.albedo_texture {
             out.uv[usize::from(r.tex_coord.min(1))] = true;
@@ -137,7 +137,7 @@ pub fn plugin_handles_sides(m: &Material) -> bool {
 /// The `area` emitter of an emissive material: its radiance is the emissive factor times the
 /// emissive texture; `None` for materials that do not emit.
 pub fn area_emitter(m: &Material, images: &[TextureImage], prefix: &str) -> Option<String> {
-    let Specular::GltfPbr(p) = &m.specular else {
+    let BrdfModel::GltfPbr(p) = &m.model else {
         return None;
     };
     if !m.emits() {
@@ -174,7 +174,7 @@ mod tests {
 
     fn textured() -> Material {
         let mut m = Material::gltf_pbr("t", [1.0; 3], 1.0, 1.0);
-        if let Specular::GltfPbr(p) = &mut m.specular {
+        if let BrdfModel::GltfPbr(p) = &mut m.model {
             p.emissive = [0.5, 1.0, 2.0];
             p.textures = PbrTextures {
                 base_color: Some(reference(0, 0)),

@@ -6,7 +6,7 @@
 use pointshade::brdf::{FresnelTerm, LocalDots, MaskingShadowing, MicrofacetDistribution};
 
 use pointshade::lanes::Scalar;
-use pointshade::material::{BlinnPhong, CookTorrance, Material, Specular};
+use pointshade::material::{BlinnPhong, BrdfModel, CookTorrance, Material};
 use proptest::prelude::*;
 use std::f64::consts::PI;
 
@@ -37,7 +37,7 @@ fn cook_torrance() -> impl Strategy<Value = Material> {
     )
         .prop_map(|(alpha, d, g, f, metallic, ior, eta, k)| Material {
             kd: 0.0,
-            specular: Specular::CookTorrance(CookTorrance {
+            model: BrdfModel::CookTorrance(CookTorrance {
                 alpha,
                 d,
                 g,
@@ -59,7 +59,7 @@ fn any_material() -> impl Strategy<Value = Material> {
             ..Material::lambert("l", [a, 0.5, 1.0])
         }),
         (0.0f32..2.0, prop_oneof![0.0f32..1e6, Just(0.0), Just(1.0), Just(1e6)]).prop_map(|(ks, s)| Material {
-            specular: Specular::BlinnPhong(BlinnPhong {
+            model: BrdfModel::BlinnPhong(BlinnPhong {
                 ks,
                 shininess: s,
                 color: [1.0, 0.5, 0.25],
@@ -175,7 +175,7 @@ proptest! {
     ) {
         let m = Material {
             kd: 0.0,
-            specular: Specular::CookTorrance(CookTorrance {
+            model: BrdfModel::CookTorrance(CookTorrance {
                 alpha, d, g, f,
                 metallic: true,
                 specular_color: [1.0; 3],
@@ -189,7 +189,7 @@ proptest! {
             let (albedo, evals) = directional_albedo(&m, cos_o, alpha as f64);
             prop_assert!(evals > 10_000);
             // Quadrature error is well below 1%; Smith masking makes the exact value < 1.
-            prop_assert!(albedo <= 1.01, "albedo {} at cos_o {} for {:?}", albedo, cos_o, m.specular);
+            prop_assert!(albedo <= 1.01, "albedo {} at cos_o {} for {:?}", albedo, cos_o, m.model);
             prop_assert!(albedo > 0.0);
         }
     }

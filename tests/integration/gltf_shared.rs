@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 use pointshade::light::{Falloff, LightKind};
-use pointshade::material::Specular;
+use pointshade::material::BrdfModel;
 use pointshade::plan::RenderPlan;
 use pointshade::scene::{self, LoadOptions};
 
@@ -244,7 +244,7 @@ fn metal_rough_spheres_vary_roughness_along_x_and_metalness_along_y() {
     // grid (z ≈ 0), roughness = column/6 and metalness = row/6, rows and columns 1 mm apart.
     let mut checked = 0;
     for (t, &m) in s.mesh.material_of_triangle.iter().enumerate() {
-        let Specular::GltfPbr(p) = s.materials[m as usize].specular else {
+        let BrdfModel::GltfPbr(p) = s.materials[m as usize].model else {
             continue;
         };
         if s.materials[m as usize].name == "glTF default" || t % 97 != 0 {

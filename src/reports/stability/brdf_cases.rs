@@ -24,7 +24,7 @@ use crate::brdf::{
     MaskingShadowing, MicrofacetDistribution,
 };
 use crate::lanes::Scalar;
-use crate::material::{BlinnPhong, CookTorrance, Material, Specular};
+use crate::material::{BlinnPhong, BrdfModel, CookTorrance, Material};
 
 /// What one case evaluates; every input is rounded to f32 first, so both precisions see the
 /// same numbers.
@@ -134,7 +134,7 @@ fn case(name: &str, inputs: &str, eval: Eval, expect: Expect) -> Case {
 fn ct(d: MicrofacetDistribution, g: MaskingShadowing, alpha: f32) -> Box<Material> {
     Box::new(Material {
         kd: 0.0,
-        specular: Specular::CookTorrance(CookTorrance {
+        model: BrdfModel::CookTorrance(CookTorrance {
             alpha,
             d,
             g,
@@ -147,7 +147,7 @@ fn ct(d: MicrofacetDistribution, g: MaskingShadowing, alpha: f32) -> Box<Materia
 fn bp(shininess: f32) -> Box<Material> {
     Box::new(Material {
         kd: 0.0,
-        specular: Specular::BlinnPhong(BlinnPhong {
+        model: BrdfModel::BlinnPhong(BlinnPhong {
             ks: 1.0,
             shininess,
             color: [1.0; 3],

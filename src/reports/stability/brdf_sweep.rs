@@ -18,7 +18,7 @@ use rayon::prelude::*;
 
 use super::case::{num, rel_err, Case, Options, Rng, REL_TOL};
 use crate::brdf::{FresnelTerm, LocalDots, MaskingShadowing, MicrofacetDistribution};
-use crate::material::{BlinnPhong, CookTorrance, Material, Specular};
+use crate::material::{BlinnPhong, BrdfModel, CookTorrance, Material};
 
 /// Families the sweep reports on, one pair of rows each.
 const FAMILIES: usize = 2 + 2 * 4;
@@ -85,7 +85,7 @@ fn material(rng: &mut Rng, f: usize) -> (Material, bool) {
                 rng.log_uniform(1e-2, 1e6)
             };
             ok = shininess <= 1e4;
-            m.specular = Specular::BlinnPhong(BlinnPhong {
+            m.model = BrdfModel::BlinnPhong(BlinnPhong {
                 ks: rng.uniform() as f32,
                 shininess: shininess as f32,
                 color,
@@ -111,7 +111,7 @@ fn material(rng: &mut Rng, f: usize) -> (Material, bool) {
             let f_term = pick(rng, FresnelTerm::ALL);
             let weak_tir = (0..3).any(|c| eta[c] < 1.0 && k[c] < 0.1);
             ok = alpha >= 1e-2 && !(f_term == FresnelTerm::Conductor && weak_tir);
-            m.specular = Specular::CookTorrance(CookTorrance {
+            m.model = BrdfModel::CookTorrance(CookTorrance {
                 alpha: alpha as f32,
                 d: MicrofacetDistribution::ALL[(f - 2) / 4],
                 g: MaskingShadowing::ALL[(f - 2) % 4],

@@ -1,6 +1,6 @@
 //! The normal-map `tp` preset's degenerate and ordinary pixels: the float64 shading path the
 //! `normalmap` command runs ([`shade_tp_pixel`]) against the same generic code — the assignment's
-//! dot products ([`assignment_dots`]) and [`Material::eval`] — composed again, in f64, with
+//! dot products ([`clamped_dots`]) and [`Material::eval`] — composed again, in f64, with
 //! glam's vector operations.
 //!
 //! Documented values (docs/normal-maps.md, "Normal-map mode"): background and n = 0 give 0; a zero
@@ -18,7 +18,7 @@ use crate::normal_map::image::{TpScaling, Viewer};
 use crate::normal_map::scene_file::{NormalMapScene, Preset};
 use crate::normal_map::shade_tp_pixel;
 use crate::scene::file::ModelName;
-use crate::shading::convention::assignment_dots;
+use crate::shading::convention::clamped_dots;
 
 /// Pixels with max(r, g, b) at or below this are background in the tp preset (4/255).
 const BACKGROUND: f64 = 4.0 / 255.0;
@@ -49,7 +49,7 @@ fn tp_pixel_f64(scene: &NormalMapScene, (min, max): (f32, f32), rgb: [f32; 3], r
         if from_light == DVec3::ZERO {
             continue;
         }
-        let a = assignment_dots(n, from_light.to_array(), wo.to_array(), specular);
+        let a = clamped_dots(n, from_light.to_array(), wo.to_array(), specular);
         let f = if a.half_vector {
             scene.material.eval(&a.dots)
         } else {

@@ -12,7 +12,7 @@ use super::case::{num, Case};
 use crate::accel::Bvh;
 use crate::film::{FilmSettings, Image, SamplerKind};
 use crate::light::{Falloff, Light, LightKind};
-use crate::material::{CookTorrance, Material, Specular};
+use crate::material::{BrdfModel, CookTorrance, Material};
 use crate::plan::RenderPlan;
 use crate::scene::camera::{CameraSpec, FovAxis, Projection};
 use crate::scene::mesh::TriangleMesh;
@@ -59,7 +59,7 @@ pub fn contact_scene(scale: f32, offset: f32) -> Scene {
     }
     let glossy = Material {
         kd: 0.5,
-        specular: Specular::CookTorrance(CookTorrance {
+        model: BrdfModel::CookTorrance(CookTorrance {
             alpha: 0.3,
             ..CookTorrance::default()
         }),

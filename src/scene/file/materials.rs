@@ -5,7 +5,7 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use crate::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
-use crate::material::{BlinnPhong, CookTorrance, Material, Specular};
+use crate::material::{BlinnPhong, BrdfModel, CookTorrance, Material};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -119,10 +119,10 @@ impl MaterialDefaults {
             albedo: self.albedo,
             kd: self.kd,
             two_sided: self.two_sided,
-            specular: match model {
-                ModelName::Lambert => Specular::None,
-                ModelName::BlinnPhong => Specular::BlinnPhong(self.blinn_phong),
-                ModelName::CookTorrance => Specular::CookTorrance(self.cook_torrance),
+            model: match model {
+                ModelName::Lambert => BrdfModel::Lambert,
+                ModelName::BlinnPhong => BrdfModel::BlinnPhong(self.blinn_phong),
+                ModelName::CookTorrance => BrdfModel::CookTorrance(self.cook_torrance),
             },
             albedo_texture: None,
         }
@@ -169,7 +169,7 @@ pub(crate) fn material(name: &str, m: &MaterialSection, defaults: &MaterialDefau
         ModelName::BlinnPhong => {
             unused_for(&ct_keys, "blinn-phong")?;
             let d = defaults.blinn_phong;
-            material.specular = Specular::BlinnPhong(BlinnPhong {
+            material.model = BrdfModel::BlinnPhong(BlinnPhong {
                 ks: m.ks.unwrap_or(d.ks),
                 shininess: m.shininess.unwrap_or(d.shininess),
                 color: m.specular_color.unwrap_or(d.color),
@@ -217,7 +217,7 @@ pub(crate) fn material(name: &str, m: &MaterialSection, defaults: &MaterialDefau
                     )));
                 }
             }
-            material.specular = Specular::CookTorrance(ct);
+            material.model = BrdfModel::CookTorrance(ct);
         }
     }
     material.validate().map_err(plain)?;

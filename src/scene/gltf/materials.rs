@@ -10,7 +10,7 @@
 //! light from punctual lights only, so occlusion has nothing to act on and is not decoded.
 
 use crate::error::InputResult;
-use crate::material::{Cutout, GltfPbr, Material, NormalTexture, PbrTextures, Specular};
+use crate::material::{BrdfModel, Cutout, GltfPbr, Material, NormalTexture, PbrTextures};
 use crate::scene::gltf::document::GltfDocument;
 use crate::scene::gltf::texture_transform::{self, SlotTransform};
 use crate::scene::textures::{ImageSource, PendingImage};
@@ -98,7 +98,7 @@ pub fn convert_materials(d: &GltfDocument) -> InputResult<Materials> {
             }
         };
         let material = Material {
-            specular: Specular::GltfPbr(GltfPbr {
+            model: BrdfModel::GltfPbr(GltfPbr {
                 metallic: pbr.metallic_factor(),
                 roughness: pbr.roughness_factor(),
                 // KHR_materials_emissive_strength scales the factor (HDR emission).

@@ -250,7 +250,7 @@ fn has_vertex_attributes(bytes: &[u8]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::material::Specular;
+    use crate::material::BrdfModel;
 
     #[test]
     fn a_mesh_in_map_coordinates_keeps_its_precision_relative_to_its_centre() {
@@ -320,14 +320,14 @@ mod tests {
         let obj = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl shiny\nf 1 2 3\n";
         let c = load("mtl", obj, mtl);
         let by_name = |n: &str| c.materials.iter().find(|m| m.name == n).unwrap();
-        assert_eq!(by_name("matte").specular, Specular::None);
+        assert_eq!(by_name("matte").model, BrdfModel::Lambert);
         assert_eq!(by_name("matte").albedo, [0.5, 0.25, 0.125]);
-        match by_name("shiny").specular {
-            Specular::BlinnPhong(bp) => assert_eq!((bp.shininess, bp.color), (40.0, [0.5; 3])),
+        match by_name("shiny").model {
+            BrdfModel::BlinnPhong(bp) => assert_eq!((bp.shininess, bp.color), (40.0, [0.5; 3])),
             other => panic!("{other:?}"),
         }
-        match by_name("metal").specular {
-            Specular::CookTorrance(ct) => {
+        match by_name("metal").model {
+            BrdfModel::CookTorrance(ct) => {
                 assert_eq!(ct.alpha, 0.25, "α = Pr²");
                 assert!(ct.metallic);
                 assert_eq!(ct.specular_color, [0.9, 0.6, 0.3]);

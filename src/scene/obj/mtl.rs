@@ -17,7 +17,7 @@ use std::path::Path;
 
 use crate::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
 use crate::error::{InputError, InputResult};
-use crate::material::{BlinnPhong, CookTorrance, Material, Specular};
+use crate::material::{BlinnPhong, BrdfModel, CookTorrance, Material};
 use crate::scene::textures::{ImageSource, PendingImage};
 use crate::texture::{TextureRef, Wrap};
 
@@ -55,7 +55,7 @@ pub(super) fn convert(
             leave(statement);
         }
         if let Some(value) = &m.diffuse_texture {
-            let metallic = matches!(material.specular, Specular::CookTorrance(ct) if ct.metallic);
+            let metallic = matches!(material.model, BrdfModel::CookTorrance(ct) if ct.metallic);
             let texture = texture_statement(value).map_err(|e| named(format!("map_Kd: {e}")))?;
             for option in &texture.ignored_options {
                 leave(&format!("map_Kd option {option}"));
@@ -113,7 +113,7 @@ pub fn material_from_mtl(m: &tobj::Material) -> Result<Material, String> {
     if pr.is_some() || pm.is_some() {
         let metallic = pm.unwrap_or(0.0) >= 0.5;
         let roughness = pr.unwrap_or(0.5);
-        material.specular = Specular::CookTorrance(CookTorrance {
+        material.model = BrdfModel::CookTorrance(CookTorrance {
             alpha: roughness * roughness,
             d: MicrofacetDistribution::Ggx,
             g: MaskingShadowing::SmithGgxCorrelated,
@@ -128,7 +128,7 @@ pub fn material_from_mtl(m: &tobj::Material) -> Result<Material, String> {
         }
     } else if let (Some(ks), Some(ns)) = (m.specular.map(single), m.shininess.map(|s| s as f32)) {
         if ks.iter().any(|&c| c > 0.0) {
-            material.specular = Specular::BlinnPhong(BlinnPhong {
+            material.model = BrdfModel::BlinnPhong(BlinnPhong {
                 ks: 1.0,
                 shininess: ns,
                 color: ks,
@@ -159,9 +159,9 @@ fn param(m: &tobj::Material, key: &str) -> Result<Option<f32>, String> {
 /// The statements of `m` that `material` (what [`material_from_mtl`] made of it) does not read,
 /// `map_Kd` aside ([`convert`] decides about it).
 fn unused_statements<'a>(m: &'a tobj::Material, material: &Material) -> Vec<&'a str> {
-    let (blinn_phong, cook_torrance) = match material.specular {
-        Specular::BlinnPhong(_) => (true, None),
-        Specular::CookTorrance(ct) => (false, Some(ct)),
+    let (blinn_phong, cook_torrance) = match material.model {
+        BrdfModel::BlinnPhong(_) => (true, None),
+        BrdfModel::CookTorrance(ct) => (false, Some(ct)),
         _ => (false, None),
     };
     let dielectric = cook_torrance.is_some_and(|ct| !ct.metallic);

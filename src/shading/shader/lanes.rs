@@ -11,7 +11,7 @@ use std::borrow::Borrow;
 
 use glam::Vec3;
 
-use super::{assignment_term, Shader, BATCH};
+use super::{clamped_term, Shader, BATCH};
 use crate::accel::shadow::{Occluder, ShadowRay};
 use crate::brdf::LocalDots;
 use crate::lanes::{dot3, map3, F32x8, LaneInstructions, LaneMask, Mask, Mask8, Real, LANES};
@@ -135,7 +135,7 @@ impl<O: Occluder> Shader<'_, O> {
     /// shadow rays, no textures, no emission (the normal-map mode).
     pub fn has_lanes(&self) -> bool {
         match self.convention {
-            ShadingConvention::Assignment => true,
+            ShadingConvention::Clamped => true,
             ShadingConvention::Physical => self.occluder.is_none() && self.textures.is_none() && !self.emission,
         }
     }
@@ -147,7 +147,7 @@ impl<O: Occluder> Shader<'_, O> {
     pub fn shade_surface_lanes(&self, points: &SurfaceLanes) -> [F32x8; 3] {
         debug_assert!(self.has_lanes());
         match self.convention {
-            ShadingConvention::Assignment => self.shade_assignment_lanes(points),
+            ShadingConvention::Clamped => self.shade_clamped_lanes(points),
             ShadingConvention::Physical => self.shade_physical_lanes(points),
         }
     }
@@ -180,10 +180,10 @@ impl<O: Occluder> Shader<'_, O> {
     /// The assignment convention's L_o (see [`Shader::shade`]) of the points in the lanes of
     /// `R`, per channel: eight in [`F32x8`], four `tp` pixels in float64 lanes, one point in a
     /// scalar — the same functions in every precision. Only for a shader whose convention is
-    /// [`ShadingConvention::Assignment`] (the caller's plan decides; the result ignores sides).
+    /// [`ShadingConvention::Clamped`] (the caller's plan decides; the result ignores sides).
     #[inline(always)]
-    pub fn shade_assignment_lanes<R: Real>(&self, points: &SurfaceLanes<R>) -> [R; 3] {
-        debug_assert_eq!(self.convention, ShadingConvention::Assignment);
+    pub fn shade_clamped_lanes<R: Real>(&self, points: &SurfaceLanes<R>) -> [R; 3] {
+        debug_assert_eq!(self.convention, ShadingConvention::Clamped);
         let material = &self.materials[points.material as usize];
         let x = points.position;
         let mut radiance = [R::zero(); 3];
@@ -200,7 +200,7 @@ impl<O: Occluder> Shader<'_, O> {
                 }
                 None => map3(ls.wi, |c| -c),
             };
-            let term = assignment_term(
+            let term = clamped_term(
                 material,
                 points.shading_normal,
                 wi_from_light,
@@ -389,7 +389,7 @@ mod tests {
     use super::super::{Shader, BATCH};
     use crate::accel::shadow::{NoOcclusion, SceneExtent};
     use crate::lanes::LANES;
-    use crate::material::{Material, Specular};
+    use crate::material::{BrdfModel, Material};
     use crate::shading::convention::ShadingConvention;
     use crate::surface::SurfacePoint;
     use crate::texture::TextureRef;
@@ -398,7 +398,7 @@ mod tests {
     fn eight_lanes_shade_exactly_as_one_point_at_a_time() {
         let lights = lights();
         let points = points();
-        let conventions = [ShadingConvention::Assignment, ShadingConvention::Physical];
+        let conventions = [ShadingConvention::Clamped, ShadingConvention::Physical];
         let sided = materials().into_iter().flat_map(|m| {
             let mut other = m.clone();
             other.two_sided = !m.two_sided;
@@ -486,7 +486,7 @@ mod tests {
             &batch(1)
         ));
         let mut pbr = Material::gltf_pbr("textured", [0.8, 0.5, 0.2], 0.6, 0.4);
-        let Specular::GltfPbr(p) = &mut pbr.specular else {
+        let BrdfModel::GltfPbr(p) = &mut pbr.model else {
             unreachable!("made as glTF PBR")
         };
         p.textures.base_color = Some(TextureRef::gltf_default(0));

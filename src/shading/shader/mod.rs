@@ -19,9 +19,9 @@ use crate::brdf::LocalDots;
 use crate::accel::shadow::{Occluder, SceneExtent, ShadowRay};
 use crate::lanes::{map3, Mask, Real};
 use crate::light::{Light, LightSample};
-use crate::material::{Material, PbrPoint, Specular};
+use crate::material::{BrdfModel, Material, PbrPoint};
 use crate::scene::shadows::ShadowOffset;
-use crate::shading::convention::{assignment_dots, ShadingConvention};
+use crate::shading::convention::{clamped_dots, ShadingConvention};
 use crate::surface::{SurfaceLanes, SurfacePoint};
 use crate::texture::TextureImage;
 
@@ -87,7 +87,7 @@ impl<O: Occluder> Shader<'_, O> {
     pub fn shade(&self, sp: &SurfacePoint, shadow_rays: &mut u64) -> Vec3 {
         match self.convention {
             ShadingConvention::Physical => self.shade_physical(sp, shadow_rays),
-            ShadingConvention::Assignment => self.shade_assignment(sp),
+            ShadingConvention::Clamped => self.shade_clamped(sp),
         }
     }
 
@@ -213,8 +213,8 @@ impl<O: Occluder> Shader<'_, O> {
         // Textured glTF materials: their BRDF parameters at this point, looked up once for all
         // lights.
         let uvs = [sp.uv, sp.uv1];
-        let textured = match (self.textures, &material.specular) {
-            (Some(images), Specular::GltfPbr(p)) if p.textures.varies_brdf() => {
+        let textured = match (self.textures, &material.model) {
+            (Some(images), BrdfModel::GltfPbr(p)) if p.textures.varies_brdf() => {
                 Some(Textured::Pbr(p.point_at(material.albedo, uvs, images)))
             }
             (Some(images), _) if material.albedo_texture.is_some() => {
@@ -278,13 +278,13 @@ impl<O: Occluder> Shader<'_, O> {
     }
 
     /// The assignment's L_o = Σ L_i · f(ω_i, ω_o) · (n·ω_i) with ω_i from the light towards the
-    /// point, n as given and every dot product clamped to [0, 1] ([`assignment_dots`]): the
-    /// lane path ([`Shader::shade_assignment_lanes`]) on one point in f32. No sides and no shadow
+    /// point, n as given and every dot product clamped to [0, 1] ([`clamped_dots`]): the
+    /// lane path ([`Shader::shade_clamped_lanes`]) on one point in f32. No sides and no shadow
     /// rays (the plan never pairs this convention with an occluder). Where ω_i + ω_o = 0 the half
     /// vector is undefined and only the diffuse part k_d·albedo/π is added.
     #[inline(always)]
-    fn shade_assignment(&self, sp: &SurfacePoint) -> Vec3 {
-        Vec3::from(self.shade_assignment_lanes(&SurfaceLanes::<f32> {
+    fn shade_clamped(&self, sp: &SurfacePoint) -> Vec3 {
+        Vec3::from(self.shade_clamped_lanes(&SurfaceLanes::<f32> {
             position: sp.position.to_array(),
             shading_normal: sp.shading_normal.to_array(),
             to_viewer: sp.to_viewer.to_array(),
@@ -310,14 +310,14 @@ fn front_lift(lift: f32, facing_ng: Vec3, ng: Vec3) -> f32 {
 /// One light's L_i · f(ω_i, ω_o) · (n·ω_i) under the assignment convention, per channel, in any
 /// [`Real`] (f32 for one point, [`F32x8`] for eight).
 #[inline(always)]
-fn assignment_term<R: Real>(
+fn clamped_term<R: Real>(
     material: &Material,
     n: [R; 3],
     wi_from_light: [R; 3],
     wo: [R; 3],
     irradiance: [R; 3],
 ) -> [R; 3] {
-    let a = assignment_dots(n, wi_from_light, wo, material.has_specular());
+    let a = clamped_dots(n, wi_from_light, wo, material.has_specular());
     let diffuse = material.diffuse::<R>();
     let f = if a.half_vector.any() {
         let e = material.eval(&a.dots);
@@ -340,7 +340,7 @@ mod tests {
     pub(super) fn materials() -> Vec<Material> {
         let mut all = vec![Material::lambert("lambert", [0.4, 0.7, 0.4])];
         let mut bp = all[0].clone();
-        bp.specular = Specular::BlinnPhong(BlinnPhong {
+        bp.model = BrdfModel::BlinnPhong(BlinnPhong {
             ks: 0.8,
             shininess: 40.0,
             color: [1.0, 0.9, 0.8],
@@ -350,12 +350,12 @@ mod tests {
             for g in MaskingShadowing::ALL {
                 for f in FresnelTerm::ALL {
                     let mut m = all[0].clone();
-                    m.specular = Specular::CookTorrance(CookTorrance {
+                    m.model = BrdfModel::CookTorrance(CookTorrance {
                         d: *d,
                         g: *g,
                         f: *f,
                         alpha: 0.3,
-                        ..CookTorrance::ASSIGNMENT
+                        ..CookTorrance::TP_PRESET
                     });
                     all.push(m);
                 }
