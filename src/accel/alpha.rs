@@ -5,9 +5,8 @@
 //! The test runs inside traversal, lane by lane in the leaf tests ([`super::wide::TriangleQuad`]):
 //! a cut-out hit must not end a ray's search for its closest hit nor answer a shadow ray. The
 //! traversal is generic over a [`HitFilter`]; scenes without cut-outs use [`Opaque`], whose
-//! filter is never asked and compiles away: the filter moved the instruction counts of
-//! `benches/instructions.sh` by −0.08% (dragon, equal error), −0.43% (dragon, defaults) and
-//! +0.51% (Cornell box), the price of one branch per query on whether the BVH has a mask.
+//! filter is never asked and compiles away, so they pay one branch per query on whether the
+//! BVH has a mask (its instruction counts: docs/performance-log.md).
 
 use glam::Vec2;
 

@@ -112,9 +112,8 @@ impl Bvh {
         // have no normal and nothing to show; rounding in the sheared ray space could still
         // report hits on them, so they are left out of the BVH (unless nothing else is left).
         // Then each kept triangle's vertices in BVH space and its padded box. Every parallel
-        // step is an indexed map, which rayon collects in place: on the dragon this preparation
-        // takes 4.9 ms, against 6.1 ms for a filtered collect of (index, triangle) pairs and an
-        // unzip (`Instant`s in this function, five builds).
+        // step is an indexed map, which rayon collects in place, cheaper than a filtered collect
+        // of (index, triangle) pairs and an unzip (docs/performance-log.md).
         let n = mesh.triangle_count();
         let has_area: Vec<bool> = (0..n)
             .into_par_iter()
@@ -276,8 +275,8 @@ impl Bvh {
     /// packet walk, cannot share one ([`packet::may_share_walk`], asked before preparing
     /// anything) or the tree is too deep for the packet's fixed stack.
     ///
-    /// The prepared rays (~3 KB for a full packet) are written in place, in this frame: building
-    /// them as a value and returning it showed up as 3–4% of the adaptive render in `memmove`.
+    /// The prepared rays (~3 KB for a full packet) are written in place, in this frame: built as
+    /// a value and returned, they would be copied (`memmove`) once more for every packet.
     #[inline(always)]
     fn with_packet<R>(
         &self,
@@ -373,7 +372,7 @@ impl Occluder for Bvh {
     }
 
     /// Always inlined into the lane shader: left to the compiler, it became a call once the
-    /// shader grew (+0.9% instructions, callgrind, 2026-11-24).
+    /// shader grew.
     #[inline(always)]
     fn occluded_batch(&self, rays: &[ShadowRay], occluded: &mut [bool]) {
         for (rays, occluded) in rays.chunks(PACKET).zip(occluded.chunks_mut(PACKET)) {
@@ -400,22 +399,18 @@ fn without_negative_zeros(direction: Vec3) -> Vec3A {
 }
 
 /// Fewest rays worth a packet walk. The interval box test costs about two single-ray tests, and
-/// every ray is tried at every leaf the packet reaches: on 2026-11-22 a pixel's 4 samples as a
-/// packet ran at 0.51× their single-ray rate, hence 12. The packets have since become cheaper
-/// (leaf box tests per ray, `t_max` loaded four at a time, origins and 1/d computed once), and
-/// on 2026-11-24 the threshold was measured again in instruction counts
-/// (`benches/instructions.sh`, binaries with 2, 4, 6, 8, 12 and 16): the dragon at equal error
-/// −1.18%, −1.17%, −1.06%, −0.90%, 0, +0.17%; the other cases within ±0.2% except 16 (Cornell
-/// box −1.4%). In time, 4 against 12: render stage 0.148 against 0.150 s (medians of 15
-/// alternating runs); images byte-identical (packets answer exactly as single rays).
+/// every ray is tried at every leaf the packet reaches, so too few rays lose to single walks.
+/// With each ray's own leaf box test, `t_max` loaded four at a time and origins and 1/d
+/// computed once, packets pay from a pixel's 4 samples on (the sweep of this threshold:
+/// docs/performance-log.md). Images do not depend on it: packets answer exactly as single rays.
 const MIN_PACKET: usize = 4;
 
 /// Padding added to every triangle's box, in BVH units (the scene is ~256 of them across).
 ///
 /// obvhs's slab test rounds, and a triangle's vertex is a corner of its box: a ray through a
 /// shared vertex or edge (exactly what the watertight test catches) can be culled at the box of
-/// the one triangle that claims it, and escape a closed mesh. `pointshade stability` found
-/// about 1 such escape in 1e4 rays aimed at vertices and edges before this padding. The slab
+/// the one triangle that claims it, and escape a closed mesh, as `pointshade stability` found
+/// with rays aimed at vertices and edges before this padding. The slab
 /// test's position error is a few ulps of the largest coordinate involved (≤ ~512 in BVH space
 /// for rays starting inside the scene: 4·6e-8·512 ≈ 1.2e-4); 2^-12 ≈ 2.4e-4 covers it and costs
 /// nothing measurable (boxes grow by 1e-6 of the scene).

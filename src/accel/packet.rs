@@ -4,7 +4,7 @@
 //!
 //! Why: the adaptive sampler takes 16, 64, … samples in a pixel that still changes. Their rays
 //! differ by less than a pixel and visit nearly the same nodes, so a walk per ray repeats the node
-//! tests (three quarters of a primary ray's cost) once per sample.
+//! tests (most of a primary ray's cost) once per sample.
 //!
 //! Exactness. A packet's box test bounds every ray's own rounded box test: the ray computes
 //! `fl(fl(plane − o)·(1/d))`, and rounding is monotonic, so taking the origins' extreme `o` on
@@ -28,11 +28,10 @@ pub const PACKET: usize = 16;
 /// footprint); this bounds shadow packets above all, whose origins are the hit points of a
 /// block's samples. Samples on one surface start within a block's footprint and
 /// share most of their walk; samples split across a silhouette start far apart, and the
-/// packet's bounds then enclose everything between them: the adaptive sampler's edge pixels
-/// shaded at half speed with such packets. Instruction counts (`benches/instructions.sh`,
-/// 2026-11-24) against the earlier 1.0: 2 and 3 units −0.6% on both dragon renders, 3 units
-/// −4.4% on the Cornell box (whose walls spread a block's points wide), 8 units +0.3% on the
-/// dragon, 64 units +32%.
+/// packet's bounds then enclose everything between them, which made the adaptive sampler's edge
+/// pixels slow to shade. The bound keeps a block's points on one surface together, walls
+/// included (the Cornell box's spread widest), and parts those across a silhouette; 3 units did
+/// best in a sweep (docs/performance-log.md).
 const MAX_ORIGIN_SPREAD: f32 = 3.0;
 
 /// The rays of a packet and the bounds of their origins and inverse directions, per axis.
@@ -85,7 +84,7 @@ impl<'a> RayPacket<'a> {
             ]
         };
         // Arrays written out rather than `[0, 1, 2].map(…)`: the compiler left `map`'s closures
-        // as calls once the code around the packet walks changed (+0.3% instructions).
+        // as calls once the code around the packet walks changed.
         Self {
             rays,
             origin_near: [extreme(0, true), extreme(1, true), extreme(2, true)],

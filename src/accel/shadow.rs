@@ -34,8 +34,8 @@ pub struct SceneExtent {
     /// Radius of that sphere. With the `mitsuba` offset a directional light's shadow ray is
     /// aimed, as Mitsuba's `directional` emitter aims it, at p + ω_i·2·max(radius, |p − centre|)
     /// rather than run to infinity along ω_i: from the offset origin the two directions differ
-    /// by a few ulps, enough to flip a shadow edge a ray grazes (the `directional` validation
-    /// scene went from 99.994% to 100% of its pixels within 1e-3 of Mitsuba's).
+    /// by a few ulps, enough to flip a shadow edge a ray grazes (aimed so, every pixel of the
+    /// `directional` validation scene is within 1e-3 of Mitsuba's; docs/performance-log.md).
     pub radius: f32,
 }
 
@@ -132,8 +132,8 @@ impl ShadowRay {
     /// at the light from there, so the segment still ends at the light: kept parallel to `wi`,
     /// it would end a lift's height beside the light, through a ceiling the light hangs under
     /// (`tests/integration/shadow_terminator.rs`). `mitsuba` always starts at `p`. Always inlined: left to
-    /// the compiler, it became a call per shadow ray once it took the lift (1.6% more
-    /// instructions in renders that lift nothing).
+    /// the compiler, it became a call per shadow ray once it took the lift, a cost even in
+    /// renders that lift nothing.
     #[inline(always)]
     pub fn new(
         offset: ShadowOffset,

@@ -38,7 +38,8 @@ pub(super) trait Stack {
     fn pop(&mut self) -> Option<(u32, f32)>;
 }
 
-/// A 64-entry stack that is not zeroed per ray (512 bytes of memset showed in profiles).
+/// A 64-entry stack (512 bytes) that is not zeroed per ray: zeroing it per ray was a visible
+/// cost (docs/performance-log.md).
 pub(super) struct FixedStack {
     entries: [MaybeUninit<(u32, f32)>; FIXED_STACK],
     len: usize,

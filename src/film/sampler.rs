@@ -29,6 +29,18 @@ pub enum SamplerKind {
     Cells,
 }
 
+/// Where a pixel's samples fall, sample by sample: what [`pixel_offsets`] draws from. The fixed
+/// samplers use one each; the `adaptive` sampler's rounds draw the Sobol points.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sequence {
+    /// Regular N×N grid of sub-pixel centres (all of a pixel's samples at once).
+    Grid,
+    /// Owen-scrambled Sobol (0,2)-sequence.
+    Sobol,
+    /// Independent uniform random offsets.
+    Independent,
+}
+
 impl SamplerKind {
     /// Name as written in scene files and on the command line.
     pub fn name(self) -> &'static str {
@@ -52,6 +64,17 @@ impl SamplerKind {
             other => Err(format!(
                 "unknown sampler '{other}' (expected grid, sobol, independent, adaptive or cells)"
             )),
+        }
+    }
+
+    /// The sequence a fixed sampler draws every pixel's samples from; `None` for the adaptive
+    /// ones, which decide per pixel where samples go (`render::adaptive`).
+    pub fn fixed_sequence(self) -> Option<Sequence> {
+        match self {
+            Self::Grid => Some(Sequence::Grid),
+            Self::Sobol => Some(Sequence::Sobol),
+            Self::Independent => Some(Sequence::Independent),
+            Self::Adaptive | Self::Cells => None,
         }
     }
 
@@ -91,10 +114,10 @@ fn grid_side(spp: u32) -> Option<u32> {
 
 /// Fills `out` with the sub-pixel offsets in [0, 1)² of samples `first`, `first + 1`, … of pixel
 /// (x, y). The grid sampler places all of a pixel's samples at once (`first` = 0, `out` = spp).
-pub fn pixel_offsets(kind: SamplerKind, seed: u64, x: u32, y: u32, first: u32, out: &mut [Vec2]) {
+pub fn pixel_offsets(sequence: Sequence, seed: u64, x: u32, y: u32, first: u32, out: &mut [Vec2]) {
     let spp = out.len() as u32;
-    match kind {
-        SamplerKind::Grid => {
+    match sequence {
+        Sequence::Grid => {
             debug_assert_eq!(first, 0, "the grid is placed whole");
             let n = grid_side(spp).expect("spp checked by SamplerKind::check_spp");
             let inv = 1.0 / n as f32;
@@ -103,8 +126,7 @@ pub fn pixel_offsets(kind: SamplerKind, seed: u64, x: u32, y: u32, first: u32, o
                 *o = Vec2::new((k as f32 + 0.5) * inv, (l as f32 + 0.5) * inv);
             }
         }
-        // `cells` places its samples itself; its arm is never asked.
-        SamplerKind::Sobol | SamplerKind::Adaptive | SamplerKind::Cells => {
+        Sequence::Sobol => {
             let pixel_seed = hash3(seed, x, y);
             let (seed_index, seed_x, seed_y) = (
                 pixel_seed as u32,
@@ -121,7 +143,7 @@ pub fn pixel_offsets(kind: SamplerKind, seed: u64, x: u32, y: u32, first: u32, o
                 *o = Vec2::new(unit_float(sx), unit_float(sy));
             }
         }
-        SamplerKind::Independent => {
+        Sequence::Independent => {
             let pixel_seed = hash3(seed, x, y);
             for (i, o) in (first..).zip(out.iter_mut()) {
                 let h = splitmix64(pixel_seed ^ (i as u64).wrapping_mul(0xd6e8_feb8_6659_fd93));
@@ -242,9 +264,9 @@ fn hash3(seed: u64, x: u32, y: u32) -> u64 {
 mod tests {
     use super::*;
 
-    fn offsets(kind: SamplerKind, spp: usize, x: u32, y: u32) -> Vec<Vec2> {
+    fn offsets(sequence: Sequence, spp: usize, x: u32, y: u32) -> Vec<Vec2> {
         let mut v = vec![Vec2::ZERO; spp];
-        pixel_offsets(kind, 7, x, y, 0, &mut v);
+        pixel_offsets(sequence, 7, x, y, 0, &mut v);
         v
     }
 
@@ -267,8 +289,8 @@ mod tests {
 
     #[test]
     fn grid_places_sub_pixel_centres() {
-        assert_eq!(offsets(SamplerKind::Grid, 1, 3, 4), vec![Vec2::splat(0.5)]);
-        let g = offsets(SamplerKind::Grid, 4, 0, 0);
+        assert_eq!(offsets(Sequence::Grid, 1, 3, 4), vec![Vec2::splat(0.5)]);
+        let g = offsets(Sequence::Grid, 4, 0, 0);
         assert_eq!(
             g,
             vec![
@@ -285,7 +307,7 @@ mod tests {
     #[test]
     fn sobol_is_stratified_in_every_elementary_interval_for_power_of_two_counts() {
         // 16 points: each of the 16 boxes of every shape 1×16, 2×8, 4×4, 8×2, 16×1 holds exactly one.
-        let pts = offsets(SamplerKind::Sobol, 16, 11, 5);
+        let pts = offsets(Sequence::Sobol, 16, 11, 5);
         for log_x in 0..=4 {
             let (nx, ny) = (1usize << log_x, 16usize >> log_x);
             let mut seen = vec![0; 16];
@@ -299,7 +321,7 @@ mod tests {
 
     #[test]
     fn samples_are_in_the_unit_square_deterministic_and_differ_between_pixels() {
-        for kind in [SamplerKind::Sobol, SamplerKind::Independent] {
+        for kind in [Sequence::Sobol, Sequence::Independent] {
             let a = offsets(kind, 64, 1, 2);
             assert!(a.iter().all(|p| (0.0..1.0).contains(&p.x) && (0.0..1.0).contains(&p.y)));
             assert_eq!(a, offsets(kind, 64, 1, 2));
@@ -319,6 +341,6 @@ mod tests {
                 })
                 .sum::<f64>()
         };
-        assert!(mse(SamplerKind::Sobol) * 10.0 < mse(SamplerKind::Independent));
+        assert!(mse(Sequence::Sobol) * 10.0 < mse(Sequence::Independent));
     }
 }

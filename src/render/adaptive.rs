@@ -23,9 +23,10 @@
 //!      through the dilation), split 2×2 where a cell's value still jumps against its
 //!      neighbours', down to 32×32.
 //!
-//!    On the glossy dragon `cells` reaches the 8×8 grid's error with 6.2 samples per pixel and
-//!    `adaptive` with 8.7; on the Cornell box, whose edges run along the pixel grid, `adaptive`
-//!    is the better one below about 6 samples per pixel (docs/sampling.md, "Sampling").
+//!    `cells` takes fewer samples for the same error where edges cross pixels at every angle (a
+//!    curved glossy mesh); `adaptive` where edges run along the pixel grid and pixels take few
+//!    samples (the Cornell box). The comparison: docs/sampling.md, "Sampling", and
+//!    docs/performance-log.md.
 //!
 //! Each decision reads only the pixel's own samples and its neighbours' centre samples, which the
 //! apron provides for crops: the image is independent of threads, tiles and crops.
@@ -206,8 +207,7 @@ pub fn refine(
 thread_local! {
     /// Each thread's refinement buffers (the cells', and the traced samples both samplers use),
     /// kept from tile to tile: `map_init` would make them anew for nearly every tile (each tile
-    /// is its own job, see `par_tiles`), and growing them again each time cost 1.3% of the
-    /// instructions of the dragon's `cells` render (callgrind), mostly in `realloc`.
+    /// is its own job, see `par_tiles`), and they would grow again each time, in `realloc`.
     static SCRATCH: RefCell<(Scratch, Vec<SurfaceSample>)> = RefCell::default();
 }
 
@@ -218,9 +218,9 @@ thread_local! {
 /// 24th is added. The result is a blur with positive weights (20/24 for the centre, 1/24 per
 /// neighbour): it cannot overshoot its samples, and NaN-free samples give a NaN-free mean.
 /// Exact for quadratic shading; a pixel whose neighbourhood bends or changes surface refines
-/// instead (`neighbourhood`), so the samples used here lie on one smooth surface. On the dragon
-/// it takes the error of the one-sample pixels from 6.9e-5 to 5.1e-5 (README, "Where the error
-/// sits").
+/// instead (`neighbourhood`), so the samples used here lie on one smooth surface. It lowers the
+/// one-sample pixels' error without a sample more (README, "Where the error sits";
+/// docs/performance-log.md).
 fn smooth_pixel_mean(values: &[Vec3], a: usize, around: [Option<usize>; 4]) -> Vec3 {
     let c = values[a];
     let mut v = c;

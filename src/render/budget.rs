@@ -1,27 +1,21 @@
 //! Rendering to a time budget: passes that add samples to every pixel (sobol, independent) or
-//! refine at a finer threshold (adaptive, cells).
+//! refine at a finer threshold (adaptive, cells) while the next pass is predicted to end in time.
+//! The first pass always runs, so there is always an image.
 //!
-//! **Samples.** Pass 1 takes every pixel's sample 0; each later pass doubles the samples taken, up to the
-//! film's spp, if it is expected to end within the budget. If it is not, the pass takes half as
-//! many, or a quarter, down to one sample per pixel, whichever is the largest expected to fit;
-//! if none fits, the render ends. Counts are powers of two, so every shrunk pass has the count
-//! of an earlier one, whose measured time is its prediction; a doubling pass is predicted as
-//! twice the last one (per sample, later passes cost the same or less: more of a pixel block's
-//! rays share a packet). The first pass always runs, so there is always an image. `sobol` shrinks
-//! only to half (its totals stay at 2^k or 3·2^(k−1), where its points are balanced; see
-//! [`next_pass`]).
+//! **Samples.** Pass 1 takes every pixel's sample 0; each later pass doubles the samples taken,
+//! up to the film's spp, or else takes the largest power of two that is predicted to fit
+//! ([`next_pass`]); if none fits, the render ends. A shrunk pass has the count of an earlier
+//! one, whose time predicts it; a doubling pass is predicted as twice the last one (per sample,
+//! later passes cost the same or less: more of a pixel block's rays share a packet).
 //!
 //! Each pixel adds its samples in index order, and a progressive sampler's first n samples are
-//! the same whatever the count (`SamplerKind::takes_time_budget`). So the image is, bit for bit,
-//! the fixed render at the count reached (`--spp n`): the budget decides only the count. The
-//! count depends on the machine; the image for a given count does not.
+//! the same whatever the count (`SamplerKind::takes_time_budget`), so the image is, bit for bit,
+//! the fixed render at the count reached (`--spp n`). The machine decides only the count.
 //!
-//! **Thresholds.** An adaptive render is a whole render at thresholds of a ladder, halving
-//! down to the film's: the coarsest first, then, once, straight to the finest one predicted to
-//! fit if that reaches further than rung by rung, then rung by rung (`render_adaptive`). A
-//! sample is a pure function of its film position and a finer threshold revisits nearly every
-//! position a coarser one took, so each tile keeps its samples by position ([`SampleCache`])
-//! and traces only new ones. The image is bit for bit the
+//! **Thresholds.** An adaptive render is a whole render at each threshold of a ladder halving
+//! down to the film's (`render_adaptive`). A sample is a pure function of its film position and
+//! a finer threshold revisits nearly every position a coarser one took, so each tile keeps its
+//! samples by position ([`SampleCache`]) and traces only new ones. The image is bit for bit the
 //! render at the threshold reached.
 
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
@@ -32,7 +26,8 @@ use rayon::prelude::*;
 use super::adaptive::{self, Centres};
 use super::sample_cache::SampleCache;
 use super::tile::{par_tiles, tile_samples, tiles, Context, PixelSums};
-use crate::film::{PixelRect, SamplerKind};
+use crate::film::sampler::Sequence;
+use crate::film::PixelRect;
 
 /// One finished pass: samples per pixel and wall time.
 pub(super) type Pass = (u32, Duration);
@@ -45,9 +40,7 @@ pub(super) type Pass = (u32, Duration);
 /// With `sobol`, the totals stay at 2^k or 3·2^(k−1): from 2^k a pass of 2^k or 2^(k−1), from
 /// 3·2^(k−1) only one of 2^(k−1), back to a power of two. Owen-scrambled Sobol points are
 /// balanced in blocks of powers of two, and a total whose last block is small is worse than
-/// the power of two below it: on the dragon 33, 40 and 53 samples per pixel gave RMSE 7.9e-4,
-/// 5.4e-4 and 5.8e-4 against 5.0e-4 at 32, while 48 gave 4.3e-4 (and 24 gave 7.8e-4 against
-/// 9.2e-4 at 16; docs/sampling.md, "Time budgets").
+/// the power of two below it (docs/sampling.md, "Time budgets").
 pub(super) fn next_pass(taken: u32, spp: u32, passes: &[Pass], remaining: Duration, sobol: bool) -> Option<u32> {
     let mut most = taken.min(spp.saturating_sub(taken));
     let mut least = 1;
@@ -80,12 +73,13 @@ pub(super) fn next_pass(taken: u32, spp: u32, passes: &[Pass], remaining: Durati
 /// and the samples each pixel took (the same for all).
 pub(super) fn render(
     ctx: &Context,
+    sequence: Sequence,
     region: PixelRect,
     deadline: Instant,
     on_tile: &(dyn Fn(u64) + Sync),
 ) -> (PixelSums, u32) {
     let spp = ctx.scene.film.spp;
-    let sobol = ctx.scene.film.sampler == SamplerKind::Sobol;
+    let sobol = sequence == Sequence::Sobol;
     let naovs = ctx.sampled_aovs;
     let tiles = tiles(region);
     let mut parts: Vec<PixelSums> = tiles
@@ -98,7 +92,7 @@ pub(super) fn render(
     loop {
         let start = Instant::now();
         par_tiles(&tiles).zip(&mut parts).for_each(|(t, sums)| {
-            tile_samples(ctx, *t, taken, count, sums);
+            tile_samples(ctx, sequence, *t, taken, count, sums);
             on_tile(done.fetch_add(1, Ordering::Relaxed) + 1);
         });
         let now = Instant::now();
@@ -113,7 +107,8 @@ pub(super) fn render(
 }
 
 /// The coarsest threshold an adaptive render to a time budget starts from (or the film's, if
-/// coarser): on the dragon 0.04 takes about half the samples per pixel of 0.0025.
+/// coarser). Its pass always runs, so it sets what the smallest budget costs (its samples
+/// against a fine threshold's: docs/performance-log.md).
 pub const COARSEST_THRESHOLD: f32 = 0.04;
 
 /// The thresholds of an adaptive render's passes, coarse to fine, ending at `finest`: `finest`
@@ -126,18 +121,17 @@ pub fn threshold_ladder(finest: f32) -> Vec<f32> {
     ladder
 }
 
-/// Samples the passes of one adaptive render keep, at most: about 57 bytes each as measured
-/// (the index and the arrays grow by doubling; more with AOVs), so about 500 MB. Past it,
-/// samples are traced without being kept (the image is the same, the passes slower). The
-/// dragon's 512×512 keeps 3.4 M samples at threshold 0.002 (peak memory 247 MB against 56 MB
-/// for the render at that threshold alone).
+/// Samples the passes of one adaptive render keep, at most: a bound of about 500 MB on the
+/// tables (their index and arrays grow by doubling; more with AOVs; the bytes per sample:
+/// docs/performance-log.md). Past it, samples are traced without being kept: the image is the
+/// same, the passes slower.
 const MAX_KEPT_SAMPLES: usize = 1 << 23;
 
 /// The predicted time of the next adaptive pass, a rung finer than the last of `passes` (their
 /// wall times). The first pass traces every sample it needs; later ones mostly reuse them and
-/// trace what the finer threshold adds (on the dragon the second took 0.75× the first, and the
-/// later ones 1.33–1.5× the one before). So: the second as long as the first, the third 1.5×
-/// the second, then the last scaled by its growth over the one before, within 1× to 3×.
+/// trace only what the finer threshold adds. So: the second as long as the first, the third
+/// 1.5× the second, then the last scaled by its growth over the one before, within 1× to 3×
+/// (the ratios passes take: docs/performance-log.md).
 fn next_adaptive_pass(passes: &[Duration]) -> Duration {
     match passes {
         [] => Duration::ZERO,
@@ -148,25 +142,23 @@ fn next_adaptive_pass(passes: &[Duration]) -> Duration {
 }
 
 /// How much an adaptive render's time grows from one rung of the ladder to the next finer one,
-/// as predicted: 1.29–1.49× on the dragon, 1.43–1.52× on the bunny, 1.42–1.64× on
-/// DamagedHelmet, 1.1–1.45× on the Cornell box; but on `scenes/lambert.toml` 1.07–1.5× down to
-/// 1.2e-4 and then 1.5×, 1.7×, 2.2× (docs/sampling.md, "Time budgets"). Typical, not a bound.
+/// as predicted. Typical, not a bound: it varies by scene, and on some speeds up at fine
+/// thresholds (docs/sampling.md, "Time budgets"; docs/performance-log.md).
 const RUNG_GROWTH: f64 = 1.5;
 
 /// What a pass straight to a finer rung costs over the render at that threshold alone: it also
-/// fills the tiles' sample tables (1.01–1.10× on the dragon).
+/// fills the tiles' sample tables (docs/performance-log.md).
 const JUMP_OVERHEAD: f64 = 1.1;
 
 /// How many rungs down the ladder the pass after the first (which took `first`) goes: 1, rung
 /// by rung, or k > 1, straight to a threshold k rungs finer; `None` when not even the next rung
-/// is predicted to end within `remaining`. Rung by rung, each pass is predicted by
-/// [`next_adaptive_pass`] and the ones after it 1.5× the one before ([`RUNG_GROWTH`]); a pass
-/// straight to k rungs finer as a render at that threshold from scratch, and its tables
-/// (`first` × 1.5^k × [`JUMP_OVERHEAD`]: nothing is reused from the passes skipped, and little
-/// from the first). It jumps when that reaches finer, or the film's threshold sooner (two rungs
-/// or more away): rung by rung, each pass repeats the decisions of the one before (on the dragon,
-/// 1/1024 by six passes took 2.0× the render at 1/1024 alone; by the first pass and a jump,
-/// 1.3×).
+/// is predicted to end within `remaining`. Rung by rung, the next pass is predicted by
+/// [`next_adaptive_pass`] and each after it by [`RUNG_GROWTH`]; a jump of k rungs as a render at
+/// that threshold from scratch plus its tables, `first` × 1.5^k × [`JUMP_OVERHEAD`], since it
+/// reuses nothing of the rungs skipped and little of the first. It jumps when that reaches
+/// finer, or reaches the film's threshold (two rungs or more away) sooner: rung by rung, each
+/// pass repeats the decisions of the one before, so the jump costs less in all
+/// (docs/performance-log.md).
 fn rungs_after_first(first: Duration, remaining: Duration, rungs_left: usize) -> Option<usize> {
     let mut step = next_adaptive_pass(&[first]);
     let mut by_steps = 0;
@@ -191,14 +183,12 @@ fn rungs_after_first(first: Duration, remaining: Duration, rungs_left: usize) ->
     }
 }
 
-/// Renders `region` adaptively to `deadline`: a full adaptive render at the coarsest threshold
-/// of the ladder (down to the film's); then, if a render straight at a finer threshold is
-/// predicted to reach further than going rung by rung ([`rungs_after_first`]), one pass at it;
-/// then rung by rung while the next pass is predicted ([`next_adaptive_pass`], from the measured
-/// passes) to end in time. The first always runs. Each tile keeps the samples its passes
-/// traced, by film position, and a finer pass traces only the positions not seen yet. Returns
-/// the sums and counts of the finest pass that ran, and its threshold: bit for bit the render
-/// with that `adaptive_threshold`.
+/// Renders `region` adaptively to `deadline`: a full adaptive render at the ladder's coarsest
+/// threshold (down to the film's), which always runs; then one pass straight to a finer
+/// threshold if [`rungs_after_first`] predicts it reaches further; then rung by rung while
+/// [`next_adaptive_pass`] predicts the next pass to end in time. Returns the sums and counts of
+/// the finest pass that ran, and its threshold: bit for bit the render with that
+/// `adaptive_threshold`.
 pub(super) fn render_adaptive(
     ctx: &Context,
     region: PixelRect,

@@ -25,6 +25,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::accel::Bvh;
+use crate::film::sampler::Sequence;
 use crate::film::{overflow_error, Image, PixelRect};
 use crate::plan::{Aov, RenderPlan};
 use crate::scene::Scene;
@@ -105,21 +106,20 @@ fn render_from(
     let film = &scene.film;
     let region = film.region();
     let deadline = film.time_budget.map(|b| budget_start + Duration::from_secs_f32(b));
-    let adaptive = film.sampler.is_adaptive();
-    let (sums, counts, spp, threshold) = match deadline {
-        Some(deadline) if adaptive => {
+    let (sums, counts, spp, threshold) = match (film.sampler.fixed_sequence(), deadline) {
+        (None, Some(deadline)) => {
             let (sums, counts, threshold) = budget::render_adaptive(&ctx, region, deadline, on_tile);
             (sums, Some(counts), film.spp, Some(threshold))
         }
-        None if adaptive => {
+        (None, None) => {
             let (sums, counts) = adaptive::render(&ctx, region, on_tile);
             (sums, Some(counts), film.spp, Some(film.adaptive_threshold))
         }
-        Some(deadline) => {
-            let (sums, spp) = budget::render(&ctx, region, deadline, on_tile);
+        (Some(sequence), Some(deadline)) => {
+            let (sums, spp) = budget::render(&ctx, sequence, region, deadline, on_tile);
             (sums, None, spp, None)
         }
-        None => (fixed(&ctx, region, on_tile), None, film.spp, None),
+        (Some(sequence), None) => (fixed(&ctx, sequence, region, on_tile), None, film.spp, None),
     };
     let count = |i: usize| counts.as_ref().map_or(spp, |c| c[i]) as f32;
     let average = |sums: &[Vec3]| Image {
@@ -165,15 +165,15 @@ fn render_from(
     })
 }
 
-/// Fixed sampling: every pixel takes the film's spp samples from its sampler.
-fn fixed(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) -> PixelSums {
+/// Fixed sampling: every pixel takes the film's spp samples from `sequence`.
+fn fixed(ctx: &Context, sequence: Sequence, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) -> PixelSums {
     let tiles = tiles(region);
     let done = AtomicU64::new(0);
     let naovs = ctx.sampled_aovs;
     let parts: Vec<PixelSums> = par_tiles(&tiles)
         .map(|t| {
             let mut sums = PixelSums::new((t.width() * t.height()) as usize, naovs);
-            tile_samples(ctx, *t, 0, ctx.scene.film.spp, &mut sums);
+            tile_samples(ctx, sequence, *t, 0, ctx.scene.film.spp, &mut sums);
             on_tile(done.fetch_add(1, Ordering::Relaxed) + 1);
             sums
         })

@@ -18,7 +18,8 @@ use glam::{Vec2, Vec3};
 
 use super::refine::{ActivePixel, Settings, DARK_FLOOR};
 use super::tile::{PixelSums, SampleJob};
-use crate::film::{sampler::pixel_offsets, SamplerKind};
+use crate::film::sampler::pixel_offsets;
+use crate::film::sampler::Sequence;
 
 /// Samples of an active pixel's first refinement round (a 4×4-stratified Sobol net); each later
 /// round takes 4× as many.
@@ -91,7 +92,7 @@ pub fn refine(
         let half = target / 2;
         for (k, p) in active.iter().enumerate() {
             offsets.resize((target - p.taken) as usize, Vec2::ZERO);
-            pixel_offsets(SamplerKind::Adaptive, seed, p.x, p.y, p.taken, &mut offsets);
+            pixel_offsets(Sequence::Sobol, seed, p.x, p.y, p.taken, &mut offsets);
             let corner = Vec2::new(p.x as f32, p.y as f32);
             jobs.extend(offsets.iter().zip(p.taken..).map(|(&o, i)| SampleJob {
                 slot: 2 * k as u32 + u32::from(i >= half),

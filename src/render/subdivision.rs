@@ -6,11 +6,10 @@
 //! A pixel that refines only because the centre values bend at a neighbour (the activation's
 //! one-pixel dilation), not at itself, starts with a 3×3 grid (then 6×6, 12×12, 24×24): its
 //! neighbours' centres lie on a straight line through its own in every direction, so an edge
-//! inside it is unlikely, and 98% of such pixels on the dragon stopped at the first grid (a
-//! temporary count, docs/performance-log.md). On the dragon this takes 3–7% fewer samples for
-//! the same RMSE from T = 0.01 to 0.0025, and on the Cornell box 5–9% fewer for the same RMSE
-//! below white (docs/sampling.md, "Adaptive sampling"); a 2×2 first look took 8% fewer at T = 0.0075 but
-//! lost at T = 0.0025 (docs/performance-log.md).
+//! inside it is unlikely and nearly all such pixels stop at the first grid, which then costs
+//! fewer samples for the same RMSE. A 2×2 first grid saves more at coarse thresholds but loses
+//! at fine ones, its midpoint rule being less accurate on curved shading (docs/sampling.md,
+//! "Adaptive sampling"; docs/performance-log.md).
 //!
 //! Why cells rather than more points spread over the whole pixel: the error left in an active
 //! pixel is nearly all where an edge (silhouette, shadow boundary) crosses it. A grid of side g
@@ -24,8 +23,8 @@
 //! parent saw and all four children missed lies between them). The g^−1.5 is the error an edge
 //! leaves in a pixel: ~2g cells along it, each off by up to a cell's area (g^−2) times the jump,
 //! with signs that mostly cancel (√(2g)). Jumps, not second differences: a steep smooth gradient
-//! splits too, but the second-difference rule, though it took 12% fewer samples on the dragon
-//! at equal error, was no faster (the samples it saves are the cheap ones; docs/performance-log.md).
+//! splits too, but the second-difference rule, though it takes fewer samples at equal error, is
+//! no faster (the samples it saves are the cheap ones; docs/performance-log.md).
 //!
 //! Every position is a cell centre, fixed by the pixel and the decisions: no seed, and the image
 //! does not depend on threads, tiles or crops. The price of a regular grid: an edge that runs

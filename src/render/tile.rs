@@ -14,6 +14,7 @@ use rayon::prelude::*;
 use crate::accel::packet::PACKET;
 use crate::accel::shadow::SceneExtent;
 use crate::accel::Bvh;
+use crate::film::sampler::Sequence;
 use crate::film::{sampler::pixel_offsets, PixelRect};
 use crate::plan::{Aov, RenderPlan};
 use crate::scene::camera::Camera;
@@ -287,11 +288,12 @@ pub fn tiles(region: PixelRect) -> Vec<PixelRect> {
 }
 
 /// The tiles as parallel jobs of one tile each. Left to itself, rayon cuts a slice into about
-/// two runs per thread, and a run is not split once a thread has started it: on the dragon the
-/// thread whose run held the most refined pixels finished 77 ms after the other, which sat idle
-/// (docs/performance-log.md). One tile per job lets an idle thread steal any tile not
-/// yet started; tiles take milliseconds, so the extra jobs cost nothing measurable. A zip with
-/// another indexed iterator keeps the one tile per job (rayon's zip takes the smaller maximum).
+/// two runs per thread, and a run is not split once a thread has started it: in an adaptive
+/// render the thread whose run holds the most refined pixels finishes long after the other,
+/// which sits idle (docs/performance-log.md). One tile per job lets an idle thread steal any
+/// tile not yet started; tiles take milliseconds, so the extra jobs cost nothing measurable. A
+/// zip with another indexed iterator keeps the one tile per job (rayon's zip takes the smaller
+/// maximum).
 pub(super) fn par_tiles(tiles: &[PixelRect]) -> impl IndexedParallelIterator<Item = &PixelRect> {
     tiles.par_iter().with_max_len(1)
 }
@@ -325,13 +327,20 @@ const JOBS_PER_TRACE: usize = 4096;
 
 /// Traces samples `first` to `first + count − 1` of every pixel of tile `t` from the film's
 /// sampler (pixel by pixel, 4×4 blocks in order) and adds them to `sums`.
-pub(super) fn tile_samples(ctx: &Context, t: PixelRect, first: u32, count: u32, sums: &mut PixelSums) {
+pub(super) fn tile_samples(
+    ctx: &Context,
+    sequence: Sequence,
+    t: PixelRect,
+    first: u32,
+    count: u32,
+    sums: &mut PixelSums,
+) {
     let film = &ctx.scene.film;
     let mut offsets = vec![Vec2::ZERO; count as usize];
     let mut jobs = Vec::with_capacity(((t.width() * t.height() * count) as usize).min(2 * JOBS_PER_TRACE));
     let mut scratch = Vec::new();
     for (x, y) in block_order(t) {
-        pixel_offsets(film.sampler, film.seed, x, y, first, &mut offsets);
+        pixel_offsets(sequence, film.seed, x, y, first, &mut offsets);
         let slot = (y - t.y0) * t.width() + (x - t.x0);
         let corner = Vec2::new(x as f32, y as f32);
         jobs.extend(offsets.iter().map(|&o| SampleJob { slot, film: corner + o }));

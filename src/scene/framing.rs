@@ -13,7 +13,8 @@ use crate::material::Material;
 use crate::scene::camera::{CameraSpec, FovAxis, Projection};
 use crate::scene::obj::{load_obj, NO_MATERIAL};
 use crate::scene::textures::decode_used_images;
-use crate::scene::{Scene, SceneObject};
+use crate::scene::Scene;
+use crate::scene::SceneParts;
 
 /// Vertical field of view of the automatic camera, in degrees.
 const AUTO_FOV: f32 = 35.0;
@@ -106,8 +107,7 @@ pub fn scene_for_bare_mesh(path: &Path) -> InputResult<Scene> {
     let (lo, hi) = mesh.bounds().ok_or_else(|| InputError::new(path, "no geometry"))?;
     let camera = frame_bounds(lo, hi);
     let lights = default_lights(lo, hi, &camera);
-    let triangles = 0..mesh.triangle_count();
-    Ok(Scene {
+    let mut scene = Scene::new(SceneParts {
         source: path.to_path_buf(),
         film: FilmSettings::default(),
         camera,
@@ -115,22 +115,16 @@ pub fn scene_for_bare_mesh(path: &Path) -> InputResult<Scene> {
         materials,
         textures,
         mesh,
-        shadows: true,
-        shadow_offset: Default::default(),
-        shadow_terminator: Default::default(),
-        // The file's coordinates, in the render's frame (relative to the mesh's own origin).
-        objects: vec![SceneObject {
-            mesh: path.to_path_buf(),
-            transform: glam::Mat4::from_translation(-origin.as_vec3()),
-            triangles,
-        }],
-        origin,
-        notes: vec![
-            "camera: framed automatically on the bounding box".into(),
-            "lights: default key + fill lights".into(),
-        ],
-        warnings: obj.material_warning.into_iter().chain(obj.material_warnings).collect(),
-    })
+    });
+    // The file's coordinates, in the render's frame (relative to the mesh's own origin).
+    scene.objects[0].transform = glam::Mat4::from_translation(-origin.as_vec3());
+    scene.origin = origin;
+    scene.notes = vec![
+        "camera: framed automatically on the bounding box".into(),
+        "lights: default key + fill lights".into(),
+    ];
+    scene.warnings = obj.material_warning.into_iter().chain(obj.material_warnings).collect();
+    Ok(scene)
 }
 
 #[cfg(test)]

@@ -5,9 +5,9 @@
 //! barycentrics their own intersection tests computed), so the coordinates a texture is looked
 //! up at differ by an ulp or so. At pixel centres that is enough to move a normal-mapped metal
 //! highlight by more than the 1e-3 tolerance: on DamagedHelmet, pointshade against *itself* with
-//! every vertex's texture coordinates one ulp up moves 0.13% of the pixels beyond 1e-3 (one ulp
-//! down 0.10%) — more than disagree with Mitsuba (0.093%), and more than the 0.1% that the 99.9%
-//! requirement allows.
+//! every vertex's texture coordinates one ulp up or down moves more pixels beyond 1e-3 than
+//! disagree with Mitsuba, and more than the 0.1% that the 99.9% requirement allows
+//! (docs/performance-log.md).
 //!
 //! So for scenes whose render samples textures, a pixel also agrees when Mitsuba is within
 //! tolerance of pointshade's render with the vertices' texture coordinates one ulp up or one

@@ -15,15 +15,14 @@
 use crate::film::Image;
 use crate::validation::compare::compare;
 
-/// Largest share of pixels beyond 1e-3 relative error that host rounding explains. Between
-/// AVX-512, AVX2 and scalar renders of every validation scene the largest share measured is
-/// 0.043%; the smallest deliberate change measured (one roughness 0.35 → 0.36) moves 5.6%
-/// (docs/reference-drift.md).
+/// Largest share of pixels beyond 1e-3 relative error that host rounding explains: above the
+/// share by which AVX-512, AVX2 and scalar renders of any validation scene differ, far below
+/// the share the smallest deliberate change moves (docs/reference-drift.md).
 pub const MAX_BEYOND_1E3: f64 = 0.005;
 
 /// Largest share of pixels beyond 1e-2 relative error that host rounding explains: pixels that
-/// jump (a shadow edge on the other side). Measured: at most 0.012%; a light moved by 1 cm moves
-/// 2.3% of the pixels that far.
+/// jump (a shadow edge on the other side). Above what host rounding gives, far below what a
+/// light moved by a centimetre moves that far (docs/reference-drift.md).
 pub const MAX_BEYOND_1E2: f64 = 0.001;
 
 /// How a fresh reference differs from the committed one.

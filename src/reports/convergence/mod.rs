@@ -286,9 +286,8 @@ impl Config<'_> {
 ///
 /// The repeats go round-robin over every configuration (each renderer, sampler and sample
 /// count once, then again): a slow spell of a shared machine then slows every configuration
-/// alike instead of all the repeats of one renderer's (three runs of the dragon's sweep with the
-/// renderers one after the other put the same two points at 0.85×, 0.91× and 1.13× of each
-/// other).
+/// alike instead of all the repeats of one renderer's (sweeps that ran the renderers one after
+/// the other put the same two points at ratios far apart; docs/performance-log.md).
 pub fn run(sweep: &Sweep, reference: &Reference, progress: &mut dyn FnMut(&Point)) -> InputResult<Vec<Point>> {
     let mut configs: Vec<Config> = sweep.ours().into_iter().map(Config::Ours).collect();
     if let Some(mitsuba) = &sweep.mitsuba {

@@ -32,6 +32,7 @@ mod materials;
 use values::{point3, resolve, vec3};
 pub(crate) mod values;
 
+use crate::scene::SceneParts;
 pub(crate) use lights::{light, LightSection};
 pub(crate) use materials::{material, MaterialSection};
 pub use materials::{MaterialDefaults, ModelName};
@@ -270,7 +271,8 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
     if file.object.is_empty() {
         warnings.push(format!("{}: no [[object]]: the image will be black", path.display()));
     }
-    Ok(Scene {
+    let render = file.render.as_ref();
+    let mut scene = Scene::new(SceneParts {
         source: path.to_path_buf(),
         film,
         camera,
@@ -278,20 +280,19 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
         materials,
         textures,
         mesh,
-        shadows: file.render.as_ref().and_then(|r| r.shadows).unwrap_or(true),
-        shadow_offset: match file.render.as_ref().and_then(|r| r.shadow_offset.as_ref()) {
-            Some(name) => ShadowOffset::parse(name.get_ref()).map_err(|m| at(name.span(), m))?,
-            None => ShadowOffset::default(),
-        },
-        shadow_terminator: match file.render.as_ref().and_then(|r| r.shadow_terminator.as_ref()) {
-            Some(name) => ShadowTerminator::parse(name.get_ref()).map_err(|m| at(name.span(), m))?,
-            None => ShadowTerminator::default(),
-        },
-        objects,
-        origin,
-        notes,
-        warnings,
-    })
+    });
+    scene.shadows = render.and_then(|r| r.shadows).unwrap_or(true);
+    if let Some(name) = render.and_then(|r| r.shadow_offset.as_ref()) {
+        scene.shadow_offset = ShadowOffset::parse(name.get_ref()).map_err(|m| at(name.span(), m))?;
+    }
+    if let Some(name) = render.and_then(|r| r.shadow_terminator.as_ref()) {
+        scene.shadow_terminator = ShadowTerminator::parse(name.get_ref()).map_err(|m| at(name.span(), m))?;
+    }
+    scene.objects = objects;
+    scene.origin = origin;
+    scene.notes = notes;
+    scene.warnings = warnings;
+    Ok(scene)
 }
 
 /// `m` with its translation replaced by `t` (computed in f64, rounded once).

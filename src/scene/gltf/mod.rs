@@ -26,9 +26,9 @@ use crate::light::Light;
 use crate::material::Material;
 use crate::scene::framing::{default_lights, frame_bounds};
 use crate::scene::mesh::TriangleMesh;
-use crate::scene::shadows::ShadowOffset;
 use crate::scene::textures::{decode_used_images, PendingImage};
-use crate::scene::{Scene, SceneObject};
+use crate::scene::Scene;
+use crate::scene::SceneParts;
 use cameras::GltfCamera;
 use document::SUPPORTED_EXTENSIONS;
 
@@ -161,26 +161,19 @@ pub fn scene_for_gltf(path: &Path, camera: Option<usize>) -> InputResult<Scene> 
         contents.lights
     };
     let textures = decode_used_images(&mut materials, &mesh.material_of_triangle, &contents.images)?;
-    Ok(Scene {
+    let mut scene = Scene::new(SceneParts {
         source: path.to_path_buf(),
         film,
         camera,
         lights,
         materials,
         textures,
-        objects: vec![SceneObject {
-            mesh: path.to_path_buf(),
-            transform: glam::Mat4::IDENTITY,
-            triangles: 0..mesh.triangle_count(),
-        }],
         mesh,
-        shadows: true,
-        shadow_offset: ShadowOffset::default(),
-        shadow_terminator: Default::default(),
-        origin: contents.origin,
-        notes,
-        warnings: contents.warnings,
-    })
+    });
+    scene.origin = contents.origin;
+    scene.notes = notes;
+    scene.warnings = contents.warnings;
+    Ok(scene)
 }
 
 /// Camera `n` of the file, as its first node places it.

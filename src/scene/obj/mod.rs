@@ -201,7 +201,7 @@ fn parse_with_tobj_semantics(bytes: &[u8], dir: &Path) -> tobj::LoadResult {
     }
     // Vertices are unique (position, uv, normal) index tuples, as in Mitsuba. A file with only
     // positions needs no tuple matching: its position indices are the vertex indices, and tobj's
-    // per-attribute mode (2–3× faster on the dragon) returns exactly those.
+    // per-attribute mode, which is faster, returns exactly those.
     tobj::load_obj_buf(&mut &bytes[..], &options(has_vertex_attributes(bytes)), load_mtl)
 }
 
@@ -226,10 +226,8 @@ fn load_mtl(path: &Path) -> tobj::MTLLoadResult {
 
 /// Whether an OBJ file has texture coordinates or normals (`vt` or `vn` lines, maybe indented).
 /// Finds the keywords with memchr's vectorised substring search and only then checks that one
-/// starts its line, instead of walking every line: on the dragon's 3.3 MB (no such lines, and
-/// since parsed by [`plain`] without asking) the line walk took 3 ms, a tenth of tobj's load, the
-/// search 0.2 ms (an `Instant` around the call in
-/// `render scenes/shared/dragon-copper.toml`, five runs). Each hit looks back only to the
+/// starts its line, instead of walking every line, which is a noticeable share of tobj's load
+/// on a large file (docs/performance-log.md). Each hit looks back only to the
 /// previous one, so the work stays linear however many hits a line holds.
 fn has_vertex_attributes(bytes: &[u8]) -> bool {
     [b"vt", b"vn"].iter().any(|keyword| {

@@ -1,10 +1,11 @@
 //! A parallel parser for *plain* OBJ files: the scanned meshes (the Stanford dragon, bunny,
 //! armadillo) that hold nothing but positions and faces.
 //!
-//! tobj reads one line at a time into a new `String` and matches vertices through a hash map; on
-//! the dragon (3.3 MB) that is most of the scene load. A plain file needs neither: this parser
-//! splits the bytes into blocks of whole lines, parses the blocks on all cores, and renumbers the
-//! vertices in order of first use exactly as tobj's per-attribute mode does.
+//! tobj reads one line at a time into a new `String` and matches vertices through a hash map; for
+//! a large scanned mesh that is most of the scene load (docs/performance-log.md). A plain file
+//! needs neither: this parser splits the bytes into blocks of whole lines, parses the blocks on
+//! all cores, and renumbers the vertices in order of first use exactly as tobj's per-attribute
+//! mode does.
 //!
 //! It accepts a file only when it can give tobj's answer bit for bit: the file is ASCII, its
 //! lines are `v x y z`, faces of at least three plain positive indices (fan-triangulated as tobj

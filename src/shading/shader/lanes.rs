@@ -11,10 +11,10 @@ use std::borrow::Borrow;
 
 use glam::Vec3;
 
-use super::{clamped_term, Shader, BATCH};
+use super::{clamped_term, reflected_radiance, Shader, BATCH};
 use crate::accel::shadow::{Occluder, ShadowRay};
 use crate::brdf::LocalDots;
-use crate::lanes::{dot3, map3, F32x8, LaneInstructions, LaneMask, Mask, Mask8, Real, LANES};
+use crate::lanes::{dot3, map3, F32x8, LaneInstructions, LaneMask, Mask, Real, LANES};
 use crate::light::{Light, LightSamples};
 use crate::material::Material;
 use crate::shading::convention::{report_unit, ShadingConvention};
@@ -25,46 +25,46 @@ use crate::surface::{SurfaceLanes, SurfacePoint};
 /// point.
 const GROUPS: usize = 4;
 
-/// Up to eight points of one material, normals turned to the viewer's side as
-/// [`Shader::shade`] turns them.
-struct FacingLanes<'m> {
+/// Points of one material in the lanes of `R` (up to eight in [`F32x8`]), normals turned to the
+/// viewer's side as [`Shader::shade`] turns them.
+struct FacingLanes<'m, R: Real = F32x8> {
     material: &'m Material,
-    position: [F32x8; 3],
+    position: [R; 3],
     /// Geometric normal (the shadow ray's offset side).
-    ng: [F32x8; 3],
+    ng: [R; 3],
     /// Height above the point its shadow rays start at (`SurfacePoint::shadow_lift`), 0 where
     /// a two-sided material turned the normals round: lifting along the turned normal would
     /// move the origin through the surface (see `front_lift`).
-    lift: F32x8,
-    ns: [F32x8; 3],
-    wo: [F32x8; 3],
-    cos_o: F32x8,
+    lift: R,
+    ns: [R; 3],
+    wo: [R; 3],
+    cos_o: R,
     /// Lanes holding a point whose shading normal faces the viewer (cos θ_o > 0, not NaN).
-    visible: Mask8,
+    visible: R::Mask,
 }
 
 /// One light at the lanes of a [`FacingLanes`]: its sample, cos θ_i, the BRDF's dot products,
 /// and the lanes it reaches (in front of the shading normal, with a shading frame).
-struct LitLanes {
-    ls: LightSamples<F32x8>,
-    cos_i: F32x8,
-    dots: LocalDots<F32x8>,
-    lit: Mask8,
+struct LitLanes<R: Real = F32x8> {
+    ls: LightSamples<R>,
+    cos_i: R,
+    dots: LocalDots<R>,
+    lit: R::Mask,
 }
 
-impl<'m> FacingLanes<'m> {
+impl<'m, R: Real> FacingLanes<'m, R> {
     /// The lanes of `present` points with shadow-ray lifts `lift`: a two-sided material turns
     /// both normals towards the viewer where the shading normal faces away from it, and drops
     /// the lift there.
     #[inline(always)]
-    fn new(material: &'m Material, points: &SurfaceLanes, ng: [F32x8; 3], lift: F32x8, present: Mask8) -> Self {
+    fn new(material: &'m Material, points: &SurfaceLanes<R>, ng: [R; 3], lift: R, present: R::Mask) -> Self {
         let wo = points.to_viewer;
         let (mut ns, mut ng, mut lift) = (points.shading_normal, ng, lift);
         if material.two_sided {
-            let flip = dot3(ns, wo).lt(F32x8::splat(0.0));
-            ns = map3(ns, |c| F32x8::select(flip, -c, c));
-            ng = map3(ng, |c| F32x8::select(flip, -c, c));
-            lift = F32x8::select(flip, F32x8::splat(0.0), lift);
+            let flip = dot3(ns, wo).lt(R::zero());
+            ns = map3(ns, |c| R::select(flip, -c, c));
+            ng = map3(ng, |c| R::select(flip, -c, c));
+            lift = R::select(flip, R::zero(), lift);
         }
         let cos_o = dot3(ns, wo);
         FacingLanes {
@@ -75,37 +75,36 @@ impl<'m> FacingLanes<'m> {
             ns,
             wo,
             cos_o,
-            visible: present & cos_o.gt(F32x8::splat(0.0)),
+            visible: present & cos_o.gt(R::zero()),
         }
     }
 
     /// `light` at these points (the scalar shader's `lit`, lane by lane).
     #[inline(always)]
-    fn lit(&self, light: &Light) -> LitLanes {
+    fn lit(&self, light: &Light) -> LitLanes<R> {
         let ls = light.sample_points(self.position);
         let cos_i = dot3(self.ns, ls.wi);
-        let mut lit = self.visible & ls.lit & cos_i.gt(F32x8::splat(0.0));
+        let mut lit = self.visible & ls.lit & cos_i.gt(R::zero());
         let dots = if self.material.has_specular() {
             let (dots, frame) = LocalDots::from_unit_vectors_masked(self.ns, ls.wi, self.wo);
             lit = lit & frame;
             dots
         } else {
             // Lambert reads no dot product: skip the half vector.
-            LocalDots::from_cosines(cos_i, self.cos_o, F32x8::splat(0.0), F32x8::splat(0.0))
+            LocalDots::from_cosines(cos_i, self.cos_o, R::zero(), R::zero())
         };
         LitLanes { ls, cos_i, dots, lit }
     }
 
     /// Adds f_r · E · cos θ_i of the lanes `lit` reaches to `radiance`.
     #[inline(always)]
-    fn add_reflected(&self, lit: &LitLanes, radiance: &mut [F32x8; 3]) {
+    fn add_reflected(&self, lit: &LitLanes<R>, radiance: &mut [R; 3]) {
         if !lit.lit.any() {
             return;
         }
-        let f = self.material.eval(&lit.dots);
+        let term = reflected_radiance(self.material.eval(&lit.dots), lit.ls.irradiance, lit.cos_i);
         for c in 0..3 {
-            let term = f[c] * lit.ls.irradiance[c] * lit.cos_i;
-            radiance[c] = radiance[c] + F32x8::select(lit.lit, term, F32x8::splat(0.0));
+            radiance[c] = radiance[c] + R::select(lit.lit, term[c], R::zero());
         }
     }
 }
@@ -117,20 +116,7 @@ fn lane(v: &[F32x8; 3], i: usize) -> Vec3 {
 }
 
 impl<O: Occluder> Shader<'_, O> {
-    /// [`Shader::shade`] of [`LANES`] points at once: through [`Shader::shade_surface_lanes`]
-    /// when they share a material and the shader has lanes for them, otherwise one by one.
-    #[inline]
-    pub fn shade_lanes(&self, points: &[SurfacePoint; LANES], shadow_rays: &mut u64) -> [Vec3; LANES] {
-        match SurfaceLanes::from_points(points) {
-            Some(lanes) if self.has_lanes() => {
-                let radiance = self.shade_surface_lanes(&lanes);
-                std::array::from_fn(|i| lane(&radiance, i))
-            }
-            _ => points.map(|p| self.shade(&p, shadow_rays)),
-        }
-    }
-
-    /// Whether [`Shader::shade_surface_lanes`] serves this shader: always under the assignment
+    /// Whether [`Shader::shade_lanes`] serves this shader: always under the clamped
     /// convention; under the physical one when there is nothing the lanes do not carry — no
     /// shadow rays, no textures, no emission (the normal-map mode).
     pub fn has_lanes(&self) -> bool {
@@ -140,15 +126,16 @@ impl<O: Occluder> Shader<'_, O> {
         }
     }
 
-    /// [`Shader::shade`] of eight points of one material, per channel, on [`F32x8`] lanes — the
-    /// same functions, in eight lanes, giving what the scalar path gives. Only for a shader that
+    /// [`Shader::shade`] of points of one material in the lanes of `R`, per channel: eight in
+    /// [`F32x8`], four `tp` pixels in float64 lanes, one point in a scalar — the same functions
+    /// in every precision, giving what the scalar path gives. Only for a shader that
     /// [`Shader::has_lanes`].
     #[inline(always)]
-    pub fn shade_surface_lanes(&self, points: &SurfaceLanes) -> [F32x8; 3] {
+    pub fn shade_lanes<R: Real>(&self, points: &SurfaceLanes<R>) -> [R; 3] {
         debug_assert!(self.has_lanes());
         match self.convention {
-            ShadingConvention::Clamped => self.shade_clamped_lanes(points),
-            ShadingConvention::Physical => self.shade_physical_lanes(points),
+            ShadingConvention::Clamped => self.clamped_lanes(points),
+            ShadingConvention::Physical => self.physical_lanes(points),
         }
     }
 
@@ -157,33 +144,24 @@ impl<O: Occluder> Shader<'_, O> {
     /// f·E·cos θ_i where n·ω_o > 0, n·ω_i > 0 and a shading frame exists (elsewhere the lane
     /// adds 0, which the scalar path skips).
     #[inline(always)]
-    fn shade_physical_lanes(&self, points: &SurfaceLanes) -> [F32x8; 3] {
+    fn physical_lanes<R: Real>(&self, points: &SurfaceLanes<R>) -> [R; 3] {
         let material = &self.materials[points.material as usize];
         // No shadow rays here: the geometric normal and the lift are not read.
-        let facing = FacingLanes::new(
-            material,
-            points,
-            points.shading_normal,
-            F32x8::splat(0.0),
-            Mask8::splat(true),
-        );
-        let mut radiance = [F32x8::splat(0.0); 3];
+        let facing = FacingLanes::new(material, points, points.shading_normal, R::zero(), R::Mask::splat(true));
+        let mut radiance = [R::zero(); 3];
         if !facing.visible.any() {
             return radiance;
         }
         for light in self.lights {
             facing.add_reflected(&facing.lit(light), &mut radiance);
         }
-        map3(radiance, |c| c.min(F32x8::splat(f32::MAX)))
+        map3(radiance, |c| c.min(R::lit(f32::MAX as f64)))
     }
 
-    /// The assignment convention's L_o (see [`Shader::shade`]) of the points in the lanes of
-    /// `R`, per channel: eight in [`F32x8`], four `tp` pixels in float64 lanes, one point in a
-    /// scalar — the same functions in every precision. Only for a shader whose convention is
-    /// [`ShadingConvention::Clamped`] (the caller's plan decides; the result ignores sides).
+    /// The clamped convention's L_o (see [`ShadingConvention::Clamped`]) of the points in the
+    /// lanes of `R`, per channel. The result ignores sides.
     #[inline(always)]
-    pub fn shade_clamped_lanes<R: Real>(&self, points: &SurfaceLanes<R>) -> [R; 3] {
-        debug_assert_eq!(self.convention, ShadingConvention::Clamped);
+    pub(super) fn clamped_lanes<R: Real>(&self, points: &SurfaceLanes<R>) -> [R; 3] {
         let material = &self.materials[points.material as usize];
         let x = points.position;
         let mut radiance = [R::zero(); 3];
@@ -381,6 +359,8 @@ impl<O: Occluder> Shader<'_, O> {
 
 #[cfg(test)]
 mod tests {
+    use super::lane;
+    use crate::surface::SurfaceLanes;
     use glam::Vec3;
 
     use super::super::tests::{
@@ -418,8 +398,10 @@ mod tests {
             assert!(shader.has_lanes());
             for start in 0..points.len() - LANES {
                 let group: [SurfacePoint; LANES] = std::array::from_fn(|i| points[start + i]);
-                let lanes = shader.shade_lanes(&group, &mut 0);
-                for (p, lane) in group.iter().zip(lanes) {
+                let surface = SurfaceLanes::from_points(&group).expect("one material");
+                let radiance = shader.shade_lanes(&surface);
+                for (i, p) in group.iter().enumerate() {
+                    let lane = lane(&radiance, i);
                     let one = shader.shade(p, &mut 0);
                     // Equal as numbers (the sign of a zero may differ) and never NaN.
                     assert!(

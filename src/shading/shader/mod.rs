@@ -269,12 +269,12 @@ impl<O: Occluder> Shader<'_, O> {
     /// f_r · E · cos θ_i of an unoccluded light.
     #[inline(always)]
     fn reflected(&self, facing: &Facing, lit: &Lit) -> Vec3 {
-        let f = Vec3::from(match &facing.textured {
+        let f = match &facing.textured {
             Some(Textured::Pbr(point)) => point.eval(&lit.dots),
             Some(Textured::Albedo(albedo)) => facing.material.eval_with_albedo(*albedo, &lit.dots),
             None => facing.material.eval(&lit.dots),
-        });
-        f * lit.ls.irradiance * lit.cos_i
+        };
+        Vec3::from(reflected_radiance(f, lit.ls.irradiance.to_array(), lit.cos_i))
     }
 
     /// The assignment's L_o = Σ L_i · f(ω_i, ω_o) · (n·ω_i) with ω_i from the light towards the
@@ -284,7 +284,7 @@ impl<O: Occluder> Shader<'_, O> {
     /// vector is undefined and only the diffuse part k_d·albedo/π is added.
     #[inline(always)]
     fn shade_clamped(&self, sp: &SurfacePoint) -> Vec3 {
-        Vec3::from(self.shade_clamped_lanes(&SurfaceLanes::<f32> {
+        Vec3::from(self.clamped_lanes(&SurfaceLanes::<f32> {
             position: sp.position.to_array(),
             shading_normal: sp.shading_normal.to_array(),
             to_viewer: sp.to_viewer.to_array(),
@@ -325,7 +325,16 @@ fn clamped_term<R: Real>(
     } else {
         diffuse
     };
-    map3([0, 1, 2], |c| f[c] * irradiance[c] * a.dots.n_dot_i)
+    reflected_radiance(f, irradiance, a.dots.n_dot_i)
+}
+
+/// What one light adds: L = f_r(ω_i, ω_o) · E · cos θ_i per channel, E the light's irradiance
+/// at normal incidence. Every path of the shader (one point, lanes, either convention) combines
+/// a light's terms here; the conventions differ only in how they form f_r's dot products and
+/// cos θ_i.
+#[inline(always)]
+fn reflected_radiance<R: Real>(f: [R; 3], irradiance: [R; 3], cos_i: R) -> [R; 3] {
+    map3([0, 1, 2], |c| f[c] * irradiance[c] * cos_i)
 }
 
 #[cfg(test)]
