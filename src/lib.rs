@@ -1,12 +1,13 @@
 //! pointshade — a CPU renderer that shades surface points with analytic BRDFs.
 //!
 //! The module tree is the pipeline, in the order data flows through it:
-//! [`scene`] (loading) → [`plan`] (which stages this scene needs) → [`accel`] (BVH) →
-//! [`surface`] (camera rays → [`surface::SurfacePoint`]s) → [`shading`] (BRDFs, lights,
-//! shadow rays) → [`film`] (samples → pixels) → [`output`] (PNG / EXR files).
-//! [`render`] drives the stages; see ARCHITECTURE.md. [`normal_map`] drives the normal-map mode
-//! (pixels of a normal image → surface points → the same shader) and [`bake`] its inverse (a
-//! mesh scene's normals → a normal image).
+//! [`scene`] (loading) → [`plan`] (which stages this scene needs) → [`accel`] (BVH, shadow-ray
+//! queries) → [`surface`] (camera rays → [`surface::SurfacePoint`]s) → [`shading`] (the shader)
+//! → [`film`] (samples → pixels) → [`output`] (PNG / EXR files). Below the scene sit what it is
+//! made of: [`lanes`] (the number types), [`brdf`] (the terms), [`material`], [`light`] and
+//! [`texture`]. [`render`] drives the stages; see ARCHITECTURE.md. [`normal_map`] is the
+//! normal-map mode (pixels of a normal image → surface points → the same shader, and baking, its
+//! inverse).
 
 pub mod accel;
 pub mod brdf;

@@ -1,6 +1,6 @@
 //! The BRDF module: every reflectance term pointshade knows, as small pure functions.
 //!
-//! Each term is a function of a few dot products and material parameters, generic over [`Real`]
+//! Each term is a function of a few dot products and material parameters, generic over [`Real`](crate::lanes::Real)
 //! (f32 and f64), with its formula in the comment above it. The renderer calls them in f32; the
 //! stability checks call the very same functions in f64 and compare. [`Material`] composes them
 //! into a full BRDF; nothing else in pointshade evaluates a BRDF.

@@ -9,6 +9,7 @@ pub mod bake;
 pub mod formats;
 pub mod image;
 pub mod likeness;
+pub mod pixels;
 pub mod plan;
 pub mod scene_file;
 
@@ -21,7 +22,8 @@ use crate::accel::shadow::NoOcclusion;
 use crate::accel::shadow::SceneExtent;
 use crate::film::Image;
 use crate::lanes::{LaneInstructions, Lanes, Scalar, LANES};
-use crate::normal_map::image::{ImageSurface, NormalDecoding, NormalImage, PixelPositions, TpScaling};
+use crate::normal_map::image::NormalImage;
+use crate::normal_map::pixels::{ImageSurface, NormalDecoding, PixelPositions, TpScaling};
 use crate::normal_map::scene_file::{NormalMapScene, Preset};
 use crate::plan::RenderPlan;
 use crate::shading::convention::ShadingConvention;

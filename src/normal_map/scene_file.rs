@@ -21,7 +21,7 @@ use toml::Spanned;
 use crate::error::InputResult;
 use crate::light::{Falloff, Light, LightKind};
 use crate::material::{BlinnPhong, CookTorrance, Material};
-use crate::normal_map::image::{PixelPositions, Viewer};
+use crate::normal_map::pixels::{PixelPositions, Viewer};
 use crate::scene::file::values::{resolve, vec3};
 pub use crate::scene::file::ModelName;
 use crate::scene::file::{light, material, LightSection, MaterialDefaults, MaterialSection, TomlSource};

@@ -2,7 +2,7 @@
 //!
 //! A scene is everything a render needs, already validated: film settings, a camera, lights,
 //! materials, and all objects merged into one world-space [`TriangleMesh`]. Loading is the only
-//! stage that reads user files, so every [`InputError`] comes from here.
+//! stage that reads user files, so every [`InputError`](crate::error::InputError) comes from here (the normal-map mode reads its images and scene files in [`crate::normal_map`]).
 
 pub mod camera;
 pub mod file;

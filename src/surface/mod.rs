@@ -1,7 +1,8 @@
 //! Surface points: what the shader shades, wherever it came from.
 //!
 //! A [`SurfacePoint`] is made from a camera ray's hit ([`primary`]) or from a pixel of a normal
-//! image ([`normal_image`], the normal-map mode); neither it nor the shader knows which.
+//! image ([`crate::normal_map::pixels`], the normal-map mode); neither it nor the shader
+//! knows which.
 
 pub mod normal_texture;
 pub mod primary;

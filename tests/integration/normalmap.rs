@@ -12,7 +12,7 @@ use std::process::{Command, Output};
 
 use glam::{DVec3, Vec3};
 use pointshade::light::{Falloff, Light, LightKind};
-use pointshade::normal_map::image::{TpScaling, Viewer};
+use pointshade::normal_map::pixels::{TpScaling, Viewer};
 use pointshade::normal_map::scene_file::{ModelName, NormalMapScene, Preset};
 use pointshade::normal_map::shade_tp_pixel;
 

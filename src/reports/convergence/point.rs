@@ -24,6 +24,6 @@ pub struct Point {
     pub rmse: f64,
     /// Relative MSE against the reference.
     pub rel_mse: f64,
-    /// Share of pixels within [`TOLERANCE`] of the reference.
+    /// Share of pixels within [`TOLERANCE`](super::TOLERANCE) of the reference.
     pub within: f64,
 }

@@ -14,7 +14,7 @@ use glam::{DVec3, Vec3};
 
 use super::case::{num, rel_err, Case, Rng, REL_TOL};
 use crate::light::LightKind;
-use crate::normal_map::image::{TpScaling, Viewer};
+use crate::normal_map::pixels::{TpScaling, Viewer};
 use crate::normal_map::scene_file::{NormalMapScene, Preset};
 use crate::normal_map::shade_tp_pixel;
 use crate::scene::file::ModelName;

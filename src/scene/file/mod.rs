@@ -4,7 +4,7 @@
 //! and column. Each section is kept with its span so that checks made after parsing (a NaN, an
 //! unknown material name) also point at the right place. Normal-map scene files (a
 //! `[normal_map]` section) share the light and material sections and are read by
-//! [`super::normal_map`]; their sections are `lights` and `materials`.
+//! [`crate::normal_map::scene_file`]; their sections are `lights` and `materials`.
 
 use std::collections::BTreeMap;
 use std::path::Path;
