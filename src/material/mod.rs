@@ -8,154 +8,18 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::brdf::{
-    blinn_phong, fresnel_conductor_rgb, fresnel_schlick, fresnel_schlick_sg, ggx_d, lambert, schlick_f0_dielectric,
-    FresnelTerm, LocalDots, MaskingShadowing, MicrofacetDistribution,
-};
+use crate::brdf::{blinn_phong, lambert, LocalDots};
 
-use crate::lanes::{map3, Mask, Real};
+use crate::lanes::{map3, Real};
 use crate::texture::{ColorSpace, TextureImage, TextureRef};
 
-/// Blinn-Phong specular lobe: f_s = ks · color · (n·ω_h)^shininess.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BlinnPhong {
-    /// Specular weight k_s.
-    pub ks: f32,
-    /// Exponent s.
-    pub shininess: f32,
-    /// Specular tint (white in the assignment).
-    pub color: [f32; 3],
-}
+mod blinn_phong;
+mod cook_torrance;
+mod gltf_pbr;
 
-/// Cook-Torrance microfacet lobe: f_s = D·F·G / (4 (n·ω_i)(n·ω_o)), terms chosen by name.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CookTorrance {
-    /// Roughness α, used directly (no roughness² remapping).
-    pub alpha: f32,
-    /// Normal distribution D.
-    pub d: MicrofacetDistribution,
-    /// Masking-shadowing G.
-    pub g: MaskingShadowing,
-    /// Fresnel F.
-    pub f: FresnelTerm,
-    /// Conductor: Schlick's F0 is the specular colour; dielectric: F0 from `ior`.
-    pub metallic: bool,
-    /// F0 of metals (Schlick), tint of the conductor Fresnel, and F of `constant`.
-    pub specular_color: [f32; 3],
-    /// Index of refraction of a dielectric (Schlick's F0 when not metallic).
-    pub ior: f32,
-    /// Real part of the complex index, per channel (conductor Fresnel).
-    pub eta: [f32; 3],
-    /// Imaginary part (extinction) of the complex index, per channel (conductor Fresnel).
-    pub k: [f32; 3],
-}
-
-impl CookTorrance {
-    /// The `tp` preset's model and parameters, the assignment's: GGX, Schlick–Smith, Schlick; α = 0.7, metallic,
-    /// specular colour [0.98, 0.82, 0.76], n = 5. η and κ default to Mitsuba's "none" (F ≡ 1).
-    pub const TP_PRESET: CookTorrance = CookTorrance {
-        alpha: 0.7,
-        d: MicrofacetDistribution::Ggx,
-        g: MaskingShadowing::SchlickSmith,
-        f: FresnelTerm::Schlick,
-        metallic: true,
-        specular_color: [0.98, 0.82, 0.76],
-        ior: 5.0,
-        eta: [0.0; 3],
-        k: [1.0; 3],
-    };
-}
-
-impl Default for CookTorrance {
-    /// [`CookTorrance::TP_PRESET`].
-    fn default() -> Self {
-        Self::TP_PRESET
-    }
-}
-
-/// A glTF normal texture: tangent-space normals (+X along +u, +Y "up" = against +v, +Z out of
-/// the surface), whose X and Y are multiplied by `scale`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct NormalTexture {
-    /// The texture (linear).
-    pub texture: TextureRef,
-    /// glTF's `normalTexture.scale`.
-    pub scale: f32,
-}
-
-/// The textures of a glTF metallic-roughness material; each is optional.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct PbrTextures {
-    /// sRGB base colour; RGB multiplies the base colour factor (`Material::albedo`).
-    pub base_color: Option<TextureRef>,
-    /// Linear; blue multiplies the metallic factor, green the roughness factor.
-    pub metallic_roughness: Option<TextureRef>,
-    /// Tangent-space normals; applied by the surface stage (`surface::normal_texture`).
-    pub normal: Option<NormalTexture>,
-    /// sRGB; multiplies the emissive factor.
-    pub emissive: Option<TextureRef>,
-}
-
-impl PbrTextures {
-    /// Whether any texture changes the BRDF parameters (base colour or metallic-roughness).
-    pub fn varies_brdf(&self) -> bool {
-        self.base_color.is_some() || self.metallic_roughness.is_some()
-    }
-
-    /// Every texture reference, for renumbering images.
-    pub fn refs_mut(&mut self) -> impl Iterator<Item = &mut TextureRef> {
-        [
-            self.base_color.as_mut(),
-            self.metallic_roughness.as_mut(),
-            self.normal.as_mut().map(|n| &mut n.texture),
-            self.emissive.as_mut(),
-        ]
-        .into_iter()
-        .flatten()
-    }
-}
-
-/// glTF 2.0 metallic-roughness material, the reference BRDF of the glTF specification
-/// (Appendix B), with base colour = `Material::albedo`:
-///
-/// f = (1 − F)·c_diff/π + F·D·V, with c_diff = base·(1 − metallic), F0 = lerp(0.04, base,
-/// metallic), F = Schlick(F0, ω_i·ω_h), D = GGX(α), V = height-correlated Smith visibility
-/// G/(4 (n·ω_i)(n·ω_o)), α = roughness².
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GltfPbr {
-    /// Metallic factor in [0, 1].
-    pub metallic: f32,
-    /// Perceptual roughness factor in [0, 1] (α = roughness²).
-    pub roughness: f32,
-    /// Emitted radiance (emissive factor), added to the reflected radiance.
-    pub emissive: [f32; 3],
-    /// Textures that modulate the factors.
-    pub textures: PbrTextures,
-    /// glTF `alphaMode` MASK: where the surface is cut out (`None`: opaque everywhere).
-    pub cutout: Option<Cutout>,
-}
-
-/// glTF `alphaMode` MASK: the surface is there where its alpha — the base colour factor's alpha
-/// times the base colour texture's (linear) alpha — is at least `cutoff`, and absent elsewhere:
-/// rays pass through the cut-out parts, camera and shadow rays alike (`accel::alpha`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Cutout {
-    /// glTF's `alphaCutoff` (0.5 by default).
-    pub cutoff: f32,
-    /// The base colour factor's alpha, in [0, 1].
-    pub alpha: f32,
-}
-
-/// The BRDF parameters of a `gltf-pbr` material at one surface point, textures applied.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PbrPoint {
-    /// Linear base colour.
-    pub base_color: [f32; 3],
-    /// Metalness in [0, 1].
-    pub metallic: f32,
-    /// Microfacet roughness α = roughness².
-    pub alpha: f32,
-}
+pub use blinn_phong::BlinnPhong;
+pub use cook_torrance::CookTorrance;
+pub use gltf_pbr::{Cutout, GltfPbr, NormalTexture, PbrPoint, PbrTextures};
 
 /// A material's BRDF model: Lambert alone, Lambert plus a specular lobe (Blinn-Phong,
 /// Cook-Torrance), or glTF's metallic-roughness BRDF, which holds its own diffuse part.
@@ -401,103 +265,6 @@ impl Material {
     }
 }
 
-impl GltfPbr {
-    /// The parameters where no texture applies: the factors.
-    #[inline]
-    pub fn constant_point(&self, base_color: [f32; 3]) -> PbrPoint {
-        PbrPoint {
-            base_color,
-            metallic: self.metallic,
-            alpha: self.roughness * self.roughness,
-        }
-    }
-
-    /// The parameters at texture coordinates `uvs` (sets 0 and 1): base colour factor × sRGB
-    /// texture, metallic factor × blue, roughness factor × green of the metallic-roughness
-    /// texture. Texture values lie in [0, 1], so the products stay in the factors' ranges.
-    #[inline]
-    pub fn point_at(&self, base_color: [f32; 3], uvs: [Vec2; 2], images: &[TextureImage]) -> PbrPoint {
-        let mut base = Vec3::from(base_color);
-        if let Some(t) = self.textures.base_color {
-            base *= t.sample(images, uvs[t.tex_coord as usize], ColorSpace::Srgb).truncate();
-        }
-        let (mut metallic, mut roughness) = (self.metallic, self.roughness);
-        if let Some(t) = self.textures.metallic_roughness {
-            let mr = t.sample(images, uvs[t.tex_coord as usize], ColorSpace::Linear);
-            metallic *= mr.z;
-            roughness *= mr.y;
-        }
-        PbrPoint {
-            base_color: base.to_array(),
-            metallic,
-            alpha: roughness * roughness,
-        }
-    }
-}
-
-impl PbrPoint {
-    /// f_r per channel (see [`GltfPbr`]): (1 − F)·lambert(1 − metallic, base) + F·D·V.
-    /// D and V clamp α to `MIN_ALPHA`, so α = 0 (roughness 0) gives a finite spike; V is 0 where
-    /// n·ω_i ≤ 0 or n·ω_o ≤ 0, which leaves the diffuse part to the shader's sidedness test.
-    #[inline(always)]
-    pub fn eval<R: Real>(&self, dots: &LocalDots<R>) -> [R; 3] {
-        let alpha = R::of(self.alpha);
-        let v = MaskingShadowing::SmithGgxCorrelated.visibility(dots.n_dot_i, dots.n_dot_o, alpha);
-        // D is finite (capped at its peak), so D·V is 0 where V is: D is skipped there.
-        let dv = R::choose(v.eq(R::zero()), R::zero, || ggx_d(dots.n_dot_h, dots.sin2_h, alpha) * v);
-        let metallic = R::of(self.metallic);
-        // Dielectric F0 of glTF: ior 1.5 → ((1.5 − 1)/(1.5 + 1))² = 0.04.
-        let f0_dielectric = schlick_f0_dielectric(R::lit(1.5));
-        map3(self.base_color, |b| {
-            let base = R::of(b);
-            let f0 = f0_dielectric + (base - f0_dielectric) * metallic;
-            let f = fresnel_schlick(f0, dots.i_dot_h);
-            (R::one() - f) * lambert(R::one() - metallic, base) + f * dv
-        })
-    }
-}
-
-impl CookTorrance {
-    /// Schlick's F0 per channel: the specular colour for metals, ((ior − 1)/(ior + 1))² otherwise.
-    #[inline(always)]
-    pub fn f0<R: Real>(&self) -> [R; 3] {
-        if self.metallic {
-            map3(self.specular_color, R::of)
-        } else {
-            [schlick_f0_dielectric(R::of(self.ior)); 3]
-        }
-    }
-
-    /// F(ω_i·ω_h) per channel.
-    #[inline(always)]
-    pub fn fresnel<R: Real>(&self, i_dot_h: R) -> [R; 3] {
-        match self.f {
-            FresnelTerm::Schlick => map3(self.f0::<R>(), |f0| fresnel_schlick(f0, i_dot_h)),
-            FresnelTerm::SchlickSg => map3(self.f0::<R>(), |f0| fresnel_schlick_sg(f0, i_dot_h)),
-            FresnelTerm::Conductor => {
-                let f = fresnel_conductor_rgb(i_dot_h, self.eta, self.k);
-                map3([0, 1, 2], |c| f[c] * R::of(self.specular_color[c]))
-            }
-            FresnelTerm::Constant => map3(self.specular_color, R::of),
-        }
-    }
-
-    /// f_s = D·F·V with V = G/(4 (n·ω_i)(n·ω_o)) (see `MaskingShadowing::visibility`); 0 when
-    /// n·ω_i ≤ 0 or n·ω_o ≤ 0, which is where the assignment's guarded denominator gives 0 too.
-    #[inline(always)]
-    pub fn eval<R: Real>(&self, dots: &LocalDots<R>) -> [R; 3] {
-        let alpha = R::of(self.alpha);
-        let v = self.g.visibility(dots.n_dot_i, dots.n_dot_o, alpha);
-        let unlit = v.eq(R::zero());
-        if unlit.all() {
-            return [R::zero(); 3];
-        }
-        // D and F are finite, so where V = 0 the product is 0 as well.
-        let dv = self.d.eval(dots.n_dot_h, dots.sin2_h, alpha) * v;
-        map3(self.fresnel(dots.i_dot_h), |f| R::select(unlit, R::zero(), f * dv))
-    }
-}
-
 fn check_non_negative(key: &str, v: f32) -> Result<(), String> {
     if v >= 0.0 && v.is_finite() {
         Ok(())
@@ -525,6 +292,7 @@ fn check_color(key: &str, c: [f32; 3]) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::brdf::FresnelTerm;
     use std::f64::consts::PI;
 
     fn dots(ci: f64, co: f64, nh: f64, ih: f64) -> LocalDots<f64> {
@@ -619,61 +387,6 @@ mod tests {
         };
         assert_eq!(constant.fresnel(0.3f32), [0.5, 1.0, 0.25]);
         assert!((ct.fresnel(1.0f64)[1] - 0.04).abs() < 1e-12, "dielectric F0 from ior");
-    }
-
-    /// glTF 2.0 Appendix B written out independently in f64, per channel.
-    fn gltf_reference(base: f64, metallic: f64, roughness: f64, d: &LocalDots<f64>) -> f64 {
-        let alpha = roughness * roughness;
-        let a2 = alpha * alpha;
-        let (nl, nv, nh, vh) = (d.n_dot_i, d.n_dot_o, d.n_dot_h, d.i_dot_h);
-        let c_diff = base * (1.0 - metallic);
-        let f0 = 0.04 * (1.0 - metallic) + base * metallic;
-        let f = f0 + (1.0 - f0) * (1.0 - vh).powi(5);
-        let dist = a2 / (PI * (nh * nh * (a2 - 1.0) + 1.0).powi(2));
-        let vis = 0.5 / (nl * (nv * nv * (1.0 - a2) + a2).sqrt() + nv * (nl * nl * (1.0 - a2) + a2).sqrt());
-        (1.0 - f) * c_diff / PI + f * dist * vis
-    }
-
-    #[test]
-    fn gltf_pbr_matches_the_specification_formula() {
-        let base = [0.9f32, 0.5, 0.1];
-        for &(metallic, roughness) in &[(0.0f32, 0.5f32), (1.0, 0.3), (0.4, 0.8), (0.0, 1.0)] {
-            let m = Material::gltf_pbr("g", base, metallic, roughness);
-            assert!(m.has_specular());
-            for d in [
-                dots(0.6, 0.8, 0.95, 0.9),
-                dots(0.2, 0.9, 0.7, 0.5),
-                dots(1.0, 1.0, 1.0, 1.0),
-            ] {
-                let got = m.eval(&d);
-                for c in 0..3 {
-                    let expect = gltf_reference(base[c] as f64, metallic as f64, roughness as f64, &d);
-                    assert!(
-                        (got[c] - expect).abs() < 1e-6 * expect.max(1e-3),
-                        "metallic {metallic} roughness {roughness} channel {c}: {} vs {expect}",
-                        got[c]
-                    );
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn gltf_pbr_extremes_stay_finite_and_metals_have_no_diffuse() {
-        // Roughness 0: α is raised to MIN_ALPHA inside D and V; a finite spike at n·h = 1.
-        let mirror = Material::gltf_pbr("m", [1.0; 3], 1.0, 0.0);
-        let dots32 =
-            |ci: f32, co: f32, nh: f32, ih: f32| dots(ci as f64, co as f64, nh as f64, ih as f64).cast::<f32>();
-        let peak = mirror.eval(&dots32(0.7, 0.7, 1.0, 0.7));
-        assert!(peak.iter().all(|v| v.is_finite() && *v > 1e6), "{peak:?}");
-        assert!(mirror.eval(&dots32(0.7, 0.7, 0.99, 0.7))[0] < 1e-3);
-        // Grazing: V = 0 → only the diffuse part, which a metal does not have.
-        assert_eq!(mirror.eval(&dots32(0.0, 0.7, 0.7, 0.7)), [0.0; 3]);
-        let plastic = Material::gltf_pbr("p", [0.5; 3], 0.0, 0.5);
-        let g = plastic.eval(&dots(0.0f64, 0.7, 0.7, 0.7));
-        let f = 0.04 + 0.96 * 0.3f64.powi(5);
-        assert!((g[0] - (1.0 - f) * 0.5 / PI).abs() < 1e-7, "{g:?}");
-        assert_eq!(plastic.model_name(), "gltf-pbr");
     }
 
     #[test]
