@@ -361,13 +361,5 @@ impl Case {
 }
 
 fn torus() -> TriangleMesh {
-    let g = pointshade::scene::procedural::torus(1.0, 0.35, 400, 125);
-    let normals = g.normals.expect("the torus has analytic normals");
-    TriangleMesh {
-        material_of_triangle: vec![0; g.triangles.len()],
-        positions: g.positions,
-        normals,
-        triangles: g.triangles,
-        ..Default::default()
-    }
+    pointshade::scene::procedural::torus(1.0, 0.35, 400, 125).into_triangle_mesh()
 }

@@ -568,15 +568,8 @@ mod tests {
 
     /// The torus with every triangle listed twice (the copies, at index + n, coincide exactly).
     fn doubled_torus() -> (TriangleMesh, u32) {
-        let g = crate::scene::procedural::torus(1.0, 0.35, 64, 24);
-        let n = g.triangles.len();
-        let mut mesh = TriangleMesh {
-            material_of_triangle: vec![0; n],
-            normals: g.normals.expect("the torus has normals"),
-            positions: g.positions,
-            triangles: g.triangles,
-            ..Default::default()
-        };
+        let mut mesh = crate::scene::procedural::torus(1.0, 0.35, 64, 24).into_triangle_mesh();
+        let n = mesh.triangle_count();
         mesh.append(mesh.clone(), 0);
         (mesh, n as u32)
     }

@@ -259,14 +259,7 @@ mod tests {
     const SIZE: u32 = 192;
 
     fn torus_mesh() -> TriangleMesh {
-        let g = torus(1.0, 0.35, 160, 48);
-        TriangleMesh {
-            material_of_triangle: vec![0; g.triangles.len()],
-            positions: g.positions,
-            normals: g.normals.expect("the torus has normals"),
-            triangles: g.triangles,
-            ..Default::default()
-        }
+        torus(1.0, 0.35, 160, 48).into_triangle_mesh()
     }
 
     /// The torus's tree and a camera framing it.

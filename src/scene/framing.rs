@@ -14,7 +14,6 @@ use crate::scene::camera::{CameraSpec, FovAxis, Projection};
 use crate::scene::obj::{load_obj, NO_MATERIAL};
 use crate::scene::textures::decode_used_images;
 use crate::scene::Scene;
-use crate::scene::SceneParts;
 
 /// Vertical field of view of the automatic camera, in degrees.
 const AUTO_FOV: f32 = 35.0;
@@ -107,15 +106,15 @@ pub fn scene_for_bare_mesh(path: &Path) -> InputResult<Scene> {
     let (lo, hi) = mesh.bounds().ok_or_else(|| InputError::new(path, "no geometry"))?;
     let camera = frame_bounds(lo, hi);
     let lights = default_lights(lo, hi, &camera);
-    let mut scene = Scene::new(SceneParts {
-        source: path.to_path_buf(),
-        film: FilmSettings::default(),
+    let mut scene = Scene::new(
+        path.to_path_buf(),
+        FilmSettings::default(),
         camera,
         lights,
         materials,
         textures,
         mesh,
-    });
+    );
     // The file's coordinates, in the render's frame (relative to the mesh's own origin).
     scene.objects[0].transform = glam::Mat4::from_translation(-origin.as_vec3());
     scene.origin = origin;

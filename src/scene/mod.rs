@@ -65,43 +65,24 @@ pub struct Scene {
     pub warnings: Vec<String>,
 }
 
-/// What every scene has: where it came from, its film, camera and lights, and the geometry with
-/// the materials (and their decoded texture images) its triangles index.
-pub struct SceneParts {
-    /// The file it was loaded from.
-    pub source: PathBuf,
-    /// Image and sampling settings.
-    pub film: FilmSettings,
-    /// The camera.
-    pub camera: CameraSpec,
-    /// Lights, in the order they are summed.
-    pub lights: Vec<Light>,
-    /// Materials, indexed by `mesh.material_of_triangle`.
-    pub materials: Vec<Material>,
-    /// Decoded texture images, indexed by the materials' texture references.
-    pub textures: Vec<TextureImage>,
-    /// Every object, in the render's coordinates.
-    pub mesh: TriangleMesh,
-}
-
 impl Scene {
-    /// The scene of `parts` with the defaults a loader then overrides where its format says
-    /// otherwise: shadows on, with the error-bound offset from the smooth surface; the whole
+    /// The scene loaded from `source`, with its film, camera and lights, and the geometry with
+    /// the materials (and their decoded texture images) its triangles index; with the defaults a
+    /// loader then overrides where its format says otherwise: shadows on, with the error-bound offset from the smooth surface; the whole
     /// mesh one object, the source file placed as it is; coordinates starting at the world
     /// origin; no notes and no warnings.
     ///
     /// Every triangle's material must exist, and every texture reference an image (the loaders
     /// build them so; checked in debug builds).
-    pub fn new(parts: SceneParts) -> Scene {
-        let SceneParts {
-            source,
-            film,
-            camera,
-            lights,
-            materials,
-            textures,
-            mesh,
-        } = parts;
+    pub fn new(
+        source: PathBuf,
+        film: FilmSettings,
+        camera: CameraSpec,
+        lights: Vec<Light>,
+        materials: Vec<Material>,
+        textures: Vec<TextureImage>,
+        mesh: TriangleMesh,
+    ) -> Scene {
         debug_assert!(mesh
             .material_of_triangle
             .iter()

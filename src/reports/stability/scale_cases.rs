@@ -19,7 +19,6 @@ use crate::scene::camera::{CameraSpec, FovAxis, Projection};
 use crate::scene::mesh::TriangleMesh;
 use crate::scene::procedural;
 use crate::scene::Scene;
-use crate::scene::SceneParts;
 
 const WIDTH: u32 = 160;
 const HEIGHT: u32 = 120;
@@ -67,16 +66,16 @@ pub fn contact_scene(scale: f32, offset: f32) -> Scene {
         }),
         ..Material::lambert("cube", [0.8, 0.3, 0.2])
     };
-    Scene::new(SceneParts {
-        source: "stability-contact-scene".into(),
-        film: FilmSettings {
+    Scene::new(
+        "stability-contact-scene".into(),
+        FilmSettings {
             width: WIDTH,
             height: HEIGHT,
             spp: 1,
             sampler: SamplerKind::Grid,
             ..FilmSettings::default()
         },
-        camera: CameraSpec {
+        CameraSpec {
             position: place(Vec3::new(2.2, 1.6, 3.0)),
             look_at: place(Vec3::new(0.0, 0.3, 0.0)),
             up: Vec3::Y,
@@ -87,17 +86,17 @@ pub fn contact_scene(scale: f32, offset: f32) -> Scene {
             near_clip: 0.0,
             far_clip: f32::INFINITY,
         },
-        lights: vec![Light {
+        vec![Light {
             kind: LightKind::Point {
                 position: place(Vec3::new(-1.5, 2.0, 1.2)),
             },
             power: Vec3::splat(20.0 * scale * scale),
             falloff: Falloff::InverseSquare,
         }],
-        materials: vec![Material::lambert("ground", [0.7; 3]), glossy],
-        textures: Vec::new(),
+        vec![Material::lambert("ground", [0.7; 3]), glossy],
+        Vec::new(),
         mesh,
-    })
+    )
 }
 
 /// `scene` rendered as the stability rows render (its own plan and BVH, no progress).

@@ -32,7 +32,6 @@ mod materials;
 use values::{point3, resolve, vec3};
 pub(crate) mod values;
 
-use crate::scene::SceneParts;
 pub(crate) use lights::{light, LightSection};
 pub(crate) use materials::{material, MaterialSection};
 pub use materials::{MaterialDefaults, ModelName};
@@ -272,15 +271,7 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
         warnings.push(format!("{}: no [[object]]: the image will be black", path.display()));
     }
     let render = file.render.as_ref();
-    let mut scene = Scene::new(SceneParts {
-        source: path.to_path_buf(),
-        film,
-        camera,
-        lights,
-        materials,
-        textures,
-        mesh,
-    });
+    let mut scene = Scene::new(path.to_path_buf(), film, camera, lights, materials, textures, mesh);
     scene.shadows = render.and_then(|r| r.shadows).unwrap_or(true);
     if let Some(name) = render.and_then(|r| r.shadow_offset.as_ref()) {
         scene.shadow_offset = ShadowOffset::parse(name.get_ref()).map_err(|m| at(name.span(), m))?;

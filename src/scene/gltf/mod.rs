@@ -28,7 +28,6 @@ use crate::scene::framing::{default_lights, frame_bounds};
 use crate::scene::mesh::TriangleMesh;
 use crate::scene::textures::{decode_used_images, PendingImage};
 use crate::scene::Scene;
-use crate::scene::SceneParts;
 use cameras::GltfCamera;
 use document::SUPPORTED_EXTENSIONS;
 
@@ -161,15 +160,7 @@ pub fn scene_for_gltf(path: &Path, camera: Option<usize>) -> InputResult<Scene> 
         contents.lights
     };
     let textures = decode_used_images(&mut materials, &mesh.material_of_triangle, &contents.images)?;
-    let mut scene = Scene::new(SceneParts {
-        source: path.to_path_buf(),
-        film,
-        camera,
-        lights,
-        materials,
-        textures,
-        mesh,
-    });
+    let mut scene = Scene::new(path.to_path_buf(), film, camera, lights, materials, textures, mesh);
     scene.origin = contents.origin;
     scene.notes = notes;
     scene.warnings = contents.warnings;
