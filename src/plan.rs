@@ -6,7 +6,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::material::{Material, PbrTextures};
+use crate::material::{BrdfModel, Material};
 use crate::scene::shadows::{ShadowOffset, ShadowTerminator};
 use crate::scene::Scene;
 use crate::shading::convention::ShadingConvention;
@@ -194,10 +194,10 @@ impl RenderPlan {
             if textures {
                 texture_summary(&used, scene)
             } else {
-                "no rendered material has an albedo, base colour, metallic-roughness or emissive texture".into()
+                "no rendered material has a texture that modulates its BRDF or emission".into()
             },
         );
-        let normal_names = names_where(&used, |m| m.pbr_textures().is_some_and(|t| t.normal.is_some()));
+        let normal_names = names_where(&used, |m| m.textures.normal.is_some());
         let normal_textures = decide(
             "normal textures",
             trace_rays && !normal_names.is_empty() && scene.mesh.tangents.is_some(),
@@ -330,7 +330,11 @@ impl RenderPlan {
 /// Whether the shader looks up a texture of `m` (albedo, base colour, metallic-roughness,
 /// emissive).
 fn samples_in_shader(m: &Material) -> bool {
-    m.varies_brdf() || m.pbr_textures().is_some_and(|t| t.emissive.is_some() && m.emits())
+    m.varies_brdf() || (m.textures.emissive.is_some() && m.emits())
+}
+
+fn is_gltf(m: &Material) -> bool {
+    matches!(m.model, BrdfModel::GltfPbr(_))
 }
 
 fn names_where(used: &[&Material], keep: impl Fn(&Material) -> bool) -> Vec<String> {
@@ -339,19 +343,22 @@ fn names_where(used: &[&Material], keep: impl Fn(&Material) -> bool) -> Vec<Stri
 
 /// "base colour: a, b; metallic-roughness: a; …; 3 images decoded: name (W×H), …".
 fn texture_summary(used: &[&Material], scene: &Scene) -> String {
-    type Has = fn(&PbrTextures) -> bool;
-    let kinds: [(&str, Has); 3] = [
-        ("base colour", |t| t.base_color.is_some()),
-        ("metallic-roughness", |t| t.metallic_roughness.is_some()),
-        ("emissive", |t| t.emissive.is_some()),
+    type Has = fn(&Material) -> bool;
+    let kinds: [(&str, Has); 8] = [
+        ("base colour", |m| is_gltf(m) && m.textures.base_color.is_some()),
+        ("albedo (MTL map_Kd)", |m| {
+            !is_gltf(m) && m.textures.base_color.is_some()
+        }),
+        ("metallic-roughness", |m| m.textures.metallic_roughness.is_some()),
+        ("specular colour (MTL map_Ks)", |m| m.textures.specular.is_some()),
+        ("shininess (MTL map_Ns)", |m| m.textures.shininess.is_some()),
+        ("roughness (MTL map_Pr)", |m| m.textures.roughness.is_some()),
+        ("metallic (MTL map_Pm)", |m| m.textures.metallic.is_some()),
+        ("emissive", |m| m.textures.emissive.is_some()),
     ];
     let mut parts = Vec::new();
-    let albedo = names_where(used, |m| m.albedo_texture.is_some());
-    if !albedo.is_empty() {
-        parts.push(format!("albedo (MTL map_Kd): {}", albedo.join(", ")));
-    }
     for (kind, has) in kinds {
-        let names = names_where(used, |m| m.pbr_textures().is_some_and(has));
+        let names = names_where(used, has);
         if !names.is_empty() {
             parts.push(format!("{kind}: {}", names.join(", ")));
         }

@@ -156,7 +156,7 @@ mod tests {
         let mut m = Material::gltf_pbr("leaf", [1.0; 3], 0.0, 1.0);
         if let BrdfModel::GltfPbr(p) = &mut m.model {
             p.cutout = Some(Cutout { cutoff: 0.5, alpha });
-            p.textures.base_color = texture.then_some(TextureRef {
+            m.textures.base_color = texture.then_some(TextureRef {
                 image: 1,
                 tex_coord: 0,
                 wrap_u: Wrap::ClampToEdge,

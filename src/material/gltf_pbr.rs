@@ -1,52 +1,8 @@
-//! glTF 2.0's metallic-roughness material: its factors, textures and cut-out, and its BRDF at a point.
-
-use glam::{Vec2, Vec3};
+//! glTF 2.0's metallic-roughness material: its factors and cut-out, and its BRDF at a point
+//! (its textures are the material's, `Material::textures`).
 
 use crate::brdf::{fresnel_schlick, ggx_d, lambert, schlick_f0_dielectric, LocalDots, MaskingShadowing};
 use crate::lanes::{map3, Real};
-use crate::texture::{ColorSpace, TextureImage, TextureRef};
-
-/// A glTF normal texture: tangent-space normals (+X along +u, +Y "up" = against +v, +Z out of
-/// the surface), whose X and Y are multiplied by `scale`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct NormalTexture {
-    /// The texture (linear).
-    pub texture: TextureRef,
-    /// glTF's `normalTexture.scale`.
-    pub scale: f32,
-}
-
-/// The textures of a glTF metallic-roughness material; each is optional.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct PbrTextures {
-    /// sRGB base colour; RGB multiplies the base colour factor (`Material::albedo`).
-    pub base_color: Option<TextureRef>,
-    /// Linear; blue multiplies the metallic factor, green the roughness factor.
-    pub metallic_roughness: Option<TextureRef>,
-    /// Tangent-space normals; applied by the surface stage (`surface::normal_texture`).
-    pub normal: Option<NormalTexture>,
-    /// sRGB; multiplies the emissive factor.
-    pub emissive: Option<TextureRef>,
-}
-
-impl PbrTextures {
-    /// Whether any texture changes the BRDF parameters (base colour or metallic-roughness).
-    pub fn varies_brdf(&self) -> bool {
-        self.base_color.is_some() || self.metallic_roughness.is_some()
-    }
-
-    /// Every texture reference, for renumbering images.
-    pub fn refs_mut(&mut self) -> impl Iterator<Item = &mut TextureRef> {
-        [
-            self.base_color.as_mut(),
-            self.metallic_roughness.as_mut(),
-            self.normal.as_mut().map(|n| &mut n.texture),
-            self.emissive.as_mut(),
-        ]
-        .into_iter()
-        .flatten()
-    }
-}
 
 /// glTF 2.0 metallic-roughness material, the reference BRDF of the glTF specification
 /// (Appendix B), with base colour = `Material::albedo`:
@@ -62,8 +18,6 @@ pub struct GltfPbr {
     pub roughness: f32,
     /// Emitted radiance (emissive factor), added to the reflected radiance.
     pub emissive: [f32; 3],
-    /// Textures that modulate the factors.
-    pub textures: PbrTextures,
     /// glTF `alphaMode` MASK: where the surface is cut out (`None`: opaque everywhere).
     pub cutout: Option<Cutout>,
 }
@@ -98,28 +52,6 @@ impl GltfPbr {
             base_color,
             metallic: self.metallic,
             alpha: self.roughness * self.roughness,
-        }
-    }
-
-    /// The parameters at texture coordinates `uvs` (sets 0 and 1): base colour factor × sRGB
-    /// texture, metallic factor × blue, roughness factor × green of the metallic-roughness
-    /// texture. Texture values lie in [0, 1], so the products stay in the factors' ranges.
-    #[inline]
-    pub fn point_at(&self, base_color: [f32; 3], uvs: [Vec2; 2], images: &[TextureImage]) -> PbrPoint {
-        let mut base = Vec3::from(base_color);
-        if let Some(t) = self.textures.base_color {
-            base *= t.sample(images, uvs[t.tex_coord as usize], ColorSpace::Srgb).truncate();
-        }
-        let (mut metallic, mut roughness) = (self.metallic, self.roughness);
-        if let Some(t) = self.textures.metallic_roughness {
-            let mr = t.sample(images, uvs[t.tex_coord as usize], ColorSpace::Linear);
-            metallic *= mr.z;
-            roughness *= mr.y;
-        }
-        PbrPoint {
-            base_color: base.to_array(),
-            metallic,
-            alpha: roughness * roughness,
         }
     }
 }

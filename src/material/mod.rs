@@ -16,10 +16,12 @@ use crate::texture::{ColorSpace, TextureImage, TextureRef};
 mod blinn_phong;
 mod cook_torrance;
 mod gltf_pbr;
+mod textures;
 
 pub use blinn_phong::BlinnPhong;
 pub use cook_torrance::CookTorrance;
-pub use gltf_pbr::{Cutout, GltfPbr, NormalTexture, PbrPoint, PbrTextures};
+pub use gltf_pbr::{Cutout, GltfPbr, PbrPoint};
+pub use textures::{Channel, MaterialTextures, NormalTexture, ScalarTexture};
 
 /// A material's BRDF model: Lambert alone, Lambert plus a specular lobe (Blinn-Phong,
 /// Cook-Torrance), or glTF's metallic-roughness BRDF, which holds its own diffuse part.
@@ -48,10 +50,8 @@ pub struct Material {
     pub two_sided: bool,
     /// The BRDF model and its parameters.
     pub model: BrdfModel,
-    /// An sRGB texture whose RGB multiplies `albedo` per point (MTL `map_Kd`), for the Lambert,
-    /// Blinn-Phong and Cook-Torrance models; a `gltf-pbr` material's base colour texture is in
-    /// its [`PbrTextures`].
-    pub albedo_texture: Option<TextureRef>,
+    /// The textures that modulate its parameters and normals, whatever the model.
+    pub textures: MaterialTextures,
 }
 
 impl Material {
@@ -63,7 +63,7 @@ impl Material {
             kd: 1.0,
             two_sided: true,
             model: BrdfModel::Lambert,
-            albedo_texture: None,
+            textures: MaterialTextures::default(),
         }
     }
 
@@ -89,62 +89,26 @@ impl Material {
                 metallic,
                 roughness,
                 emissive: [0.0; 3],
-                textures: PbrTextures::default(),
                 cutout: None,
             }),
             ..Self::lambert(name, base_color)
         }
     }
 
-    /// The glTF textures of this material, if it is a `gltf-pbr` one.
-    pub fn pbr_textures(&self) -> Option<&PbrTextures> {
-        match &self.model {
-            BrdfModel::GltfPbr(p) => Some(&p.textures),
-            _ => None,
-        }
-    }
-
-    /// Mutable access to the glTF textures (to renumber images when scenes are assembled).
-    pub fn pbr_textures_mut(&mut self) -> Option<&mut PbrTextures> {
-        match &mut self.model {
-            BrdfModel::GltfPbr(p) => Some(&mut p.textures),
-            _ => None,
-        }
-    }
-
     /// Every texture reference of the material, for renumbering and dropping images.
     pub fn texture_refs_mut(&mut self) -> impl Iterator<Item = &mut TextureRef> {
-        let pbr = match &mut self.model {
-            BrdfModel::GltfPbr(p) => Some(&mut p.textures),
-            _ => None,
-        };
-        pbr.into_iter()
-            .flat_map(|t| t.refs_mut())
-            .chain(self.albedo_texture.as_mut())
+        self.textures.refs_mut()
     }
 
     /// Drops every texture reference (a material no triangle uses decodes no image).
     pub fn clear_textures(&mut self) {
-        if let Some(t) = self.pbr_textures_mut() {
-            *t = PbrTextures::default();
-        }
-        self.albedo_texture = None;
+        self.textures = MaterialTextures::default();
     }
 
-    /// Whether the BRDF's parameters vary over the surface with a texture: the albedo texture,
-    /// or a `gltf-pbr` base colour or metallic-roughness texture.
+    /// Whether the BRDF's parameters vary over the surface with a texture (then the shader
+    /// evaluates [`Material::at`] at each point).
     pub fn varies_brdf(&self) -> bool {
-        self.albedo_texture.is_some() || self.pbr_textures().is_some_and(PbrTextures::varies_brdf)
-    }
-
-    /// The albedo at texture coordinates `uvs` (sets 0 and 1): `albedo` times the albedo texture.
-    #[inline]
-    pub fn albedo_at(&self, uvs: [Vec2; 2], images: &[TextureImage]) -> [f32; 3] {
-        let mut albedo = Vec3::from(self.albedo);
-        if let Some(t) = self.albedo_texture {
-            albedo *= t.sample(images, uvs[t.tex_coord as usize], ColorSpace::Srgb).truncate();
-        }
-        albedo.to_array()
+        self.textures.varies_brdf()
     }
 
     /// Whether the material emits light (a `gltf-pbr` material with a non-zero emissive factor).
@@ -156,7 +120,7 @@ impl Material {
     /// multiplies its factor; `None` for a surface that is there everywhere.
     pub fn cutout(&self) -> Option<(Cutout, Option<TextureRef>)> {
         match &self.model {
-            BrdfModel::GltfPbr(p) => p.cutout.map(|c| (c, p.textures.base_color)),
+            BrdfModel::GltfPbr(p) => p.cutout.map(|c| (c, self.textures.base_color)),
             _ => None,
         }
     }
@@ -169,7 +133,7 @@ impl Material {
             return Vec3::ZERO;
         };
         let factor = Vec3::from(p.emissive);
-        match (p.textures.emissive, images) {
+        match (self.textures.emissive, images) {
             (Some(t), Some(images)) => {
                 factor * t.sample(images, uvs[t.tex_coord as usize], ColorSpace::Srgb).truncate()
             }
@@ -180,14 +144,7 @@ impl Material {
     /// The diffuse part k_d·albedo/π, per channel.
     #[inline(always)]
     pub fn diffuse<R: Real>(&self) -> [R; 3] {
-        self.diffuse_of(self.albedo)
-    }
-
-    /// k_d·albedo/π, per channel, for the given albedo.
-    #[inline(always)]
-    fn diffuse_of<R: Real>(&self, albedo: [f32; 3]) -> [R; 3] {
-        let kd = R::of(self.kd);
-        map3(albedo, |a| lambert(kd, R::of(a)))
+        diffuse_of(self.kd, self.albedo)
     }
 
     /// f_r = diffuse + specular, per channel, for the given dot products. Finite and ≥ 0 for any
@@ -195,15 +152,15 @@ impl Material {
     /// business; the Cook-Torrance lobe is 0 where either cosine is ≤ 0.
     #[inline(always)]
     pub fn eval<R: Real>(&self, dots: &LocalDots<R>) -> [R; 3] {
-        self.eval_with_albedo(self.albedo, dots)
+        Self::eval_parameters(self.albedo, self.kd, &self.model, dots)
     }
 
-    /// [`Material::eval`] with `albedo` in place of the material's (its value at a point of an
-    /// albedo texture, [`Material::albedo_at`]).
+    /// [`Material::eval`] of a material with these parameters: the one place the terms are
+    /// combined (a textured point's parameters come from [`Material::at`]).
     #[inline(always)]
-    pub fn eval_with_albedo<R: Real>(&self, albedo: [f32; 3], dots: &LocalDots<R>) -> [R; 3] {
-        let d = self.diffuse_of::<R>(albedo);
-        match &self.model {
+    pub fn eval_parameters<R: Real>(albedo: [f32; 3], kd: f32, model: &BrdfModel, dots: &LocalDots<R>) -> [R; 3] {
+        let d = diffuse_of::<R>(kd, albedo);
+        match model {
             BrdfModel::Lambert => d,
             BrdfModel::BlinnPhong(bp) => {
                 let s = blinn_phong(R::of(bp.ks), dots.n_dot_h, dots.sin2_h, R::of(bp.shininess));
@@ -254,15 +211,104 @@ impl Material {
                         return Err(format!("alphaCutoff must be a finite number ≥ 0, got {}", c.cutoff));
                     }
                 }
-                if let Some(n) = &p.textures.normal {
-                    if !n.scale.is_finite() {
-                        return Err(format!("normal texture scale must be finite, got {}", n.scale));
-                    }
-                }
+            }
+        }
+        if let Some(n) = &self.textures.normal {
+            if !n.scale.is_finite() {
+                return Err(format!("normal texture scale must be finite, got {}", n.scale));
+            }
+        }
+        for (key, s) in [
+            ("map_Ns", self.textures.shininess),
+            ("map_Pr", self.textures.roughness),
+            ("map_Pm", self.textures.metallic),
+        ] {
+            if let Some(s) = s {
+                check_non_negative(key, s.factor)?;
             }
         }
         Ok(())
     }
+}
+
+/// A material's BRDF at one surface point, its textures applied: the parameters
+/// [`Material::eval`] reads, as values.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointBrdf {
+    /// Albedo (base colour).
+    pub albedo: [f32; 3],
+    /// Diffuse weight.
+    pub kd: f32,
+    /// The model with its parameters at the point.
+    pub model: BrdfModel,
+}
+
+impl PointBrdf {
+    /// f_r per channel, as [`Material::eval`] with these parameters.
+    #[inline(always)]
+    pub fn eval<R: Real>(&self, dots: &LocalDots<R>) -> [R; 3] {
+        Material::eval_parameters(self.albedo, self.kd, &self.model, dots)
+    }
+}
+
+impl Material {
+    /// The BRDF at texture coordinates `uvs` (sets 0 and 1), every texture that modulates a
+    /// parameter applied. Texture values lie in [0, 1], so a product stays within its factor's
+    /// range; a metallic texture switches a Cook-Torrance point between the material's
+    /// dielectric form and its metal form (k_d = 0, specular colour = albedo), as MTL's `Pm`
+    /// chooses between them for the whole material.
+    #[inline]
+    pub fn at(&self, uvs: [Vec2; 2], images: &[TextureImage]) -> PointBrdf {
+        let t = &self.textures;
+        let sample = |r: TextureRef, space| r.sample(images, uvs[r.tex_coord as usize], space).truncate();
+        let mut albedo = Vec3::from(self.albedo);
+        if let Some(r) = t.base_color {
+            albedo *= sample(r, ColorSpace::Srgb);
+        }
+        let albedo = albedo.to_array();
+        let (mut kd, mut model) = (self.kd, self.model);
+        match &mut model {
+            BrdfModel::Lambert => {}
+            BrdfModel::BlinnPhong(bp) => {
+                if let Some(r) = t.specular {
+                    bp.color = (Vec3::from(bp.color) * sample(r, ColorSpace::Srgb)).to_array();
+                }
+                if let Some(s) = t.shininess {
+                    bp.shininess = s.at(uvs, images);
+                }
+            }
+            BrdfModel::CookTorrance(ct) => {
+                if let Some(s) = t.metallic {
+                    ct.metallic = s.at(uvs, images) >= 0.5;
+                    if ct.metallic {
+                        (kd, ct.specular_color) = (0.0, albedo);
+                    }
+                }
+                if let Some(r) = t.specular {
+                    ct.specular_color = (Vec3::from(ct.specular_color) * sample(r, ColorSpace::Srgb)).to_array();
+                }
+                if let Some(s) = t.roughness {
+                    let r = s.at(uvs, images);
+                    ct.alpha = r * r;
+                }
+            }
+            BrdfModel::GltfPbr(p) => {
+                if let Some(r) = t.metallic_roughness {
+                    let mr = sample(r, ColorSpace::Linear);
+                    p.metallic *= mr.z;
+                    p.roughness *= mr.y;
+                }
+            }
+        }
+        PointBrdf { albedo, kd, model }
+    }
+}
+
+/// k_d·albedo/π, per channel.
+#[inline(always)]
+fn diffuse_of<R: Real>(kd: f32, albedo: [f32; 3]) -> [R; 3] {
+    let kd = R::of(kd);
+    map3(albedo, |a| lambert(kd, R::of(a)))
 }
 
 fn check_non_negative(key: &str, v: f32) -> Result<(), String> {

@@ -66,8 +66,8 @@ pub fn decode_used_images(
             continue;
         }
         let emits = material.emits();
-        if let Some(textures) = material.pbr_textures_mut().filter(|_| !emits) {
-            textures.emissive = None;
+        if !emits {
+            material.textures.emissive = None;
         }
         for r in material.texture_refs_mut() {
             let next = renumber.len() as u32;
@@ -114,7 +114,7 @@ fn decode(p: &PendingImage) -> InputResult<TextureImage> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::material::{BrdfModel, PbrTextures};
+    use crate::material::{BrdfModel, MaterialTextures};
     use crate::texture::TextureRef;
 
     fn reference(image: u32) -> Option<TextureRef> {
@@ -124,7 +124,7 @@ mod tests {
     fn textured(name: &str, base: u32, emissive: u32, emits: bool) -> Material {
         let mut m = Material::gltf_pbr(name, [1.0; 3], 0.0, 1.0);
         if let BrdfModel::GltfPbr(p) = &mut m.model {
-            p.textures = PbrTextures {
+            m.textures = MaterialTextures {
                 base_color: reference(base),
                 emissive: reference(emissive),
                 ..Default::default()
@@ -172,7 +172,7 @@ mod tests {
         assert_eq!(decoded[0].texels, vec![[20, 20, 20, 255]], "first use: image 2");
         assert_eq!(decoded[1].texels, vec![[10, 10, 10, 255]]);
         let refs = |m: &Material| {
-            let t = m.pbr_textures().unwrap();
+            let t = &m.textures;
             (t.base_color.map(|r| r.image), t.emissive.map(|r| r.image))
         };
         assert_eq!(refs(&materials[0]), (None, None));

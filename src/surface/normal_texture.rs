@@ -27,7 +27,7 @@ pub fn apply_normal_texture(
     materials: &[Material],
     images: &[TextureImage],
 ) {
-    let Some(normal) = materials[point.material as usize].pbr_textures().and_then(|t| t.normal) else {
+    let Some(normal) = materials[point.material as usize].textures.normal else {
         return;
     };
     let Some(tangents) = &mesh.tangents else { return };
@@ -63,7 +63,7 @@ pub fn apply_normal_texture(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::material::{BrdfModel, NormalTexture, PbrTextures};
+    use crate::material::{MaterialTextures, NormalTexture};
     use crate::texture::TextureRef;
     use glam::Vec4;
 
@@ -80,15 +80,13 @@ mod tests {
             ..Default::default()
         };
         let mut m = Material::gltf_pbr("m", [1.0; 3], 0.0, 0.5);
-        if let BrdfModel::GltfPbr(p) = &mut m.model {
-            p.textures = PbrTextures {
-                normal: Some(NormalTexture {
-                    texture: TextureRef::gltf_default(0),
-                    scale,
-                }),
-                ..Default::default()
-            };
-        }
+        m.textures = MaterialTextures {
+            normal: Some(NormalTexture {
+                texture: TextureRef::gltf_default(0),
+                scale,
+            }),
+            ..Default::default()
+        };
         let image = TextureImage {
             label: "n".into(),
             width: 1,

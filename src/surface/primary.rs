@@ -35,7 +35,7 @@ pub struct PointOptions {
 /// Builds the surface point of `hit` for a ray travelling along `direction`.
 ///
 /// Always inlined: the shadow lift grew it past what the compiler inlines into the render's hit
-/// loop, and the call cost renders without a lift 0.9% more instructions.
+/// loop, and a call per hit costs even renders that lift nothing (docs/performance-log.md).
 #[inline(always)]
 pub fn surface_point(mesh: &TriangleMesh, hit: &Hit, direction: Vec3, options: PointOptions) -> SurfacePoint {
     let t = hit.triangle as usize;

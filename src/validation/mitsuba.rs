@@ -338,8 +338,7 @@ fn bsdf(
             ),
             "Mitsuba diffuse with a bitmap reflectance (exact)",
         )
-    } else if native && !m.has_specular() && m.albedo_texture.is_none() && diffuse_reflectance.iter().all(|&r| r <= 1.0)
-    {
+    } else if native && !m.has_specular() && !m.varies_brdf() && diffuse_reflectance.iter().all(|&r| r <= 1.0) {
         (
             format!(
                 "<bsdf type=\"diffuse\">{}</bsdf>",
@@ -384,7 +383,7 @@ fn bsdf(
 /// factor), texture-coordinate set 0 (the mesh's, which Mitsuba reads from the OBJ with the same
 /// v flip), bilinear filtering, the same wrapping both ways and no transform.
 fn albedo_bitmap(m: &Material, choice: BsdfChoice) -> Option<TextureRef> {
-    let r = m.albedo_texture?;
+    let r = m.textures.base_color?;
     let unit = m.albedo.iter().all(|&a| a * m.kd == 1.0);
     let plain = r.tex_coord == 0 && r.filter == Filter::Bilinear && r.transform.is_none() && r.wrap_u == r.wrap_v;
     (choice == BsdfChoice::NativeWhereExact && !m.has_specular() && unit && plain).then_some(r)
@@ -632,7 +631,7 @@ mod tests {
 
     #[test]
     fn emission_is_a_pass_of_its_own_and_normal_mapped_materials_keep_their_sides_in_the_plugin() {
-        use crate::material::{NormalTexture, PbrTextures};
+        use crate::material::{MaterialTextures, NormalTexture};
         use crate::texture::TextureRef;
         let mut s = load(&format!(
             "{CAMERA}[film]\nsampler = \"grid\"\n[[light]]\ntype = \"point\"\nposition = [0.0, 1.0, 2.0]\n[[object]]\nmesh = \"tri.obj\"\n"
@@ -641,10 +640,10 @@ mod tests {
         let mut m = Material::gltf_pbr("glow", [1.0; 3], 0.0, 0.5);
         if let BrdfModel::GltfPbr(p) = &mut m.model {
             p.emissive = [1.0, 0.5, 0.25];
-            p.textures = PbrTextures {
+            m.textures = MaterialTextures {
                 normal: Some(NormalTexture { texture, scale: 1.0 }),
                 emissive: Some(texture),
-                ..PbrTextures::default()
+                ..MaterialTextures::default()
             };
         }
         s.materials = vec![m];

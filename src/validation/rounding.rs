@@ -57,7 +57,7 @@ mod tests {
 
     use super::*;
     use crate::film::Image;
-    use crate::material::{BrdfModel, Material};
+    use crate::material::Material;
     use crate::reports::stability::scale_cases::contact_scene;
     use crate::texture::{TextureImage, TextureRef};
     use crate::validation::compare::compare;
@@ -89,9 +89,7 @@ mod tests {
         // Lambert materials sample no texture: the coordinates play no part.
         assert!(nudged_texture_coordinates(&scene, true).is_none());
         let mut textured = Material::gltf_pbr("textured", [1.0; 3], 0.0, 0.5);
-        if let BrdfModel::GltfPbr(p) = &mut textured.model {
-            p.textures.base_color = Some(TextureRef::gltf_default(0));
-        }
+        textured.textures.base_color = Some(TextureRef::gltf_default(0));
         scene.materials[0] = textured;
         scene.textures = vec![TextureImage {
             label: "white".into(),

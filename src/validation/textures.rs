@@ -55,24 +55,9 @@ pub fn image_files(images: &[TextureImage], prefix: &str) -> Vec<(String, Vec<u8
 /// The attributes the parts of material `m` need: the texture-coordinate sets its textures read,
 /// and tangents when it has a normal texture and the mesh has tangents.
 pub fn vertex_attributes(m: &Material, mesh: &TriangleMesh) -> VertexAttributes {
-    let BrdfModel::GltfPbr(p) = &m.model else {
-        let mut out = VertexAttributes::default();
-        if let Some(r) = m.albedo_texture {
-            out.uv[usize::from(r.tex_coord.min(1))] = true;
-        }
-        return out;
-    };
-    let t = &p.textures;
+    let mut t = m.textures;
     let mut out = VertexAttributes::default();
-    for r in [
-        t.base_color,
-        t.metallic_roughness,
-        t.normal.map(|n| n.texture),
-        t.emissive,
-    ]
-    .into_iter()
-    .flatten()
-    {
+    for r in t.refs_mut() {
         out.uv[usize::from(r.tex_coord.min(1))] = true;
     }
     out.tangent = t.normal.is_some() && mesh.tangents.is_some();
@@ -109,14 +94,16 @@ fn slot_properties(slot: &str, r: &TextureRef, images: &[TextureImage], prefix: 
 /// The plugin properties of a material's BRDF textures: a glTF material's base colour,
 /// metallic-roughness and normal (with its scale), another model's albedo texture.
 pub fn brdf_texture_properties(m: &Material, images: &[TextureImage], prefix: &str) -> String {
-    let Some(t) = m.pbr_textures() else {
-        return m
-            .albedo_texture
-            .map_or_else(String::new, |r| slot_properties("albedo", &r, images, prefix));
-    };
+    let t = &m.textures;
     let mut p = String::new();
     if let Some(r) = &t.base_color {
-        p.push_str(&slot_properties("base_color", r, images, prefix));
+        // The plugin's albedo slot multiplies k_d·albedo; its base colour slot, glTF's factor.
+        let slot = if matches!(m.model, BrdfModel::GltfPbr(_)) {
+            "base_color"
+        } else {
+            "albedo"
+        };
+        p.push_str(&slot_properties(slot, r, images, prefix));
     }
     if let Some(r) = &t.metallic_roughness {
         p.push_str(&slot_properties("metallic_roughness", r, images, prefix));
@@ -131,7 +118,7 @@ pub fn brdf_texture_properties(m: &Material, images: &[TextureImage], prefix: &s
 /// Whether the plugin, not Mitsuba's `twosided`, must handle the sides of `m`: with a normal
 /// texture pointshade turns the mapped normal towards the viewer, `twosided` the interpolated one.
 pub fn plugin_handles_sides(m: &Material) -> bool {
-    m.pbr_textures().is_some_and(|t| t.normal.is_some())
+    m.textures.normal.is_some()
 }
 
 /// The `area` emitter of an emissive material: its radiance is the emissive factor times the
@@ -143,7 +130,7 @@ pub fn area_emitter(m: &Material, images: &[TextureImage], prefix: &str) -> Opti
     if !m.emits() {
         return None;
     }
-    let texture = p
+    let texture = m
         .textures
         .emissive
         .map_or_else(String::new, |r| slot_properties("emissive", &r, images, prefix));
@@ -158,7 +145,7 @@ mod tests {
     use glam::Vec2;
 
     use super::*;
-    use crate::material::{NormalTexture, PbrTextures};
+    use crate::material::{MaterialTextures, NormalTexture};
     use crate::texture::UvTransform;
 
     fn reference(image: u32, tex_coord: u8) -> TextureRef {
@@ -176,7 +163,7 @@ mod tests {
         let mut m = Material::gltf_pbr("t", [1.0; 3], 1.0, 1.0);
         if let BrdfModel::GltfPbr(p) = &mut m.model {
             p.emissive = [0.5, 1.0, 2.0];
-            p.textures = PbrTextures {
+            m.textures = MaterialTextures {
                 base_color: Some(reference(0, 0)),
                 metallic_roughness: None,
                 normal: Some(NormalTexture {
@@ -187,6 +174,7 @@ mod tests {
                     scale: 0.5,
                 }),
                 emissive: Some(reference(1, 0)),
+                ..MaterialTextures::default()
             };
         }
         m

@@ -375,7 +375,7 @@ fn texture_transforms_move_the_texels_and_reach_the_normal_texture() {
     let path = lit_square(&dir, "transformed", json!({}), extra(material.clone()));
     let scene = scene::load(&path).unwrap();
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-    let textures = scene.materials[0].pbr_textures().unwrap();
+    let textures = &scene.materials[0].textures;
     assert_eq!(
         textures.normal.unwrap().texture.transform.map(|t| t.m),
         Some([2.0, 0.0, 0.0, 0.0, 2.0, 0.0]),
@@ -383,7 +383,7 @@ fn texture_transforms_move_the_texels_and_reach_the_normal_texture() {
     );
     // Offset u by ½ (repeat): the top-left quarter of the square shows the top-right texel.
     let mut flat = scene.clone();
-    flat.materials[0].pbr_textures_mut().unwrap().normal = None;
+    flat.materials[0].textures.normal = None;
     let img = render_at(flat, 64, 64);
     let (on, off) = (matte_at_normal_incidence(0.502_886), matte_at_normal_incidence(0.0));
     for (x, y, e) in [(4, 4, Vec3::new(off, on, off)), (59, 4, Vec3::new(on, off, off))] {

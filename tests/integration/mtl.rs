@@ -1,5 +1,6 @@
-//! What an OBJ's MTL asks for: `map_Kd` textures the albedo through the scene's texture
-//! machinery, and every statement pointshade does not use is one warning naming it.
+//! What an OBJ's MTL asks for: `map_Kd`, `map_Ks`, `map_Ns`, `map_Pr` and `map_Pm` texture their
+//! parameters through the scene's texture machinery, and every statement pointshade does not use
+//! is one warning naming it.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -137,7 +138,7 @@ fn every_unused_mtl_statement_is_one_warning_naming_it() {
     let obj = textured_plane(
         "unused",
         "newmtl m\nKa 1 1 1\nKd 0.5 0.5 0.5\nKs 0 0 0\nillum 2\nd 1\nmap_Kd -s 2 2 t.png\nmap_Ks s.png\n\
-         map_Bump -bm 0.3 n.png\nnorm n.png\nmap_Pr r.png\n",
+         map_Bump -bm 0.3 n.png\nnorm n.png\nmap_Ns -imfchan r r.png\n",
         true,
     );
     write_png(&obj.with_file_name("t.png"), 1, 1, &[[128, 128, 128, 255]]);
@@ -150,10 +151,10 @@ fn every_unused_mtl_statement_is_one_warning_naming_it() {
         "Ks",
         "illum",
         "d",
-        "map_Ks",
+        "map_Ks (the material has no specular lobe)",
         "map_Bump/bump",
         "norm",
-        "map_Pr",
+        "map_Ns (the material is not Blinn-Phong)",
         "map_Kd option -s",
     ] {
         let named: Vec<_> = warnings
@@ -169,7 +170,7 @@ fn every_unused_mtl_statement_is_one_warning_naming_it() {
     let r = render(&no_uvs, &no_uvs.with_file_name("out.png"), &["--explain"]);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     assert!(String::from_utf8_lossy(&r.stderr).contains("map_Kd (the mesh has no texture coordinates)"));
-    assert!(String::from_utf8_lossy(&r.stdout).contains("no rendered material has an albedo"));
+    assert!(String::from_utf8_lossy(&r.stdout).contains("no rendered material has a texture"));
 }
 
 #[test]
@@ -193,4 +194,112 @@ fn a_missing_or_broken_map_kd_image_is_a_one_line_error_and_no_output() {
         !r.status.success() && stderr.contains("unknown option '-zz'"),
         "{stderr}"
     );
+}
+
+/// The EXR of the textured plane with `mtl`, its images written first (`name` → one RGBA
+/// texel), with no warning about the MTL.
+fn render_mtl(name: &str, mtl: &str, images: &[(&str, [u8; 4])]) -> Vec<f32> {
+    let obj = textured_plane(name, mtl, true);
+    for (file, texel) in images {
+        write_png(&obj.with_file_name(file), 1, 1, &[*texel]);
+    }
+    let out = obj.with_file_name("out.exr");
+    let r = render(&obj, &out, &["--quiet"]);
+    assert!(r.status.success(), "{name}: {}", String::from_utf8_lossy(&r.stderr));
+    assert!(
+        !String::from_utf8_lossy(&r.stderr).contains("MTL statement"),
+        "{name}: {}",
+        String::from_utf8_lossy(&r.stderr)
+    );
+    exr(&out)
+}
+
+const WHITE: [u8; 4] = [255, 255, 255, 255];
+const BLACK: [u8; 4] = [0, 0, 0, 255];
+
+/// For each texture, a white texel gives the untextured material's image bit for bit (the
+/// factor times 1) and a black one the image of the material with that parameter at 0 — and
+/// the two differ, so the texture reached the shader.
+#[test]
+fn each_mtl_texture_multiplies_its_own_parameter() {
+    let blinn_phong = "newmtl m\nKd 0.4 0.4 0.4\nKs 0.8 0.8 0.8\nNs 30\n";
+    let pbr = "newmtl m\nKd 0.9 0.5 0.3\nPr 0.4\n";
+    let cases: [(&str, String, &str, String); 4] = [
+        // map_Ks: black removes the lobe (Ks 0 is a Lambert material).
+        (
+            "map_ks",
+            format!("{blinn_phong}map_Ks s.png\n"),
+            blinn_phong,
+            "newmtl m\nKd 0.4 0.4 0.4\n".into(),
+        ),
+        // map_Ns: black is exponent 0 (Ns 0).
+        (
+            "map_ns",
+            format!("{blinn_phong}map_Ns s.png\n"),
+            blinn_phong,
+            blinn_phong.replace("Ns 30", "Ns 0"),
+        ),
+        // map_Pr: black is roughness 0.
+        (
+            "map_pr",
+            format!("{pbr}map_Pr s.png\n"),
+            pbr,
+            pbr.replace("Pr 0.4", "Pr 0"),
+        ),
+        // map_Pm with Pm 1: white is the metal, black the dielectric (Pm 0).
+        (
+            "map_pm",
+            format!("{pbr}Pm 1\nmap_Pm s.png\n"),
+            "",
+            format!("{pbr}Pm 0\n"),
+        ),
+    ];
+    for (name, textured, plain, zero) in cases {
+        let plain = if plain.is_empty() {
+            format!("{pbr}Pm 1\n")
+        } else {
+            plain.to_string()
+        };
+        let white = render_mtl(&format!("{name}-white"), &textured, &[("s.png", WHITE)]);
+        let black = render_mtl(&format!("{name}-black"), &textured, &[("s.png", BLACK)]);
+        assert_eq!(
+            white,
+            render_mtl(&format!("{name}-plain"), &plain, &[]),
+            "{name}: white = untextured"
+        );
+        assert_eq!(
+            black,
+            render_mtl(&format!("{name}-zero"), &zero, &[]),
+            "{name}: black = parameter 0"
+        );
+        assert_ne!(white, black, "{name}: the texture changes the image");
+    }
+}
+
+/// `-imfchan` picks the channel a one-channel texture reads; without it the luminance is read.
+#[test]
+fn a_scalar_texture_reads_the_channel_imfchan_names() {
+    let bp = "newmtl m\nKd 0.4 0.4 0.4\nKs 0.8 0.8 0.8\nNs 30\n";
+    let red = [255, 0, 0, 255];
+    let plain = render_mtl("chan-plain", bp, &[]);
+    let zero = render_mtl("chan-zero", &bp.replace("Ns 30", "Ns 0"), &[]);
+    assert_eq!(
+        render_mtl("chan-r", &format!("{bp}map_Ns -imfchan r s.png\n"), &[("s.png", red)]),
+        plain
+    );
+    assert_eq!(
+        render_mtl("chan-g", &format!("{bp}map_Ns -imfchan g s.png\n"), &[("s.png", red)]),
+        zero
+    );
+    let luminance = render_mtl("chan-l", &format!("{bp}map_Ns s.png\n"), &[("s.png", red)]);
+    let scaled = render_mtl(
+        "chan-scaled",
+        &bp.replace("Ns 30", &format!("Ns {}", 30.0f32 * 0.2126)),
+        &[],
+    );
+    assert_eq!(luminance, scaled, "red reads as luminance 0.2126");
+    let obj = textured_plane("chan-bad", &format!("{bp}map_Ns -imfchan z s.png\n"), true);
+    let r = render(&obj, &obj.with_file_name("out.png"), &[]);
+    assert!(!r.status.success());
+    assert!(String::from_utf8_lossy(&r.stderr).contains("-imfchan takes r, g, b, m or l"));
 }

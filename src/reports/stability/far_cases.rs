@@ -2,7 +2,7 @@
 //! −1e5), (6.5e5, 0, 6.86e6) (a UTM easting and northing) and (1e7, 1e7, 1e7) — against the same
 //! scene at the origin. In f32 a coordinate near 1e6 has a step of 0.0625: without the scene's
 //! f64 origin (`Scene::origin`) the dragon's vertices snap and its derived normals turn to noise.
-//! Acceptance (issue 33): ≥ 99.9% of the pixels within 1% of the render at the origin.
+//! A case passes when ≥ 99.9% of the pixels are within 1% of the render at the origin.
 //!
 //! The translated OBJ is written with f64's shortest round-trip digits, so it holds exactly the
 //! f64 sums of the dragon's coordinates and the offset; the plane under it is placed by the

@@ -5,7 +5,7 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use crate::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
-use crate::material::{BlinnPhong, BrdfModel, CookTorrance, Material};
+use crate::material::{BlinnPhong, BrdfModel, CookTorrance, Material, MaterialTextures};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -124,7 +124,7 @@ impl MaterialDefaults {
                 ModelName::BlinnPhong => BrdfModel::BlinnPhong(self.blinn_phong),
                 ModelName::CookTorrance => BrdfModel::CookTorrance(self.cook_torrance),
             },
-            albedo_texture: None,
+            textures: MaterialTextures::default(),
         }
     }
 }

@@ -10,7 +10,7 @@
 //! light from punctual lights only, so occlusion has nothing to act on and is not decoded.
 
 use crate::error::InputResult;
-use crate::material::{BrdfModel, Cutout, GltfPbr, Material, NormalTexture, PbrTextures};
+use crate::material::{BrdfModel, Cutout, GltfPbr, Material, MaterialTextures, NormalTexture};
 use crate::scene::gltf::document::GltfDocument;
 use crate::scene::gltf::texture_transform::{self, SlotTransform};
 use crate::scene::textures::{ImageSource, PendingImage};
@@ -73,7 +73,7 @@ pub fn convert_materials(d: &GltfDocument) -> InputResult<Materials> {
             }
             Some(texture_ref(&texture, set as u8, transform.map(|t| t.transform)))
         };
-        let textures = PbrTextures {
+        let textures = MaterialTextures {
             base_color: reference("base colour", base_color),
             metallic_roughness: reference("metallic-roughness", metallic_roughness),
             normal: m.normal_texture().and_then(|n| {
@@ -82,6 +82,7 @@ pub fn convert_materials(d: &GltfDocument) -> InputResult<Materials> {
                     .map(|texture| NormalTexture { texture, scale })
             }),
             emissive: reference("emissive", emissive),
+            ..MaterialTextures::default()
         };
         if m.occlusion_texture().is_some() {
             occlusion.push(name.clone());
@@ -103,9 +104,9 @@ pub fn convert_materials(d: &GltfDocument) -> InputResult<Materials> {
                 roughness: pbr.roughness_factor(),
                 // KHR_materials_emissive_strength scales the factor (HDR emission).
                 emissive: m.emissive_factor().map(|e| e * m.emissive_strength().unwrap_or(1.0)),
-                textures,
                 cutout,
             }),
+            textures,
             two_sided: m.double_sided(),
             ..Material::lambert(&name, [r, g, b])
         };

@@ -79,8 +79,7 @@ pub fn build_geometry(
                 };
                 let normal_set = materials
                     .get(material as usize)
-                    .and_then(|m| m.pbr_textures())
-                    .and_then(|t| t.normal)
+                    .and_then(|m| m.textures.normal)
                     .map(|n| n.texture.tex_coord);
                 let what = format!("mesh {mesh_index} primitive {}", primitive.index());
                 let (part, facts) = read_primitive(d, &primitive, &what, material, normal_set)?;

@@ -7,19 +7,28 @@
 //! | `Ks` + `Ns` (Ks not black) | Blinn-Phong: specular colour `Ks`, shininess `Ns` |
 //! | `Pr`, `Pm` (the PBR extension) | Cook-Torrance, GGX + height-correlated Smith + Schlick, α = Pr², metallic when Pm ≥ 0.5 |
 //! | `Ni` | a dielectric Cook-Torrance material's index of refraction |
-//! | `map_Kd` (`-clamp on`) | an sRGB texture multiplying the albedo, bilinear, repeated (clamped) |
+//! | `map_Kd` | an sRGB texture multiplying the albedo |
+//! | `map_Ks` | an sRGB texture multiplying the specular colour (Blinn-Phong, Cook-Torrance) |
+//! | `map_Ns` | one channel multiplying Blinn-Phong's `Ns` |
+//! | `map_Pr`, `map_Pm` | one channel multiplying `Pr` (α = (Pr·value)²) and `Pm` (a metal where Pm·value ≥ 0.5) |
 //!
-//! Everything else (`Ka`, `Ke`, `d`, `illum`, `map_Ks`, `map_Ns`, `map_Pr`, `map_Pm`, `norm`,
-//! `map_Bump`, …) is left out with a warning naming the statement and the materials that hold it.
+//! Textures are bilinear and repeated (`-clamp on`: clamped to the edge); a one-channel
+//! texture reads the luminance unless `-imfchan r|g|b|m|l` says otherwise. A texture on a model
+//! without the parameter it modulates, or on a mesh without texture coordinates, is an unused
+//! statement. Everything else (`Ka`, `Ke`, `d`, `illum`, `norm`, `map_Bump`, options such as
+//! `-s`, …) is left out with a warning naming the statement and the materials that hold it.
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use crate::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
 use crate::error::{InputError, InputResult};
-use crate::material::{BlinnPhong, BrdfModel, CookTorrance, Material};
+use crate::material::{BlinnPhong, BrdfModel, Channel, CookTorrance, Material, ScalarTexture};
 use crate::scene::textures::{ImageSource, PendingImage};
 use crate::texture::{TextureRef, Wrap};
+
+/// The texture statements pointshade reads, in the order they are applied.
+const TEXTURE_STATEMENTS: [&str; 5] = ["map_Kd", "map_Ks", "map_Ns", "map_Pr", "map_Pm"];
 
 /// The materials of an OBJ file's MTL libraries, converted.
 pub(super) struct MtlMaterials {
@@ -54,33 +63,78 @@ pub(super) fn convert(
         for statement in unused_statements(m, &material) {
             leave(statement);
         }
-        if let Some(value) = &m.diffuse_texture {
-            let metallic = matches!(material.model, BrdfModel::CookTorrance(ct) if ct.metallic);
-            let texture = texture_statement(value).map_err(|e| named(format!("map_Kd: {e}")))?;
-            for option in &texture.ignored_options {
-                leave(&format!("map_Kd option {option}"));
+        let pm_texture = m.unknown_param.contains_key("map_Pm");
+        if pm_texture {
+            // A metallic texture chooses per point between the dielectric and the metal form of
+            // the material (`Material::at`): it starts as the dielectric.
+            if let BrdfModel::CookTorrance(ct) = &mut material.model {
+                (ct.metallic, ct.specular_color, material.kd) = (false, [1.0; 3], 1.0);
             }
-            if metallic {
-                // k_d = 0: the albedo is the specular colour, which no texture modulates.
-                leave("map_Kd (on a metallic material)");
-            } else if !has_uvs {
-                leave("map_Kd (the mesh has no texture coordinates)");
-            } else {
-                let image = out.images.len() as u32;
-                out.images.push(PendingImage {
-                    origin: obj.to_path_buf(),
-                    label: format!("material '{}' map_Kd ('{}')", m.name, texture.file),
-                    source: ImageSource::Uri {
-                        dir: dir.to_path_buf(),
-                        uri: texture.file,
-                    },
-                });
-                let wrap = if texture.clamp { Wrap::ClampToEdge } else { Wrap::Repeat };
-                material.albedo_texture = Some(TextureRef {
-                    wrap_u: wrap,
-                    wrap_v: wrap,
-                    ..TextureRef::gltf_default(image)
-                });
+        }
+        for statement in TEXTURE_STATEMENTS {
+            let value = match statement {
+                "map_Kd" => m.diffuse_texture.as_deref(),
+                "map_Ks" => m.specular_texture.as_deref(),
+                "map_Ns" => m.shininess_texture.as_deref(),
+                other => m.unknown_param.get(other).map(String::as_str),
+            };
+            let Some(value) = value else { continue };
+            let texture = texture_statement(value).map_err(|e| named(format!("{statement}: {e}")))?;
+            let scalar = matches!(statement, "map_Ns" | "map_Pr" | "map_Pm");
+            for option in &texture.ignored_options {
+                leave(&format!("{statement} option {option}"));
+            }
+            if texture.channel.is_some() && !scalar {
+                leave(&format!("{statement} option -imfchan (a colour texture reads RGB)"));
+            }
+            let (blinn_phong, cook_torrance) = match &material.model {
+                BrdfModel::BlinnPhong(_) => (true, None),
+                BrdfModel::CookTorrance(ct) => (false, Some(*ct)),
+                _ => (false, None),
+            };
+            let metal = cook_torrance.is_some_and(|ct| ct.metallic);
+            let unused = match statement {
+                // k_d = 0: a metal's albedo is its specular colour, which map_Ks modulates.
+                "map_Kd" if metal => Some("on a metallic material"),
+                "map_Ks" if !blinn_phong && cook_torrance.is_none() => Some("the material has no specular lobe"),
+                "map_Ns" if !blinn_phong => Some("the material is not Blinn-Phong"),
+                "map_Pr" | "map_Pm" if cook_torrance.is_none() => Some("the material has no Pr or Pm"),
+                _ if !has_uvs => Some("the mesh has no texture coordinates"),
+                _ => None,
+            };
+            if let Some(why) = unused {
+                leave(&format!("{statement} ({why})"));
+                continue;
+            }
+            let image = out.images.len() as u32;
+            out.images.push(PendingImage {
+                origin: obj.to_path_buf(),
+                label: format!("material '{}' {statement} ('{}')", m.name, texture.file),
+                source: ImageSource::Uri {
+                    dir: dir.to_path_buf(),
+                    uri: texture.file.clone(),
+                },
+            });
+            let wrap = if texture.clamp { Wrap::ClampToEdge } else { Wrap::Repeat };
+            let reference = TextureRef {
+                wrap_u: wrap,
+                wrap_v: wrap,
+                ..TextureRef::gltf_default(image)
+            };
+            let channel = texture.channel.unwrap_or_default();
+            let scalar = |factor: f32| ScalarTexture {
+                texture: reference,
+                channel,
+                factor,
+            };
+            let t = &mut material.textures;
+            match statement {
+                "map_Kd" => t.base_color = Some(reference),
+                "map_Ks" => t.specular = Some(reference),
+                // The statement's scalar, or 1 where the file gives only the texture.
+                "map_Ns" => t.shininess = Some(scalar(m.shininess.map_or(1.0, |s| s as f32))),
+                "map_Pr" => t.roughness = Some(scalar(param(m, "Pr").ok().flatten().unwrap_or(1.0))),
+                _ => t.metallic = Some(scalar(param(m, "Pm").ok().flatten().unwrap_or(1.0))),
             }
         }
         out.materials.push(material);
@@ -100,7 +154,7 @@ pub(super) fn convert(
 
 /// Converts one MTL material to the BRDF module's [`Material`] (its textures aside).
 ///
-/// - `Pr` (roughness) or `Pm` (metallic) present → Cook-Torrance with the GGX + height-correlated
+/// - `Pr` (roughness) or `Pm` (metallic), or their textures, present → Cook-Torrance with the GGX + height-correlated
 ///   Smith + Schlick terms of the PBR workflow that extension comes from, α = Pr² (Pr is a
 ///   perceptual roughness there), metallic when Pm ≥ 0.5 (then Kd tints the specular colour and
 ///   the diffuse part is off), F0 from `Ni` (default 1.5) otherwise.
@@ -109,8 +163,9 @@ pub(super) fn convert(
 pub fn material_from_mtl(m: &tobj::Material) -> Result<Material, String> {
     let albedo = m.diffuse.map_or([0.8, 0.8, 0.8], single);
     let (pr, pm) = (param(m, "Pr")?, param(m, "Pm")?);
+    let pbr_maps = ["map_Pr", "map_Pm"].iter().any(|k| m.unknown_param.contains_key(*k));
     let mut material = Material::lambert(&m.name, albedo);
-    if pr.is_some() || pm.is_some() {
+    if pr.is_some() || pm.is_some() || pbr_maps {
         let metallic = pm.unwrap_or(0.0) >= 0.5;
         let roughness = pr.unwrap_or(0.5);
         material.model = BrdfModel::CookTorrance(CookTorrance {
@@ -157,7 +212,7 @@ fn param(m: &tobj::Material, key: &str) -> Result<Option<f32>, String> {
 }
 
 /// The statements of `m` that `material` (what [`material_from_mtl`] made of it) does not read,
-/// `map_Kd` aside ([`convert`] decides about it).
+/// the textures aside ([`convert`] decides about them).
 fn unused_statements<'a>(m: &'a tobj::Material, material: &Material) -> Vec<&'a str> {
     let (blinn_phong, cook_torrance) = match material.model {
         BrdfModel::BlinnPhong(_) => (true, None),
@@ -179,12 +234,10 @@ fn unused_statements<'a>(m: &'a tobj::Material, material: &Material) -> Vec<&'a 
     unless(m.dissolve.is_some(), false, "d");
     unless(m.illumination_model.is_some(), false, "illum");
     unless(m.ambient_texture.is_some(), false, "map_Ka");
-    unless(m.specular_texture.is_some(), false, "map_Ks");
-    unless(m.shininess_texture.is_some(), false, "map_Ns");
     unless(m.dissolve_texture.is_some(), false, "map_d");
     unless(m.normal_texture.is_some(), false, "map_Bump/bump");
     for key in m.unknown_param.keys() {
-        unless(true, matches!(key.as_str(), "Pr" | "Pm"), key);
+        unless(true, matches!(key.as_str(), "Pr" | "Pm" | "map_Pr" | "map_Pm"), key);
     }
     out.sort_unstable();
     out
@@ -197,6 +250,8 @@ struct TextureStatement {
     file: String,
     /// `-clamp on`.
     clamp: bool,
+    /// `-imfchan`: the channel a one-channel texture reads.
+    channel: Option<Channel>,
     /// Options read and not applied (`-s`, `-o`, `-bm`, …), by name.
     ignored_options: Vec<String>,
 }
@@ -209,6 +264,7 @@ fn texture_statement(value: &str) -> Result<TextureStatement, String> {
     let mut out = TextureStatement {
         file: String::new(),
         clamp: false,
+        channel: None,
         ignored_options: Vec::new(),
     };
     while let Some(option) = words.next_if(|w| w.starts_with('-')) {
@@ -232,6 +288,16 @@ fn texture_statement(value: &str) -> Result<TextureStatement, String> {
             ("-clamp", ["on"]) => out.clamp = true,
             ("-clamp", ["off"]) => out.clamp = false,
             ("-clamp", v) => return Err(format!("-clamp takes on or off, not '{}'", v.join(" "))),
+            ("-imfchan", [c]) => {
+                out.channel = Some(match *c {
+                    "r" => Channel::R,
+                    "g" => Channel::G,
+                    "b" => Channel::B,
+                    "m" => Channel::A,
+                    "l" => Channel::Luminance,
+                    other => return Err(format!("-imfchan takes r, g, b, m or l, not '{other}'")),
+                })
+            }
             _ => out.ignored_options.push(option.to_string()),
         }
     }

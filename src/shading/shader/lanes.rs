@@ -369,7 +369,7 @@ mod tests {
     use super::super::{Shader, BATCH};
     use crate::accel::shadow::{NoOcclusion, SceneExtent};
     use crate::lanes::LANES;
-    use crate::material::{BrdfModel, Material};
+    use crate::material::Material;
     use crate::shading::convention::ShadingConvention;
     use crate::surface::SurfacePoint;
     use crate::texture::TextureRef;
@@ -468,10 +468,7 @@ mod tests {
             &batch(1)
         ));
         let mut pbr = Material::gltf_pbr("textured", [0.8, 0.5, 0.2], 0.6, 0.4);
-        let BrdfModel::GltfPbr(p) = &mut pbr.model else {
-            unreachable!("made as glTF PBR")
-        };
-        p.textures.base_color = Some(TextureRef::gltf_default(0));
+        pbr.textures.base_color = Some(TextureRef::gltf_default(0));
         let pbr = [pbr];
         let textured = Shader {
             textures: Some(&[]),

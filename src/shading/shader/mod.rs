@@ -19,7 +19,7 @@ use crate::brdf::LocalDots;
 use crate::accel::shadow::{Occluder, SceneExtent, ShadowRay};
 use crate::lanes::{map3, Mask, Real};
 use crate::light::{Light, LightSample};
-use crate::material::{BrdfModel, Material, PbrPoint};
+use crate::material::{Material, PointBrdf};
 use crate::scene::shadows::ShadowOffset;
 use crate::shading::convention::{clamped_dots, ShadingConvention};
 use crate::surface::{SurfaceLanes, SurfacePoint};
@@ -39,16 +39,8 @@ struct Facing<'m> {
     ng: Vec3,
     ns: Vec3,
     cos_o: f32,
-    textured: Option<Textured>,
-}
-
-/// A textured material's BRDF parameters at one point, looked up once for all lights.
-#[derive(Clone, Copy)]
-enum Textured {
-    /// A `gltf-pbr` material's base colour, metallic and roughness.
-    Pbr(PbrPoint),
-    /// Another model's albedo (`Material::albedo_texture`).
-    Albedo([f32; 3]),
+    /// A textured material's BRDF at the point, looked up once for all lights.
+    textured: Option<PointBrdf>,
 }
 
 /// A light in front of a point: its sample, cos θ_i and the BRDF's dot products.
@@ -210,16 +202,9 @@ impl<O: Occluder> Shader<'_, O> {
         if cos_o.is_nan() || cos_o <= 0.0 {
             return (radiance, None);
         }
-        // Textured glTF materials: their BRDF parameters at this point, looked up once for all
-        // lights.
-        let uvs = [sp.uv, sp.uv1];
-        let textured = match (self.textures, &material.model) {
-            (Some(images), BrdfModel::GltfPbr(p)) if p.textures.varies_brdf() => {
-                Some(Textured::Pbr(p.point_at(material.albedo, uvs, images)))
-            }
-            (Some(images), _) if material.albedo_texture.is_some() => {
-                Some(Textured::Albedo(material.albedo_at(uvs, images)))
-            }
+        // Textured materials: their BRDF at this point, looked up once for all lights.
+        let textured = match self.textures {
+            Some(images) if material.varies_brdf() => Some(material.at([sp.uv, sp.uv1], images)),
             _ => None,
         };
         let facing = Facing {
@@ -270,8 +255,7 @@ impl<O: Occluder> Shader<'_, O> {
     #[inline(always)]
     fn reflected(&self, facing: &Facing, lit: &Lit) -> Vec3 {
         let f = match &facing.textured {
-            Some(Textured::Pbr(point)) => point.eval(&lit.dots),
-            Some(Textured::Albedo(albedo)) => facing.material.eval_with_albedo(*albedo, &lit.dots),
+            Some(point) => point.eval(&lit.dots),
             None => facing.material.eval(&lit.dots),
         };
         Vec3::from(reflected_radiance(f, lit.ls.irradiance.to_array(), lit.cos_i))
@@ -342,6 +326,7 @@ mod tests {
     use super::*;
     use crate::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
     use crate::light::{Falloff, LightKind};
+    use crate::material::BrdfModel;
     use crate::material::{BlinnPhong, CookTorrance};
     use glam::Vec2;
 
