@@ -12,6 +12,7 @@ use crate::light::{Falloff, Light, LightKind};
 use crate::material::Material;
 use crate::scene::camera::{CameraSpec, FovAxis, Projection};
 use crate::scene::obj::{load_obj, NO_MATERIAL};
+use crate::scene::tangents::complete_tangents;
 use crate::scene::textures::decode_used_images;
 use crate::scene::Scene;
 
@@ -102,6 +103,7 @@ pub fn scene_for_bare_mesh(path: &Path) -> InputResult<Scene> {
             }
         }
     }
+    complete_tangents(&mut mesh, &materials);
     let textures = decode_used_images(&mut materials, &mesh.material_of_triangle, &obj.images)?;
     let (lo, hi) = mesh.bounds().ok_or_else(|| InputError::new(path, "no geometry"))?;
     let camera = frame_bounds(lo, hi);

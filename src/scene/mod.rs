@@ -13,6 +13,7 @@ pub mod mesh;
 pub mod obj;
 pub mod procedural;
 pub mod shadows;
+pub mod tangents;
 pub mod textures;
 pub mod uri;
 

@@ -100,6 +100,20 @@ pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice, mesh_prefix: &str) -> 
         if let Some(r) = albedo_bitmap(m, bsdfs) {
             meshes.push(textures::png_file(&scene.textures, r.image as usize, mesh_prefix));
         }
+        let t = &m.textures;
+        for (present, statement) in [
+            (t.specular.is_some(), "map_Ks"),
+            (t.shininess.is_some(), "map_Ns"),
+            (t.roughness.is_some(), "map_Pr"),
+            (t.metallic.is_some(), "map_Pm"),
+        ] {
+            if present {
+                differences.push(format!(
+                    "material '{}': its {statement} texture (the export uses the untextured parameter)",
+                    m.name
+                ));
+            }
+        }
         if m.emits() && m.two_sided {
             differences.push(format!(
                 "material '{}': emits from both sides (two-sided), Mitsuba's area emitter from the front only",

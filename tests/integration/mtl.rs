@@ -138,7 +138,7 @@ fn every_unused_mtl_statement_is_one_warning_naming_it() {
     let obj = textured_plane(
         "unused",
         "newmtl m\nKa 1 1 1\nKd 0.5 0.5 0.5\nKs 0 0 0\nillum 2\nd 1\nmap_Kd -s 2 2 t.png\nmap_Ks s.png\n\
-         map_Bump -bm 0.3 n.png\nnorm n.png\nmap_Ns -imfchan r r.png\n",
+         map_Ns -imfchan r r.png\nmap_Ka -bm 0.3 a.png\n",
         true,
     );
     write_png(&obj.with_file_name("t.png"), 1, 1, &[[128, 128, 128, 255]]);
@@ -152,8 +152,7 @@ fn every_unused_mtl_statement_is_one_warning_naming_it() {
         "illum",
         "d",
         "map_Ks (the material has no specular lobe)",
-        "map_Bump/bump",
-        "norm",
+        "map_Ka",
         "map_Ns (the material is not Blinn-Phong)",
         "map_Kd option -s",
     ] {
@@ -164,7 +163,7 @@ fn every_unused_mtl_statement_is_one_warning_naming_it() {
         assert_eq!(named.len(), 1, "one warning for {statement}:\n{stderr}");
         assert!(named[0].contains("material(s) m"), "{}", named[0]);
     }
-    assert_eq!(warnings.len(), 9, "no warning for what is used (Kd, map_Kd):\n{stderr}");
+    assert_eq!(warnings.len(), 8, "no warning for what is used (Kd, map_Kd):\n{stderr}");
     // Without texture coordinates map_Kd cannot be looked up: a warning, and no texture.
     let no_uvs = textured_plane("no-uvs", "newmtl m\nKd 0.5 0.5 0.5\nmap_Kd t.png\n", false);
     let r = render(&no_uvs, &no_uvs.with_file_name("out.png"), &["--explain"]);
@@ -302,4 +301,65 @@ fn a_scalar_texture_reads_the_channel_imfchan_names() {
     let r = render(&obj, &obj.with_file_name("out.png"), &[]);
     assert!(!r.status.success());
     assert!(String::from_utf8_lossy(&r.stderr).contains("-imfchan takes r, g, b, m or l"));
+}
+
+/// The normal AOV at the centre of the textured plane (48×36) under `mtl`, with `n.png` one
+/// texel `texel`; and the render's warnings about the MTL.
+fn centre_normal(name: &str, mtl: &str, texel: [u8; 4]) -> ([f32; 3], String) {
+    let obj = textured_plane(name, mtl, true);
+    write_png(&obj.with_file_name("n.png"), 1, 1, &[texel]);
+    let out = obj.with_file_name("out.exr");
+    let r = render(&obj, &out, &["--aov", "normal"]);
+    assert!(r.status.success(), "{name}: {}", String::from_utf8_lossy(&r.stderr));
+    let normals = exr(&obj.with_file_name("out.normal.exr"));
+    let i = 3 * (18 * 48 + 24);
+    let warnings = String::from_utf8_lossy(&r.stderr)
+        .lines()
+        .filter(|l| l.contains("MTL statement"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    ([normals[i], normals[i + 1], normals[i + 2]], warnings)
+}
+
+fn assert_near(got: [f32; 3], want: [f32; 3], tolerance: f32, what: &str) {
+    let off = (0..3).map(|c| (got[c] - want[c]).abs()).fold(0.0, f32::max);
+    assert!(off <= tolerance, "{what}: {got:?}, expected {want:?}");
+}
+
+/// `norm` and `map_Bump` are tangent-space normal maps on the plane (facing +y, u along +x, the
+/// OBJ's v along −z): +X of the map turns the normal to +x, +Y (up the image, +v) to −z, and
+/// `-bm 0` leaves the vertex normal. The OBJ has no tangents: they are generated.
+#[test]
+fn norm_and_map_bump_are_tangent_space_normal_maps() {
+    let lambert = "newmtl m\nKd 0.5 0.5 0.5\n";
+    // The level 128 encodes 2·128/255 − 1 = 1/255, not 0: the expected normals carry it.
+    let e = 1.0 / 255.0;
+    let unit = |v: [f32; 3]| {
+        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        v.map(|c| c / l)
+    };
+    let (flat, w) = centre_normal("norm-flat", &format!("{lambert}norm n.png\n"), [128, 128, 255, 255]);
+    assert!(w.is_empty(), "{w}");
+    assert_near(flat, unit([e, 1.0, -e]), 1e-4, "a flat map keeps the normal");
+    let (x, _) = centre_normal("norm-x", &format!("{lambert}norm n.png\n"), [255, 128, 128, 255]);
+    assert_near(x, unit([1.0, e, -e]), 1e-4, "+X of the map is +u");
+    let (y, _) = centre_normal("bump-y", &format!("{lambert}map_Bump n.png\n"), [128, 255, 128, 255]);
+    assert_near(y, unit([e, e, -1.0]), 1e-4, "+Y of the map is +v");
+    let (off, _) = centre_normal(
+        "bump-off",
+        &format!("{lambert}map_Bump -bm 0 n.png\n"),
+        [255, 128, 128, 255],
+    );
+    assert_near(off, [0.0, 1.0, 0.0], 1e-6, "-bm 0 scales X and Y away");
+    // Both: norm is the normal map, map_Bump one unused statement.
+    let (both, w) = centre_normal(
+        "both",
+        &format!("{lambert}norm n.png\nmap_Bump m.png\n"),
+        [255, 128, 128, 255],
+    );
+    assert_near(both, x, 0.0, "norm wins");
+    assert!(
+        w.contains("MTL statement map_Bump (norm gives the normal map) is not used"),
+        "{w}"
+    );
 }

@@ -32,6 +32,7 @@ mod materials;
 use values::{point3, resolve, vec3};
 pub(crate) mod values;
 
+use crate::scene::tangents::complete_tangents;
 pub(crate) use lights::{light, LightSection};
 pub(crate) use materials::{material, MaterialSection};
 pub use materials::{MaterialDefaults, ModelName};
@@ -247,6 +248,7 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
             triangles: first..mesh.triangle_count(),
         });
     }
+    complete_tangents(&mut mesh, &materials);
     let textures = decode_used_images(&mut materials, &mesh.material_of_triangle, &images)?;
     let origin = origin.unwrap_or(DVec3::ZERO);
 

@@ -22,8 +22,8 @@ use crate::material::Material;
 use crate::scene::gltf::accessor::{read_indices, read_vectors};
 use crate::scene::gltf::document::GltfDocument;
 use crate::scene::gltf::nodes::World;
-use crate::scene::gltf::tangents::generate_tangents;
 use crate::scene::mesh::{placed_origin, TriangleMesh};
+use crate::scene::tangents::generate_tangents;
 
 /// The geometry of a file's rendered scene.
 pub struct SceneGeometry {

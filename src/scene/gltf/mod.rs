@@ -15,7 +15,6 @@ pub mod lights;
 pub mod materials;
 pub mod meshes;
 pub mod nodes;
-pub mod tangents;
 pub mod texture_transform;
 
 use std::path::Path;

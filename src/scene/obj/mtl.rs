@@ -11,24 +11,26 @@
 //! | `map_Ks` | an sRGB texture multiplying the specular colour (Blinn-Phong, Cook-Torrance) |
 //! | `map_Ns` | one channel multiplying Blinn-Phong's `Ns` |
 //! | `map_Pr`, `map_Pm` | one channel multiplying `Pr` (α = (Pr·value)²) and `Pm` (a metal where Pm·value ≥ 0.5) |
+//! | `norm`, else `map_Bump`/`bump` (`-bm s`) | a tangent-space normal map (+Y up the image), X and Y scaled by s |
 //!
 //! Textures are bilinear and repeated (`-clamp on`: clamped to the edge); a one-channel
 //! texture reads the luminance unless `-imfchan r|g|b|m|l` says otherwise. A texture on a model
 //! without the parameter it modulates, or on a mesh without texture coordinates, is an unused
-//! statement. Everything else (`Ka`, `Ke`, `d`, `illum`, `norm`, `map_Bump`, options such as
-//! `-s`, …) is left out with a warning naming the statement and the materials that hold it.
+//! statement. `map_Bump` is read as a normal map, as exporters write it; a greyscale height map
+//! there gives meaningless normals (bump mapping is not implemented). Everything else (`Ka`,
+//! `Ke`, `d`, `illum`, options such as `-s`, …) is left out with a warning naming the statement and the materials that hold it.
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use crate::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
 use crate::error::{InputError, InputResult};
-use crate::material::{BlinnPhong, BrdfModel, Channel, CookTorrance, Material, ScalarTexture};
+use crate::material::{BlinnPhong, BrdfModel, Channel, CookTorrance, Material, NormalTexture, ScalarTexture};
 use crate::scene::textures::{ImageSource, PendingImage};
 use crate::texture::{TextureRef, Wrap};
 
 /// The texture statements pointshade reads, in the order they are applied.
-const TEXTURE_STATEMENTS: [&str; 5] = ["map_Kd", "map_Ks", "map_Ns", "map_Pr", "map_Pm"];
+const TEXTURE_STATEMENTS: [&str; 7] = ["map_Kd", "map_Ks", "map_Ns", "map_Pr", "map_Pm", "norm", "map_Bump"];
 
 /// The materials of an OBJ file's MTL libraries, converted.
 pub(super) struct MtlMaterials {
@@ -76,13 +78,18 @@ pub(super) fn convert(
                 "map_Kd" => m.diffuse_texture.as_deref(),
                 "map_Ks" => m.specular_texture.as_deref(),
                 "map_Ns" => m.shininess_texture.as_deref(),
+                "map_Bump" => m.normal_texture.as_deref(),
                 other => m.unknown_param.get(other).map(String::as_str),
             };
             let Some(value) = value else { continue };
             let texture = texture_statement(value).map_err(|e| named(format!("{statement}: {e}")))?;
             let scalar = matches!(statement, "map_Ns" | "map_Pr" | "map_Pm");
+            let normal_map = matches!(statement, "norm" | "map_Bump");
             for option in &texture.ignored_options {
                 leave(&format!("{statement} option {option}"));
+            }
+            if texture.bump.is_some() && !normal_map {
+                leave(&format!("{statement} option -bm"));
             }
             if texture.channel.is_some() && !scalar {
                 leave(&format!("{statement} option -imfchan (a colour texture reads RGB)"));
@@ -99,6 +106,7 @@ pub(super) fn convert(
                 "map_Ks" if !blinn_phong && cook_torrance.is_none() => Some("the material has no specular lobe"),
                 "map_Ns" if !blinn_phong => Some("the material is not Blinn-Phong"),
                 "map_Pr" | "map_Pm" if cook_torrance.is_none() => Some("the material has no Pr or Pm"),
+                "map_Bump" if material.textures.normal.is_some() => Some("norm gives the normal map"),
                 _ if !has_uvs => Some("the mesh has no texture coordinates"),
                 _ => None,
             };
@@ -134,7 +142,13 @@ pub(super) fn convert(
                 // The statement's scalar, or 1 where the file gives only the texture.
                 "map_Ns" => t.shininess = Some(scalar(m.shininess.map_or(1.0, |s| s as f32))),
                 "map_Pr" => t.roughness = Some(scalar(param(m, "Pr").ok().flatten().unwrap_or(1.0))),
-                _ => t.metallic = Some(scalar(param(m, "Pm").ok().flatten().unwrap_or(1.0))),
+                "map_Pm" => t.metallic = Some(scalar(param(m, "Pm").ok().flatten().unwrap_or(1.0))),
+                _ => {
+                    t.normal = Some(NormalTexture {
+                        texture: reference,
+                        scale: texture.bump.unwrap_or(1.0),
+                    })
+                }
             }
         }
         out.materials.push(material);
@@ -235,9 +249,12 @@ fn unused_statements<'a>(m: &'a tobj::Material, material: &Material) -> Vec<&'a 
     unless(m.illumination_model.is_some(), false, "illum");
     unless(m.ambient_texture.is_some(), false, "map_Ka");
     unless(m.dissolve_texture.is_some(), false, "map_d");
-    unless(m.normal_texture.is_some(), false, "map_Bump/bump");
     for key in m.unknown_param.keys() {
-        unless(true, matches!(key.as_str(), "Pr" | "Pm" | "map_Pr" | "map_Pm"), key);
+        unless(
+            true,
+            matches!(key.as_str(), "Pr" | "Pm" | "map_Pr" | "map_Pm" | "norm"),
+            key,
+        );
     }
     out.sort_unstable();
     out
@@ -252,6 +269,8 @@ struct TextureStatement {
     clamp: bool,
     /// `-imfchan`: the channel a one-channel texture reads.
     channel: Option<Channel>,
+    /// `-bm`: the bump multiplier, a normal map's XY scale.
+    bump: Option<f32>,
     /// Options read and not applied (`-s`, `-o`, `-bm`, …), by name.
     ignored_options: Vec<String>,
 }
@@ -265,6 +284,7 @@ fn texture_statement(value: &str) -> Result<TextureStatement, String> {
         file: String::new(),
         clamp: false,
         channel: None,
+        bump: None,
         ignored_options: Vec::new(),
     };
     while let Some(option) = words.next_if(|w| w.starts_with('-')) {
@@ -288,6 +308,10 @@ fn texture_statement(value: &str) -> Result<TextureStatement, String> {
             ("-clamp", ["on"]) => out.clamp = true,
             ("-clamp", ["off"]) => out.clamp = false,
             ("-clamp", v) => return Err(format!("-clamp takes on or off, not '{}'", v.join(" "))),
+            ("-bm", [v]) => match v.parse::<f32>() {
+                Ok(b) if b.is_finite() => out.bump = Some(b),
+                _ => return Err(format!("-bm takes a finite number, not '{v}'")),
+            },
             ("-imfchan", [c]) => {
                 out.channel = Some(match *c {
                     "r" => Channel::R,
@@ -318,7 +342,14 @@ mod tests {
         assert_eq!((t.file.as_str(), t.clamp), ("spot_texture.png", false));
         let t = texture_statement("-clamp on -s 2 2 -bm 0.5 my texture.png").unwrap();
         assert_eq!((t.file.as_str(), t.clamp), ("my texture.png", true));
-        assert_eq!(t.ignored_options, ["-s", "-bm"]);
+        assert_eq!(
+            (t.ignored_options.as_slice(), t.bump),
+            (&["-s".to_string()][..], Some(0.5))
+        );
+        assert!(texture_statement("-bm x n.png")
+            .unwrap_err()
+            .contains("-bm takes a finite number"));
+        assert_eq!(texture_statement("-imfchan g r.png").unwrap().channel, Some(Channel::G));
         let t = texture_statement("-o 0.5 file.png").unwrap();
         assert_eq!(
             (t.file.as_str(), t.ignored_options.as_slice()),

@@ -1,5 +1,6 @@
-//! Tangent generation for primitives that have a normal texture but no `TANGENT` attribute, with
-//! MikkTSpace (the algorithm glTF names; `bevy_mikktspace` reproduces the reference C code).
+//! Tangent generation for normal-mapped geometry whose file gives none — a glTF primitive
+//! without `TANGENT`, any OBJ — with MikkTSpace (the algorithm glTF names; `bevy_mikktspace`
+//! reproduces the reference C code).
 //!
 //! MikkTSpace's bitangent is sign·(N × T) along +v of the coordinates it is given. glTF's v grows
 //! downwards in the image while the normal texture's +Y points up, so the coordinates are given
@@ -7,6 +8,9 @@
 //! which writes glTF files with exactly these tangents), and B = w·(N × T) points up the image.
 
 use glam::{Vec2, Vec3, Vec4};
+
+use crate::material::Material;
+use crate::scene::mesh::TriangleMesh;
 
 /// One tangent per vertex (xyz unit, w = ±1) for a mesh whose triangles share no vertex (every
 /// vertex belongs to exactly one triangle corner). Vertices MikkTSpace gives no tangent (a
@@ -22,6 +26,73 @@ pub fn generate_tangents(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], tri
     // The error type has no variants: generation cannot fail.
     let _ = bevy_mikktspace::generate_tangents(&mut geometry);
     geometry.tangents
+}
+
+/// Gives tangents to the triangles of `mesh` whose material has a normal texture and whose
+/// corners have none (an OBJ cannot store tangents): those triangles get vertices of their own
+/// (copies of their corners) whose tangents MikkTSpace computes from the texture's coordinate
+/// set, over those triangles together. Triangles without such a material, or whose coordinate
+/// set the mesh lacks, are left as they are (no normal mapping there). Returns how many
+/// triangles got tangents.
+pub fn complete_tangents(mesh: &mut TriangleMesh, materials: &[Material]) -> usize {
+    let mut done = 0;
+    for set in [0u8, 1] {
+        let Some(uvs) = (if set == 0 {
+            mesh.uvs.as_ref()
+        } else {
+            mesh.uvs1.as_ref()
+        }) else {
+            continue;
+        };
+        let has_tangent = |t: &[u32; 3]| {
+            mesh.tangents
+                .as_ref()
+                .is_some_and(|v| t.iter().any(|&i| v[i as usize].w != 0.0))
+        };
+        let chosen: Vec<usize> = (0..mesh.triangles.len())
+            .filter(|&t| {
+                let normal = materials
+                    .get(mesh.material_of_triangle[t] as usize)
+                    .and_then(|m| m.textures.normal);
+                normal.is_some_and(|n| n.texture.tex_coord == set) && !has_tangent(&mesh.triangles[t])
+            })
+            .collect();
+        if chosen.is_empty() {
+            continue;
+        }
+        let corners: Vec<usize> = chosen
+            .iter()
+            .flat_map(|&t| mesh.triangles[t])
+            .map(|i| i as usize)
+            .collect();
+        let pick = |v: &[Vec3]| corners.iter().map(|&i| v[i]).collect::<Vec<_>>();
+        let (positions, normals) = (pick(&mesh.positions), pick(&mesh.normals));
+        let corner_uvs: Vec<Vec2> = corners.iter().map(|&i| uvs[i]).collect();
+        let local: Vec<[u32; 3]> = (0..chosen.len() as u32)
+            .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
+            .collect();
+        let tangents = generate_tangents(&positions, &normals, &corner_uvs, &local);
+        // The copies go after the existing vertices; the chosen triangles index them.
+        let first = mesh.positions.len();
+        let extend2 = |v: &mut Option<Vec<Vec2>>| {
+            if let Some(v) = v {
+                let copies: Vec<Vec2> = corners.iter().map(|&i| v[i]).collect();
+                v.extend(copies);
+            }
+        };
+        extend2(&mut mesh.uvs);
+        extend2(&mut mesh.uvs1);
+        let all = mesh.tangents.get_or_insert_with(|| vec![Vec4::ZERO; first]);
+        all.extend(tangents);
+        mesh.positions.extend(positions);
+        mesh.normals.extend(normals);
+        for (k, &t) in chosen.iter().enumerate() {
+            let base = (first + 3 * k) as u32;
+            mesh.triangles[t] = [base, base + 1, base + 2];
+        }
+        done += chosen.len();
+    }
+    done
 }
 
 struct Geometry<'a> {
