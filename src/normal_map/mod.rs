@@ -226,7 +226,7 @@ impl<T: Scalar, const N: usize> LaneGroup for TpLanes<T, N> {
     }
     #[inline(always)]
     fn shade(&self, shader: &Shader<NoOcclusion>, mut out: impl FnMut(usize, Vec3)) {
-        let radiance = shader.shade_lanes(&self.0);
+        let radiance = shader.shade_clamped_lanes(&self.0);
         let channel = |c: usize, i: usize| radiance[c].0[i].as_f64() as f32;
         for i in 0..N {
             out(i, Vec3::new(channel(0, i), channel(1, i), channel(2, i)));
@@ -339,5 +339,5 @@ pub fn shade_tp_pixel(scene: &NormalMapScene, scaling: TpScaling, v: [f64; 3], r
         material: 0,
     };
     let point = surface.tp_point(&scaling, v, col as f64, row as f64);
-    DVec3::from(shader(scene, ShadingConvention::Clamped).shade_lanes(&point))
+    DVec3::from(shader(scene, ShadingConvention::Clamped).shade_clamped_lanes(&point))
 }

@@ -14,7 +14,7 @@ use glam::Vec3;
 use super::{clamped_term, reflected_radiance, Shader, BATCH};
 use crate::accel::shadow::{Occluder, ShadowRay};
 use crate::brdf::LocalDots;
-use crate::lanes::{dot3, map3, F32x8, LaneInstructions, LaneMask, Mask, Real, LANES};
+use crate::lanes::{dot3, map3, F32x8, LaneInstructions, LaneMask, Mask, Mask8, Real, LANES};
 use crate::light::{Light, LightSamples};
 use crate::material::Material;
 use crate::shading::convention::{report_unit, ShadingConvention};
@@ -126,15 +126,14 @@ impl<O: Occluder> Shader<'_, O> {
         }
     }
 
-    /// [`Shader::shade`] of points of one material in the lanes of `R`, per channel: eight in
-    /// [`F32x8`], four `tp` pixels in float64 lanes, one point in a scalar — the same functions
-    /// in every precision, giving what the scalar path gives. Only for a shader that
-    /// [`Shader::has_lanes`].
+    /// [`Shader::shade`] of eight points of one material on [`F32x8`] lanes, per channel, under
+    /// either convention — the same functions in eight lanes, giving what the scalar path gives.
+    /// Only for a shader that [`Shader::has_lanes`].
     #[inline(always)]
-    pub fn shade_lanes<R: Real>(&self, points: &SurfaceLanes<R>) -> [R; 3] {
+    pub fn shade_lanes(&self, points: &SurfaceLanes) -> [F32x8; 3] {
         debug_assert!(self.has_lanes());
         match self.convention {
-            ShadingConvention::Clamped => self.clamped_lanes(points),
+            ShadingConvention::Clamped => self.shade_clamped_lanes(points),
             ShadingConvention::Physical => self.physical_lanes(points),
         }
     }
@@ -144,24 +143,32 @@ impl<O: Occluder> Shader<'_, O> {
     /// f·E·cos θ_i where n·ω_o > 0, n·ω_i > 0 and a shading frame exists (elsewhere the lane
     /// adds 0, which the scalar path skips).
     #[inline(always)]
-    fn physical_lanes<R: Real>(&self, points: &SurfaceLanes<R>) -> [R; 3] {
+    fn physical_lanes(&self, points: &SurfaceLanes) -> [F32x8; 3] {
         let material = &self.materials[points.material as usize];
         // No shadow rays here: the geometric normal and the lift are not read.
-        let facing = FacingLanes::new(material, points, points.shading_normal, R::zero(), R::Mask::splat(true));
-        let mut radiance = [R::zero(); 3];
+        let facing = FacingLanes::new(
+            material,
+            points,
+            points.shading_normal,
+            F32x8::splat(0.0),
+            Mask8::splat(true),
+        );
+        let mut radiance = [F32x8::splat(0.0); 3];
         if !facing.visible.any() {
             return radiance;
         }
         for light in self.lights {
             facing.add_reflected(&facing.lit(light), &mut radiance);
         }
-        map3(radiance, |c| c.min(R::lit(f32::MAX as f64)))
+        map3(radiance, |c| c.min(F32x8::splat(f32::MAX)))
     }
 
-    /// The clamped convention's L_o (see [`ShadingConvention::Clamped`]) of the points in the
-    /// lanes of `R`, per channel. The result ignores sides.
+    /// The clamped convention's L_o (see [`ShadingConvention::Clamped`]) of points of one
+    /// material in the lanes of `R`, per channel, in any precision: eight in [`F32x8`], four `tp`
+    /// pixels in float64 lanes (the preset computes as numpy does), one point in a scalar. The
+    /// result ignores sides. Only for a shader whose convention is the clamped one.
     #[inline(always)]
-    pub(super) fn clamped_lanes<R: Real>(&self, points: &SurfaceLanes<R>) -> [R; 3] {
+    pub fn shade_clamped_lanes<R: Real>(&self, points: &SurfaceLanes<R>) -> [R; 3] {
         let material = &self.materials[points.material as usize];
         let x = points.position;
         let mut radiance = [R::zero(); 3];

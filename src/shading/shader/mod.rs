@@ -268,7 +268,7 @@ impl<O: Occluder> Shader<'_, O> {
     /// vector is undefined and only the diffuse part k_d·albedo/π is added.
     #[inline(always)]
     fn shade_clamped(&self, sp: &SurfacePoint) -> Vec3 {
-        Vec3::from(self.clamped_lanes(&SurfaceLanes::<f32> {
+        Vec3::from(self.shade_clamped_lanes(&SurfaceLanes::<f32> {
             position: sp.position.to_array(),
             shading_normal: sp.shading_normal.to_array(),
             to_viewer: sp.to_viewer.to_array(),
