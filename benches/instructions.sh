@@ -4,7 +4,7 @@
 # under valgrind's callgrind on one thread (`--threads 1`: the counts are then the same from run
 # to run, to about 1e-5), and callgrind dumps its counters as each stage's function returns, so
 # that each dump counts one stage:
-#   load    start-up and pointshade::scene::load_with
+#   load    start-up and pointshade::scene::load::load_with
 #   bvh     the plan and pointshade::accel::Bvh::build
 #   render  the rest of pointshade::render::render_scene
 #   output  encoding, writing and exit (reported, not checked: PNG compression)
@@ -76,7 +76,7 @@ for case in "${cases[@]}"; do
   out="$work/$name.cg"
   # shellcheck disable=SC2086 # $args is a list of arguments
   valgrind --tool=callgrind --callgrind-out-file="$out" \
-    --dump-after='pointshade::scene::load_with' --dump-after='pointshade::accel::Bvh::build' \
+    --dump-after='pointshade::scene::load::load_with' --dump-after='pointshade::accel::Bvh::build' \
     --dump-after='pointshade::render::render_scene' \
     "$bin" render "$scene" $args -o "$work/$name.png" --threads 1 --quiet 2>"$work/$name.log" || {
     cat "$work/$name.log" >&2
