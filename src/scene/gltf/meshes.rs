@@ -8,7 +8,7 @@
 //! - No `NORMAL`: flat normals, as the glTF specification requires — the triangles stop sharing
 //!   vertices and each vertex gets its triangle's normal.
 //! - `TANGENT` present: used. Absent while the material has a normal texture and the primitive
-//!   has that texture's coordinates: generated with MikkTSpace ([`super::tangents`]), on
+//!   has that texture's coordinates: generated with MikkTSpace ([`crate::scene::tangents`]), on
 //!   unshared vertices too (MikkTSpace can give a shared vertex different tangents per face).
 
 use std::collections::BTreeMap;

@@ -5,8 +5,8 @@
 //! images, cameras and lights; [`scene_for_gltf`] makes a scene of a file given alone on the
 //! command line, and TOML scenes use [`load_gltf`] for `[[object]] mesh = "x.gltf"`.
 //! The stages live in one module each: [`document`] (container, extensions, buffers),
-//! [`accessor`] (checked reads), [`nodes`] (hierarchy), [`meshes`] and [`tangents`] (geometry),
-//! [`cameras`], [`lights`], [`materials`] (materials and images).
+//! [`accessor`] (checked reads), [`nodes`] (hierarchy), [`meshes`] (geometry; generated tangents
+//! in [`crate::scene::tangents`]), [`cameras`], [`lights`], [`materials`] (materials and images).
 
 pub mod accessor;
 pub mod cameras;
