@@ -3,13 +3,14 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::cli::options::{option_error, worker_pool};
+use crate::cli::options::{comma_list, option_error, worker_pool};
 use crate::cli::progress::Progress;
 use crate::error::InputError;
 use crate::film::{Image, PixelRect, SamplerKind};
 use crate::output::exr::encode_exr;
 use crate::output::{aov_path, encode, write_all_or_nothing, Format};
 use crate::plan::{Aov, RenderPlan};
+use crate::scene::framing::{Aim, View};
 use crate::scene::shadows::{ShadowOffset, ShadowTerminator};
 use crate::{render, scene};
 
@@ -73,6 +74,21 @@ pub struct RenderArgs {
     /// the triangle itself). The mitsuba offset always starts on the triangle.
     #[arg(long, value_name = "smooth|flat")]
     shadow_terminator: Option<String>,
+    /// Aim the automatic framing: degrees around the vertical from the front (+Z; 90 looks from
+    /// +X), degrees above the horizontal, and the distance as a multiple of the one that fits the
+    /// bounding box (default 1). Replaces the scene's camera; automatic lights follow it. The
+    /// default framing is about 24.2,17.7.
+    #[arg(long, value_name = "azimuth,elevation[,distance]", allow_hyphen_values = true)]
+    view: Option<String>,
+    /// Put the camera at this point (world coordinates, as a scene file writes them).
+    #[arg(long, value_name = "x,y,z", allow_hyphen_values = true)]
+    look_from: Option<String>,
+    /// Aim the camera at this point (world coordinates).
+    #[arg(long, value_name = "x,y,z", allow_hyphen_values = true)]
+    look_at: Option<String>,
+    /// Vertical field of view of the (perspective) camera, in degrees.
+    #[arg(long, value_name = "DEGREES")]
+    fov: Option<f32>,
     /// Print the render plan: stages kept and skipped, and why.
     #[arg(long)]
     explain: bool,
@@ -91,7 +107,30 @@ pub fn run(args: RenderArgs) -> Result<(), InputError> {
         None => Vec::new(),
     };
     let pool = worker_pool(args.threads)?;
+    let point = |option: &str, text: &Option<String>| -> Result<Option<glam::DVec3>, InputError> {
+        text.as_ref()
+            .map(|t| {
+                let v = comma_list(option, t, "x,y,z", |s| s.parse::<f64>().ok().filter(|v| v.is_finite()))?;
+                match v[..] {
+                    [x, y, z] => Ok(glam::DVec3::new(x, y, z)),
+                    _ => Err(option_error(option, format!("expected x,y,z, got '{t}'"))),
+                }
+            })
+            .transpose()
+    };
+    let aim = Aim {
+        view: args
+            .view
+            .as_deref()
+            .map(View::parse)
+            .transpose()
+            .map_err(|e| option_error("--view", e))?,
+        look_from: point("--look-from", &args.look_from)?,
+        look_at: point("--look-at", &args.look_at)?,
+        fov: args.fov,
+    };
     let mut scene = pool.install(|| scene::load_with(&args.scene, scene::LoadOptions { camera: args.camera }))?;
+    aim.apply(&mut scene).map_err(|e| option_error(aim_option(&aim), e))?;
     let f = &mut scene.film;
     f.width = args.width.unwrap_or(f.width);
     f.height = args.height.unwrap_or(f.height);
@@ -215,4 +254,17 @@ fn default_output(scene: &Path) -> PathBuf {
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "render".into());
     PathBuf::from(format!("{stem}.png"))
+}
+
+/// The option an aiming error is reported under: the last of them that was given.
+fn aim_option(aim: &Aim) -> &'static str {
+    if aim.fov.is_some() {
+        "--fov"
+    } else if aim.look_at.is_some() {
+        "--look-at"
+    } else if aim.look_from.is_some() {
+        "--look-from"
+    } else {
+        "--view"
+    }
 }

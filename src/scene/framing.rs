@@ -32,8 +32,13 @@ pub fn default_material() -> Material {
 /// A perspective camera that sees all eight corners of the box `(lo, hi)`, as close as it can
 /// (5% margin), for any image at least as wide as it is tall.
 pub fn frame_bounds(lo: Vec3, hi: Vec3) -> CameraSpec {
+    frame_bounds_from(lo, hi, VIEW_FROM.normalize(), 1.0)
+}
+
+/// [`frame_bounds`] seen from the unit direction `back` (from the centre towards the camera,
+/// not vertical), at `scale` times the distance that fits the box.
+fn frame_bounds_from(lo: Vec3, hi: Vec3, back: Vec3, scale: f32) -> CameraSpec {
     let centre = (lo + hi) * 0.5;
-    let back = VIEW_FROM.normalize();
     let right = Vec3::Y.cross(back).normalize();
     let up = back.cross(right);
     let tan_half = (AUTO_FOV.to_radians() * 0.5).tan();
@@ -51,7 +56,7 @@ pub fn frame_bounds(lo: Vec3, hi: Vec3) -> CameraSpec {
         distance = distance.max(r.dot(back) + lateral / tan_half);
     }
     CameraSpec {
-        position: centre + back * distance * 1.05,
+        position: centre + back * distance * 1.05 * scale,
         look_at: centre,
         up: Vec3::Y,
         projection: Projection::Perspective {
@@ -60,6 +65,131 @@ pub fn frame_bounds(lo: Vec3, hi: Vec3) -> CameraSpec {
         },
         near_clip: 0.0,
         far_clip: f32::INFINITY,
+    }
+}
+
+/// Where `--view` puts the automatic camera: `azimuth` degrees around the vertical (+Y) from the
+/// front (+Z; 90 looks from +X), `elevation` degrees above the horizontal, at `distance` times the
+/// distance that fits the bounding box. The automatic framing itself is about (24.2, 17.7, 1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View {
+    /// Degrees around +Y, from +Z towards +X.
+    pub azimuth: f32,
+    /// Degrees above the horizontal, in (−90, 90).
+    pub elevation: f32,
+    /// Multiple of the framing distance, > 0.
+    pub distance: f32,
+}
+
+impl View {
+    /// Parses `azimuth,elevation[,distance]`; the error says what is wrong.
+    pub fn parse(text: &str) -> Result<View, String> {
+        let values: Vec<f32> = text
+            .split(',')
+            .map(|v| v.trim().parse::<f32>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| format!("expected azimuth,elevation[,distance] in degrees, got '{text}'"))?;
+        let view = match values[..] {
+            [azimuth, elevation] => View {
+                azimuth,
+                elevation,
+                distance: 1.0,
+            },
+            [azimuth, elevation, distance] => View {
+                azimuth,
+                elevation,
+                distance,
+            },
+            _ => {
+                return Err(format!(
+                    "expected azimuth,elevation[,distance] in degrees, got '{text}'"
+                ))
+            }
+        };
+        if !view.azimuth.is_finite() {
+            return Err(format!("azimuth must be finite, got {}", view.azimuth));
+        }
+        if !(view.elevation.abs() < 90.0) {
+            return Err(format!(
+                "elevation must be strictly between -90 and 90 degrees (the camera keeps +Y up), got {}",
+                view.elevation
+            ));
+        }
+        if !(view.distance > 0.0 && view.distance.is_finite()) {
+            return Err(format!("distance must be a finite multiple > 0, got {}", view.distance));
+        }
+        Ok(view)
+    }
+
+    /// The unit direction from the centre towards the camera.
+    fn back(self) -> Vec3 {
+        let (a, e) = (self.azimuth.to_radians(), self.elevation.to_radians());
+        Vec3::new(a.sin() * e.cos(), e.sin(), a.cos() * e.cos())
+    }
+}
+
+/// How the command line aims a scene's camera: [`View`] reframes the bounding box from another
+/// direction; `look_from`, `look_at` (world coordinates, as scene files write them) and `fov`
+/// (vertical, degrees) then set those parts of the camera.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Aim {
+    /// `--view`.
+    pub view: Option<View>,
+    /// `--look-from`.
+    pub look_from: Option<glam::DVec3>,
+    /// `--look-at`.
+    pub look_at: Option<glam::DVec3>,
+    /// `--fov`.
+    pub fov: Option<f32>,
+}
+
+impl Aim {
+    /// Applies the aim to `scene`'s camera. Where the scene's lights are the automatic ones they
+    /// are aimed again from the new camera, so that the model stays lit from the viewer's side.
+    /// The error names the problem (no geometry to frame, a camera looking at itself, …).
+    pub fn apply(&self, scene: &mut Scene) -> Result<(), String> {
+        if *self == Aim::default() {
+            return Ok(());
+        }
+        let bounds = scene.mesh.bounds();
+        if let Some(view) = self.view {
+            let (lo, hi) = bounds.ok_or("the scene has no geometry to frame")?;
+            scene.camera = frame_bounds_from(lo, hi, view.back(), view.distance);
+        }
+        let local = |p: glam::DVec3| (p - scene.origin).as_vec3();
+        if let Some(p) = self.look_from {
+            scene.camera.position = local(p);
+        }
+        if let Some(p) = self.look_at {
+            scene.camera.look_at = local(p);
+        }
+        if let Some(fov) = self.fov {
+            if !(fov > 0.0 && fov < 180.0) {
+                return Err(format!("the field of view must be in (0, 180) degrees, got {fov}"));
+            }
+            match &mut scene.camera.projection {
+                Projection::Perspective { fov_degrees, fov_axis } => (*fov_degrees, *fov_axis) = (fov, FovAxis::Y),
+                _ => return Err("the camera is orthographic: it has no field of view".into()),
+            }
+        }
+        let c = &scene.camera;
+        let forward = c.look_at - c.position;
+        if !(c.position.is_finite() && c.look_at.is_finite()) || forward.length_squared() == 0.0 {
+            return Err("the camera must look at a point other than where it stands".into());
+        }
+        if forward.normalize().cross(c.up).length_squared() < 1e-12 {
+            return Err("the camera looks straight along its up direction (+Y): aim it off the vertical".into());
+        }
+        if scene.default_lights {
+            if let Some((lo, hi)) = bounds {
+                scene.lights = default_lights(lo, hi, &scene.camera);
+            }
+        }
+        scene.notes.push(format!(
+            "camera: aimed from the command line at ({}, {}, {}) from ({}, {}, {})",
+            c.look_at.x, c.look_at.y, c.look_at.z, c.position.x, c.position.y, c.position.z
+        ));
+        Ok(())
     }
 }
 
@@ -120,6 +250,7 @@ pub fn scene_for_bare_mesh(path: &Path) -> InputResult<Scene> {
     // The file's coordinates, in the render's frame (relative to the mesh's own origin).
     scene.objects[0].transform = glam::Mat4::from_translation(-origin.as_vec3());
     scene.origin = origin;
+    scene.default_lights = true;
     scene.notes = vec![
         "camera: framed automatically on the bounding box".into(),
         "lights: default key + fill lights".into(),
@@ -156,6 +287,26 @@ mod tests {
                 );
                 assert!((d.dot(right) / z).abs() <= half_y, "corner {i} outside horizontally");
             }
+        }
+    }
+
+    #[test]
+    fn the_default_view_is_the_automatic_framing_s_and_views_parse_strictly() {
+        let (x, y, z) = (VIEW_FROM.x, VIEW_FROM.y, VIEW_FROM.z);
+        let view = View {
+            azimuth: x.atan2(z).to_degrees(),
+            elevation: y.atan2(x.hypot(z)).to_degrees(),
+            distance: 1.0,
+        };
+        assert!(
+            (view.azimuth - 24.2).abs() < 0.05 && (view.elevation - 17.7).abs() < 0.05,
+            "{view:?}"
+        );
+        assert!((view.back() - VIEW_FROM.normalize()).length() < 1e-6);
+        assert_eq!(View::parse("90, 0").unwrap().back().round(), Vec3::X);
+        assert_eq!(View::parse("-30,10,2.5").unwrap().distance, 2.5);
+        for bad in ["", "1", "1,2,3,4", "x,1", "1,-90", "1,nan", "inf,0", "0,0,-1", "0,0,0"] {
+            assert!(View::parse(bad).is_err(), "{bad}");
         }
     }
 

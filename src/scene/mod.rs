@@ -39,6 +39,9 @@ pub struct Scene {
     pub camera: CameraSpec,
     /// Lights, in the order they are summed.
     pub lights: Vec<Light>,
+    /// Whether `lights` are the automatic key and fill lights (the file has none): those follow
+    /// the camera when the command line aims it.
+    pub default_lights: bool,
     /// Materials, indexed by `mesh.material_of_triangle`.
     pub materials: Vec<Material>,
     /// Decoded texture images, indexed by the materials' `TextureRef::image`: only those a
@@ -103,6 +106,7 @@ impl Scene {
             film,
             camera,
             lights,
+            default_lights: false,
             materials,
             textures,
             mesh,

@@ -5,6 +5,7 @@
 mod support;
 
 mod adaptive;
+mod aim;
 mod bad_input;
 mod brdf_properties;
 mod compare_cli;

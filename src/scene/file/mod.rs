@@ -274,6 +274,7 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
     }
     let render = file.render.as_ref();
     let mut scene = Scene::new(path.to_path_buf(), film, camera, lights, materials, textures, mesh);
+    scene.default_lights = file.light.is_empty();
     scene.shadows = render.and_then(|r| r.shadows).unwrap_or(true);
     if let Some(name) = render.and_then(|r| r.shadow_offset.as_ref()) {
         scene.shadow_offset = ShadowOffset::parse(name.get_ref()).map_err(|m| at(name.span(), m))?;

@@ -148,7 +148,8 @@ pub fn scene_for_gltf(path: &Path, camera: Option<usize>) -> InputResult<Scene> 
             frame_bounds(lo, hi)
         }
     };
-    let lights = if contents.lights.is_empty() {
+    let automatic_lights = contents.lights.is_empty();
+    let lights = if automatic_lights {
         notes.push("lights: the file has none, default key + fill lights".into());
         default_lights(lo, hi, &camera)
     } else {
@@ -161,6 +162,7 @@ pub fn scene_for_gltf(path: &Path, camera: Option<usize>) -> InputResult<Scene> 
     let textures = decode_used_images(&mut materials, &mesh.material_of_triangle, &contents.images)?;
     let mut scene = Scene::new(path.to_path_buf(), film, camera, lights, materials, textures, mesh);
     scene.origin = contents.origin;
+    scene.default_lights = automatic_lights;
     scene.notes = notes;
     scene.warnings = contents.warnings;
     Ok(scene)
