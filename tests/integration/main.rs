@@ -13,6 +13,7 @@ mod convergence;
 mod crop_merge;
 mod cutouts;
 mod end_to_end;
+mod examples;
 mod gltf;
 mod gltf_mutations;
 mod gltf_shared;
