@@ -124,15 +124,12 @@ def targets(file, modules, facades):
         body = re.sub(r"(?m)^\s*(?:pub(?:\([^)]*\))?\s+)?mod\s+\w+\s*;", "", text)
         used = []
         for tree in exports:
-            for path in expand_uses("use " + tree + ";").split("\n")[1:] or [tree]:
-                path = path.removesuffix("::_")
+            # `a::{b, c}` expands to `a::b::_` and `a::c::_` after the text; a plain path is itself.
+            paths = [p.removesuffix("::_") for p in expand_uses("use " + tree + ";").split("\n")[1:] if p]
+            for path in paths or [tree]:
                 name = path.split("::")[-1].split(" as ")[-1].strip()
                 if re.search(r"(?<![A-Za-z0-9_:])" + re.escape(name) + r"\b", body):
                     used.append(path)
-            if "{" not in tree:
-                name = tree.split("::")[-1].split(" as ")[-1].strip()
-                if re.search(r"(?<![A-Za-z0-9_:])" + re.escape(name) + r"\b", body):
-                    used.append(tree)
         text += "\n" + "\n".join(f"use self::{u};" for u in used)
     text = expand_uses(text)
     # Paths through a child module the file declares (`mod x;` … `x::f()`, `use x::T`, `self::x`).

@@ -33,43 +33,21 @@ pub struct Cutout {
     pub alpha: f32,
 }
 
-/// The BRDF parameters of a `gltf-pbr` material at one surface point, textures applied.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PbrPoint {
-    /// Linear base colour.
-    pub base_color: [f32; 3],
-    /// Metalness in [0, 1].
-    pub metallic: f32,
-    /// Microfacet roughness α = roughness².
-    pub alpha: f32,
-}
-
 impl GltfPbr {
-    /// The parameters where no texture applies: the factors.
-    #[inline]
-    pub fn constant_point(&self, base_color: [f32; 3]) -> PbrPoint {
-        PbrPoint {
-            base_color,
-            metallic: self.metallic,
-            alpha: self.roughness * self.roughness,
-        }
-    }
-}
-
-impl PbrPoint {
-    /// f_r per channel (see [`GltfPbr`]): (1 − F)·lambert(1 − metallic, base) + F·D·V.
-    /// D and V clamp α to `MIN_ALPHA`, so α = 0 (roughness 0) gives a finite spike; V is 0 where
-    /// n·ω_i ≤ 0 or n·ω_o ≤ 0, which leaves the diffuse part to the shader's sidedness test.
+    /// f_r per channel with base colour `base_color` (see [`GltfPbr`]): (1 − F)·lambert(1 −
+    /// metallic, base) + F·D·V, α = roughness². D and V clamp α to `MIN_ALPHA`, so α = 0
+    /// (roughness 0) gives a finite spike; V is 0 where n·ω_i ≤ 0 or n·ω_o ≤ 0, which leaves the
+    /// diffuse part to the shader's sidedness test.
     #[inline(always)]
-    pub fn eval<R: Real>(&self, dots: &LocalDots<R>) -> [R; 3] {
-        let alpha = R::of(self.alpha);
+    pub fn eval<R: Real>(&self, base_color: [f32; 3], dots: &LocalDots<R>) -> [R; 3] {
+        let alpha = R::of(self.roughness * self.roughness);
         let v = MaskingShadowing::SmithGgxCorrelated.visibility(dots.n_dot_i, dots.n_dot_o, alpha);
         // D is finite (capped at its peak), so D·V is 0 where V is: D is skipped there.
         let dv = R::choose(v.eq(R::zero()), R::zero, || ggx_d(dots.n_dot_h, dots.sin2_h, alpha) * v);
         let metallic = R::of(self.metallic);
         // Dielectric F0 of glTF: ior 1.5 → ((1.5 − 1)/(1.5 + 1))² = 0.04.
         let f0_dielectric = schlick_f0_dielectric(R::lit(1.5));
-        map3(self.base_color, |b| {
+        map3(base_color, |b| {
             let base = R::of(b);
             let f0 = f0_dielectric + (base - f0_dielectric) * metallic;
             let f = fresnel_schlick(f0, dots.i_dot_h);

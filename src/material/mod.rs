@@ -20,7 +20,7 @@ mod textures;
 
 pub use blinn_phong::BlinnPhong;
 pub use cook_torrance::CookTorrance;
-pub use gltf_pbr::{Cutout, GltfPbr, PbrPoint};
+pub use gltf_pbr::{Cutout, GltfPbr};
 pub use textures::{Channel, MaterialTextures, NormalTexture, ScalarTexture};
 
 /// A material's BRDF model: Lambert alone, Lambert plus a specular lobe (Blinn-Phong,
@@ -152,26 +152,12 @@ impl Material {
     /// business; the Cook-Torrance lobe is 0 where either cosine is ≤ 0.
     #[inline(always)]
     pub fn eval<R: Real>(&self, dots: &LocalDots<R>) -> [R; 3] {
-        Self::eval_parameters(self.albedo, self.kd, &self.model, dots)
-    }
-
-    /// [`Material::eval`] of a material with these parameters: the one place the terms are
-    /// combined (a textured point's parameters come from [`Material::at`]).
-    #[inline(always)]
-    pub fn eval_parameters<R: Real>(albedo: [f32; 3], kd: f32, model: &BrdfModel, dots: &LocalDots<R>) -> [R; 3] {
-        let d = diffuse_of::<R>(kd, albedo);
-        match model {
-            BrdfModel::Lambert => d,
-            BrdfModel::BlinnPhong(bp) => {
-                let s = blinn_phong(R::of(bp.ks), dots.n_dot_h, dots.sin2_h, R::of(bp.shininess));
-                map3([0, 1, 2], |c| d[c] + s * R::of(bp.color[c]))
-            }
-            BrdfModel::CookTorrance(ct) => {
-                let s = ct.eval(dots);
-                map3([0, 1, 2], |c| d[c] + s[c])
-            }
-            BrdfModel::GltfPbr(p) => p.constant_point(albedo).eval(dots),
+        PointBrdf {
+            albedo: self.albedo,
+            kd: self.kd,
+            model: self.model,
         }
+        .eval(dots)
     }
 
     /// Range checks on every parameter, with messages naming the key.
@@ -244,10 +230,24 @@ pub struct PointBrdf {
 }
 
 impl PointBrdf {
-    /// f_r per channel, as [`Material::eval`] with these parameters.
+    /// f_r per channel: the one place a material's terms are combined, for a material's constant
+    /// parameters ([`Material::eval`]) and for its parameters at a textured point
+    /// ([`Material::at`]).
     #[inline(always)]
     pub fn eval<R: Real>(&self, dots: &LocalDots<R>) -> [R; 3] {
-        Material::eval_parameters(self.albedo, self.kd, &self.model, dots)
+        let d = diffuse_of::<R>(self.kd, self.albedo);
+        match &self.model {
+            BrdfModel::Lambert => d,
+            BrdfModel::BlinnPhong(bp) => {
+                let s = blinn_phong(R::of(bp.ks), dots.n_dot_h, dots.sin2_h, R::of(bp.shininess));
+                map3([0, 1, 2], |c| d[c] + s * R::of(bp.color[c]))
+            }
+            BrdfModel::CookTorrance(ct) => {
+                let s = ct.eval(dots);
+                map3([0, 1, 2], |c| d[c] + s[c])
+            }
+            BrdfModel::GltfPbr(p) => p.eval(self.albedo, dots),
+        }
     }
 }
 

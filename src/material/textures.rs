@@ -105,7 +105,8 @@ impl MaterialTextures {
             || self.metallic.is_some()
     }
 
-    /// Every texture reference, for renumbering images.
+    /// Every texture reference, for renumbering images (a copy of the textures, which are
+    /// `Copy`, lists them without changing the material).
     pub fn refs_mut(&mut self) -> impl Iterator<Item = &mut TextureRef> {
         [
             self.base_color.as_mut(),

@@ -10,7 +10,7 @@ use crate::error::{InputError, InputResult};
 use crate::film::FilmSettings;
 use crate::light::{Falloff, Light, LightKind};
 use crate::material::Material;
-use crate::scene::camera::{CameraSpec, FovAxis, Projection};
+use crate::scene::camera::{Camera, CameraSpec, FovAxis, Projection};
 use crate::scene::obj::{load_obj, NO_MATERIAL};
 use crate::scene::tangents::complete_tangents;
 use crate::scene::textures::decode_used_images;
@@ -164,22 +164,14 @@ impl Aim {
             scene.camera.look_at = local(p);
         }
         if let Some(fov) = self.fov {
-            if !(fov > 0.0 && fov < 180.0) {
-                return Err(format!("the field of view must be in (0, 180) degrees, got {fov}"));
-            }
             match &mut scene.camera.projection {
                 Projection::Perspective { fov_degrees, fov_axis } => (*fov_degrees, *fov_axis) = (fov, FovAxis::Y),
                 _ => return Err("the camera is orthographic: it has no field of view".into()),
             }
         }
+        // The checks every camera passes (a frame, a field of view), as a scene file's does.
+        Camera::new(scene.camera, 1, 1)?;
         let c = &scene.camera;
-        let forward = c.look_at - c.position;
-        if !(c.position.is_finite() && c.look_at.is_finite()) || forward.length_squared() == 0.0 {
-            return Err("the camera must look at a point other than where it stands".into());
-        }
-        if forward.normalize().cross(c.up).length_squared() < 1e-12 {
-            return Err("the camera looks straight along its up direction (+Y): aim it off the vertical".into());
-        }
         if scene.default_lights {
             if let Some((lo, hi)) = bounds {
                 scene.lights = default_lights(lo, hi, &scene.camera);
@@ -255,7 +247,7 @@ pub fn scene_for_bare_mesh(path: &Path) -> InputResult<Scene> {
         "camera: framed automatically on the bounding box".into(),
         "lights: default key + fill lights".into(),
     ];
-    scene.warnings = obj.material_warning.into_iter().chain(obj.material_warnings).collect();
+    scene.warnings = obj.material_warnings;
     Ok(scene)
 }
 

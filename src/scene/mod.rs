@@ -92,8 +92,8 @@ impl Scene {
             .iter()
             .all(|&m| (m as usize) < materials.len()));
         debug_assert!(materials.iter().all(|m| {
-            let mut m = m.clone();
-            let in_range = m.texture_refs_mut().all(|t| (t.image as usize) < textures.len());
+            let mut refs = m.textures;
+            let in_range = refs.refs_mut().all(|t| (t.image as usize) < textures.len());
             in_range
         }));
         let objects = vec![SceneObject {

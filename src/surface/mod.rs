@@ -9,7 +9,7 @@ pub mod primary;
 
 use glam::{Vec2, Vec3};
 
-use crate::lanes::{map3, F32x8, Real, LANES};
+use crate::lanes::{F32x8, Real};
 
 /// A point on a surface, seen from a direction, ready to be shaded.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -38,7 +38,7 @@ pub struct SurfacePoint {
     pub to_viewer: Vec3,
 }
 
-/// Surface points of one material, each coordinate in the lanes of `R` — [`LANES`] of them in
+/// Surface points of one material, each coordinate in the lanes of `R` — [`LANES`](crate::lanes::LANES) of them in
 /// [`F32x8`] by default, four `tp` pixels in [`F64x4`](crate::lanes::F64x4), one point
 /// in a scalar: what the shader's lane path reads. Only the fields that path uses (the
 /// assignment convention has no sides, textures or shadow rays); the normal-map mode fills them
@@ -53,22 +53,4 @@ pub struct SurfaceLanes<R: Real = F32x8> {
     pub to_viewer: [R; 3],
     /// Index into the scene's materials, the same for every lane.
     pub material: u32,
-}
-
-impl SurfaceLanes<F32x8> {
-    /// `points` in lanes, or `None` when they do not all have the same material.
-    #[inline(always)]
-    pub fn from_points(points: &[SurfacePoint; LANES]) -> Option<SurfaceLanes> {
-        let material = points[0].material;
-        if points.iter().any(|p| p.material != material) {
-            return None;
-        }
-        let lanes = |v: fn(&SurfacePoint) -> Vec3| map3([0, 1, 2], |c| F32x8::from_fn(|i| v(&points[i])[c]));
-        Some(SurfaceLanes {
-            position: lanes(|p| p.position),
-            shading_normal: lanes(|p| p.shading_normal),
-            to_viewer: lanes(|p| p.to_viewer),
-            material,
-        })
-    }
 }

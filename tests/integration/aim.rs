@@ -96,7 +96,7 @@ fn look_from_look_at_and_fov_set_the_camera() {
     assert!(!r.status.success());
     let stderr = String::from_utf8_lossy(&r.stderr);
     assert!(
-        stderr.contains("--look-at") && stderr.contains("up direction"),
+        stderr.contains("--look-at") && stderr.contains("up is parallel"),
         "{stderr}"
     );
     // From (0, 3, 4) at the origin the centre pixel is 5 units away.
@@ -133,7 +133,7 @@ fn bad_aims_are_one_line_errors_naming_the_option() {
         (
             &["--look-from", "0,0,0", "--look-at", "0,0,0"][..],
             "--look-at",
-            "other than where it stands",
+            "must differ",
         ),
         (&["--fov", "0"][..], "--fov", "(0, 180)"),
     ] {

@@ -335,7 +335,7 @@ fn load_object(path: &Path) -> Result<ObjectContents, ObjectError> {
                 derived_normals,
                 materials: c.materials,
                 images: c.images,
-                material_warnings: c.material_warning.into_iter().chain(c.material_warnings).collect(),
+                material_warnings: c.material_warnings,
                 warnings: Vec::new(),
                 notes: Vec::new(),
             })

@@ -3,7 +3,7 @@
 //! Polygons are fan-triangulated and vertices are unique (position, uv, normal) tuples, as in
 //! Mitsuba's OBJ loader, so a mesh renders the same in both. MTL materials map to the BRDF models
 //! (`mtl.rs`): `Pr`/`Pm` (the PBR extension) → Cook-Torrance; `Ks` with `Ns` → Blinn-Phong;
-//! otherwise `Kd` → Lambert; `map_Kd` textures the albedo. A missing MTL file is a warning, not
+//! otherwise `Kd` → Lambert; their texture statements texture the parameters. A missing MTL file is a warning, not
 //! an error (many OBJ files name one they lack), and so is every MTL statement left unused.
 //!
 //! Plain files (positions and triangles only, like the scanned meshes) are parsed on all cores by
@@ -32,14 +32,12 @@ pub struct ObjContents {
     pub origin: DVec3,
     /// The MTL materials, converted.
     pub materials: Vec<Material>,
-    /// The images the materials' textures (`map_Kd`) name, not decoded: the caller decodes
+    /// The images the materials' textures name, not decoded: the caller decodes
     /// those a rendered material uses (`scene::textures::decode_used_images`).
     pub images: Vec<PendingImage>,
-    /// Why the file's material library could not be used, if it names one that failed to load.
-    /// Only worth a warning when the caller actually renders the file's own materials.
-    pub material_warning: Option<String>,
-    /// One warning per MTL statement the materials hold that pointshade does not use, naming
-    /// the statement and the materials (again only worth showing if they are rendered).
+    /// Warnings about the file's materials, only worth showing when the caller renders them:
+    /// why its material library could not be loaded, if it names one that failed, and one per
+    /// MTL statement that pointshade does not use, naming the statement and the materials.
     pub material_warnings: Vec<String>,
 }
 
@@ -65,11 +63,11 @@ pub fn load_obj_underived(path: &Path) -> InputResult<(ObjContents, Vec<DerivedN
     let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let (models, materials) =
         parse_with_tobj_semantics(&bytes, &dir).map_err(|e| InputError::new(path, format!("malformed OBJ: {e}")))?;
-    let mut material_warning = None;
+    let mut material_warnings = Vec::new();
     let materials = match materials {
         Ok(m) => m,
         Err(e) => {
-            material_warning = Some(format!(
+            material_warnings.push(format!(
                 "{}: its material library (mtllib) could not be loaded ({e}): faces get the default material",
                 path.display()
             ));
@@ -170,14 +168,14 @@ pub fn load_obj_underived(path: &Path) -> InputResult<(ObjContents, Vec<DerivedN
     mesh.uvs = (all_have_uvs && uvs.len() == mesh.positions.len()).then_some(uvs);
 
     let mtl = mtl::convert(&materials, &dir, path, mesh.uvs.is_some())?;
+    material_warnings.extend(mtl.warnings);
     Ok((
         ObjContents {
             mesh,
             origin,
             materials: mtl.materials,
             images: mtl.images,
-            material_warning,
-            material_warnings: mtl.warnings,
+            material_warnings,
         },
         derived,
     ))
@@ -336,7 +334,7 @@ mod tests {
         // The face uses "shiny".
         let shiny = c.materials.iter().position(|m| m.name == "shiny").unwrap() as u32;
         assert_eq!(c.mesh.material_of_triangle, vec![shiny]);
-        assert!(c.material_warning.is_none());
+        assert!(!c.material_warnings.iter().any(|w| w.contains("could not be loaded")));
     }
 
     #[test]
@@ -350,7 +348,7 @@ mod tests {
                 "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nusemtl m\nf 1//1 2//1 3//1\n",
             ] {
                 let c = load(&format!("short-colour-{k}"), obj, &mtl);
-                let warning = c.material_warning.expect("a warning");
+                let warning = c.material_warnings.first().expect("a warning");
                 assert!(warning.contains("material parse error"), "{warning}");
                 assert_eq!(c.mesh.material_of_triangle, vec![NO_MATERIAL]);
             }

@@ -1,5 +1,5 @@
-//! MTL materials → the BRDF module's [`Material`]s: the model their keys choose, the albedo
-//! texture `map_Kd` names, and one warning for each MTL statement that nothing reads.
+//! MTL materials → the BRDF module's [`Material`]s: the model their keys choose, the textures
+//! they name, and one warning for each MTL statement that nothing reads.
 //!
 //! | MTL | pointshade |
 //! |---|---|
@@ -65,14 +65,8 @@ pub(super) fn convert(
         for statement in unused_statements(m, &material) {
             leave(statement);
         }
-        let pm_texture = m.unknown_param.contains_key("map_Pm");
-        if pm_texture {
-            // A metallic texture chooses per point between the dielectric and the metal form of
-            // the material (`Material::at`): it starts as the dielectric.
-            if let BrdfModel::CookTorrance(ct) = &mut material.model {
-                (ct.metallic, ct.specular_color, material.kd) = (false, [1.0; 3], 1.0);
-            }
-        }
+        let (blinn_phong, cook_torrance) = lobes(&material);
+        let metal = cook_torrance.is_some_and(|ct| ct.metallic);
         for statement in TEXTURE_STATEMENTS {
             let value = match statement {
                 "map_Kd" => m.diffuse_texture.as_deref(),
@@ -83,7 +77,7 @@ pub(super) fn convert(
             };
             let Some(value) = value else { continue };
             let texture = texture_statement(value).map_err(|e| named(format!("{statement}: {e}")))?;
-            let scalar = matches!(statement, "map_Ns" | "map_Pr" | "map_Pm");
+            let one_channel = matches!(statement, "map_Ns" | "map_Pr" | "map_Pm");
             let normal_map = matches!(statement, "norm" | "map_Bump");
             for option in &texture.ignored_options {
                 leave(&format!("{statement} option {option}"));
@@ -91,15 +85,9 @@ pub(super) fn convert(
             if texture.bump.is_some() && !normal_map {
                 leave(&format!("{statement} option -bm"));
             }
-            if texture.channel.is_some() && !scalar {
+            if texture.channel.is_some() && !one_channel {
                 leave(&format!("{statement} option -imfchan (a colour texture reads RGB)"));
             }
-            let (blinn_phong, cook_torrance) = match &material.model {
-                BrdfModel::BlinnPhong(_) => (true, None),
-                BrdfModel::CookTorrance(ct) => (false, Some(*ct)),
-                _ => (false, None),
-            };
-            let metal = cook_torrance.is_some_and(|ct| ct.metallic);
             let unused = match statement {
                 // k_d = 0: a metal's albedo is its specular colour, which map_Ks modulates.
                 "map_Kd" if metal => Some("on a metallic material"),
@@ -180,7 +168,9 @@ pub fn material_from_mtl(m: &tobj::Material) -> Result<Material, String> {
     let pbr_maps = ["map_Pr", "map_Pm"].iter().any(|k| m.unknown_param.contains_key(*k));
     let mut material = Material::lambert(&m.name, albedo);
     if pr.is_some() || pm.is_some() || pbr_maps {
-        let metallic = pm.unwrap_or(0.0) >= 0.5;
+        // A metallic texture chooses per point between the dielectric and the metal form
+        // (`Material::at`): the material itself is then the dielectric.
+        let metallic = pm.unwrap_or(0.0) >= 0.5 && !m.unknown_param.contains_key("map_Pm");
         let roughness = pr.unwrap_or(0.5);
         material.model = BrdfModel::CookTorrance(CookTorrance {
             alpha: roughness * roughness,
@@ -228,11 +218,7 @@ fn param(m: &tobj::Material, key: &str) -> Result<Option<f32>, String> {
 /// The statements of `m` that `material` (what [`material_from_mtl`] made of it) does not read,
 /// the textures aside ([`convert`] decides about them).
 fn unused_statements<'a>(m: &'a tobj::Material, material: &Material) -> Vec<&'a str> {
-    let (blinn_phong, cook_torrance) = match material.model {
-        BrdfModel::BlinnPhong(_) => (true, None),
-        BrdfModel::CookTorrance(ct) => (false, Some(ct)),
-        _ => (false, None),
-    };
+    let (blinn_phong, cook_torrance) = lobes(material);
     let dielectric = cook_torrance.is_some_and(|ct| !ct.metallic);
     let mut out = Vec::new();
     let mut unless = |present: bool, used: bool, statement: &'a str| {
@@ -260,6 +246,15 @@ fn unused_statements<'a>(m: &'a tobj::Material, material: &Material) -> Vec<&'a 
     out
 }
 
+/// Whether `material` is Blinn-Phong, and its Cook-Torrance lobe if it has one.
+fn lobes(material: &Material) -> (bool, Option<CookTorrance>) {
+    match material.model {
+        BrdfModel::BlinnPhong(_) => (true, None),
+        BrdfModel::CookTorrance(ct) => (false, Some(ct)),
+        _ => (false, None),
+    }
+}
+
 /// A texture statement's value: `[-option values…]… file`.
 #[derive(Debug)]
 struct TextureStatement {
@@ -271,7 +266,7 @@ struct TextureStatement {
     channel: Option<Channel>,
     /// `-bm`: the bump multiplier, a normal map's XY scale.
     bump: Option<f32>,
-    /// Options read and not applied (`-s`, `-o`, `-bm`, …), by name.
+    /// Options read and not applied (`-s`, `-o`, `-mm`, …), by name.
     ignored_options: Vec<String>,
 }
 

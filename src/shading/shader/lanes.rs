@@ -25,46 +25,46 @@ use crate::surface::{SurfaceLanes, SurfacePoint};
 /// point.
 const GROUPS: usize = 4;
 
-/// Points of one material in the lanes of `R` (up to eight in [`F32x8`]), normals turned to the
-/// viewer's side as [`Shader::shade`] turns them.
-struct FacingLanes<'m, R: Real = F32x8> {
+/// Up to eight points of one material, normals turned to the viewer's side as
+/// [`Shader::shade`] turns them.
+struct FacingLanes<'m> {
     material: &'m Material,
-    position: [R; 3],
+    position: [F32x8; 3],
     /// Geometric normal (the shadow ray's offset side).
-    ng: [R; 3],
+    ng: [F32x8; 3],
     /// Height above the point its shadow rays start at (`SurfacePoint::shadow_lift`), 0 where
     /// a two-sided material turned the normals round: lifting along the turned normal would
     /// move the origin through the surface (see `front_lift`).
-    lift: R,
-    ns: [R; 3],
-    wo: [R; 3],
-    cos_o: R,
+    lift: F32x8,
+    ns: [F32x8; 3],
+    wo: [F32x8; 3],
+    cos_o: F32x8,
     /// Lanes holding a point whose shading normal faces the viewer (cos θ_o > 0, not NaN).
-    visible: R::Mask,
+    visible: Mask8,
 }
 
 /// One light at the lanes of a [`FacingLanes`]: its sample, cos θ_i, the BRDF's dot products,
 /// and the lanes it reaches (in front of the shading normal, with a shading frame).
-struct LitLanes<R: Real = F32x8> {
-    ls: LightSamples<R>,
-    cos_i: R,
-    dots: LocalDots<R>,
-    lit: R::Mask,
+struct LitLanes {
+    ls: LightSamples<F32x8>,
+    cos_i: F32x8,
+    dots: LocalDots<F32x8>,
+    lit: Mask8,
 }
 
-impl<'m, R: Real> FacingLanes<'m, R> {
+impl<'m> FacingLanes<'m> {
     /// The lanes of `present` points with shadow-ray lifts `lift`: a two-sided material turns
     /// both normals towards the viewer where the shading normal faces away from it, and drops
     /// the lift there.
     #[inline(always)]
-    fn new(material: &'m Material, points: &SurfaceLanes<R>, ng: [R; 3], lift: R, present: R::Mask) -> Self {
+    fn new(material: &'m Material, points: &SurfaceLanes, ng: [F32x8; 3], lift: F32x8, present: Mask8) -> Self {
         let wo = points.to_viewer;
         let (mut ns, mut ng, mut lift) = (points.shading_normal, ng, lift);
         if material.two_sided {
-            let flip = dot3(ns, wo).lt(R::zero());
-            ns = map3(ns, |c| R::select(flip, -c, c));
-            ng = map3(ng, |c| R::select(flip, -c, c));
-            lift = R::select(flip, R::zero(), lift);
+            let flip = dot3(ns, wo).lt(F32x8::splat(0.0));
+            ns = map3(ns, |c| F32x8::select(flip, -c, c));
+            ng = map3(ng, |c| F32x8::select(flip, -c, c));
+            lift = F32x8::select(flip, F32x8::splat(0.0), lift);
         }
         let cos_o = dot3(ns, wo);
         FacingLanes {
@@ -75,36 +75,36 @@ impl<'m, R: Real> FacingLanes<'m, R> {
             ns,
             wo,
             cos_o,
-            visible: present & cos_o.gt(R::zero()),
+            visible: present & cos_o.gt(F32x8::splat(0.0)),
         }
     }
 
     /// `light` at these points (the scalar shader's `lit`, lane by lane).
     #[inline(always)]
-    fn lit(&self, light: &Light) -> LitLanes<R> {
+    fn lit(&self, light: &Light) -> LitLanes {
         let ls = light.sample_points(self.position);
         let cos_i = dot3(self.ns, ls.wi);
-        let mut lit = self.visible & ls.lit & cos_i.gt(R::zero());
+        let mut lit = self.visible & ls.lit & cos_i.gt(F32x8::splat(0.0));
         let dots = if self.material.has_specular() {
             let (dots, frame) = LocalDots::from_unit_vectors_masked(self.ns, ls.wi, self.wo);
             lit = lit & frame;
             dots
         } else {
             // Lambert reads no dot product: skip the half vector.
-            LocalDots::from_cosines(cos_i, self.cos_o, R::zero(), R::zero())
+            LocalDots::from_cosines(cos_i, self.cos_o, F32x8::splat(0.0), F32x8::splat(0.0))
         };
         LitLanes { ls, cos_i, dots, lit }
     }
 
     /// Adds f_r · E · cos θ_i of the lanes `lit` reaches to `radiance`.
     #[inline(always)]
-    fn add_reflected(&self, lit: &LitLanes<R>, radiance: &mut [R; 3]) {
+    fn add_reflected(&self, lit: &LitLanes, radiance: &mut [F32x8; 3]) {
         if !lit.lit.any() {
             return;
         }
         let term = reflected_radiance(self.material.eval(&lit.dots), lit.ls.irradiance, lit.cos_i);
         for c in 0..3 {
-            radiance[c] = radiance[c] + R::select(lit.lit, term[c], R::zero());
+            radiance[c] = radiance[c] + F32x8::select(lit.lit, term[c], F32x8::splat(0.0));
         }
     }
 }
@@ -169,6 +169,7 @@ impl<O: Occluder> Shader<'_, O> {
     /// result ignores sides. Only for a shader whose convention is the clamped one.
     #[inline(always)]
     pub fn shade_clamped_lanes<R: Real>(&self, points: &SurfaceLanes<R>) -> [R; 3] {
+        debug_assert_eq!(self.convention, ShadingConvention::Clamped);
         let material = &self.materials[points.material as usize];
         let x = points.position;
         let mut radiance = [R::zero(); 3];
@@ -375,11 +376,23 @@ mod tests {
     };
     use super::super::{Shader, BATCH};
     use crate::accel::shadow::{NoOcclusion, SceneExtent};
-    use crate::lanes::LANES;
+    use crate::lanes::{map3, F32x8, LANES};
     use crate::material::Material;
     use crate::shading::convention::ShadingConvention;
     use crate::surface::SurfacePoint;
     use crate::texture::TextureRef;
+
+    /// `points` (of one material) in lanes.
+    fn surface_lanes(points: &[SurfacePoint; LANES]) -> SurfaceLanes {
+        assert!(points.iter().all(|p| p.material == points[0].material), "one material");
+        let lanes = |v: fn(&SurfacePoint) -> Vec3| map3([0, 1, 2], |c| F32x8::from_fn(|i| v(&points[i])[c]));
+        SurfaceLanes {
+            position: lanes(|p| p.position),
+            shading_normal: lanes(|p| p.shading_normal),
+            to_viewer: lanes(|p| p.to_viewer),
+            material: points[0].material,
+        }
+    }
 
     #[test]
     fn eight_lanes_shade_exactly_as_one_point_at_a_time() {
@@ -405,7 +418,7 @@ mod tests {
             assert!(shader.has_lanes());
             for start in 0..points.len() - LANES {
                 let group: [SurfacePoint; LANES] = std::array::from_fn(|i| points[start + i]);
-                let surface = SurfaceLanes::from_points(&group).expect("one material");
+                let surface = surface_lanes(&group);
                 let radiance = shader.shade_lanes(&surface);
                 for (i, p) in group.iter().enumerate() {
                     let lane = lane(&radiance, i);
