@@ -2,12 +2,10 @@
 
 use std::path::PathBuf;
 
-use crate::cli::options::option_error;
 use crate::error::InputError;
-use crate::film::SamplerKind;
 use crate::output::write_all_or_nothing;
 use crate::scene;
-use crate::validation::mitsuba::{export, BsdfChoice};
+use crate::validation::export::{export_files, ExportOptions};
 
 /// Arguments of `pointshade export-mitsuba`.
 #[derive(clap::Args)]
@@ -35,47 +33,17 @@ pub struct ExportArgs {
 
 /// Runs `pointshade export-mitsuba`.
 pub fn run(args: ExportArgs) -> Result<(), InputError> {
-    let mut scene = scene::load(&args.scene)?;
-    if let Some(name) = &args.sampler {
-        scene.film.sampler = SamplerKind::parse(name).map_err(|e| option_error("--sampler", e))?;
-    }
-    if let Some(spp) = args.spp {
-        scene.film.spp = spp;
-    }
-    // Mitsuba renders a sample count; a budget's count is only known once pointshade has run.
-    if scene.film.time_budget.take().is_some() && args.spp.is_none() {
-        return Err(option_error(
-            "--spp",
-            "the scene renders to a time budget, which the Mitsuba export cannot: give the sample count with --spp",
-        ));
-    }
-    scene.film.validate().map_err(|e| option_error("--spp", e))?;
-    let choice = if args.plugin_everywhere {
-        BsdfChoice::PluginEverywhere
-    } else {
-        BsdfChoice::NativeWhereExact
+    let scene = scene::load(&args.scene)?;
+    let options = ExportOptions {
+        spp: args.spp,
+        sampler: args.sampler,
+        per_light: args.per_light,
+        plugin_everywhere: args.plugin_everywhere,
     };
-    // Mesh files (glTF meshes, OBJs of several materials) go beside the XML, named after it.
-    let prefix = args.output.file_stem().map_or("scene".into(), |s| s.to_string_lossy());
-    let e = export(&scene, scene.film.spp, choice, &prefix);
-    let dir = args.output.parent().unwrap_or(std::path::Path::new("."));
-    let mut files = vec![(args.output.clone(), e.scene.clone().into_bytes())];
-    files.extend(e.meshes.iter().map(|(name, bytes)| (dir.join(name), bytes.clone())));
-    if args.per_light {
-        let stem = args.output.with_extension("");
-        for (suffix, xml) in e.passes() {
-            files.push((
-                PathBuf::from(format!("{}.{suffix}.xml", stem.display())),
-                xml.as_bytes().to_vec(),
-            ));
-        }
-    }
+    let (files, lines) = export_files(scene, &args.output, &options, &|key| format!("--{key}"))?;
     write_all_or_nothing(&files)?;
-    for note in &e.material_notes {
-        eprintln!("material {note}");
-    }
-    for d in &e.differences {
-        eprintln!("no Mitsuba equivalent: {d}");
+    for line in lines {
+        eprintln!("{line}");
     }
     Ok(())
 }

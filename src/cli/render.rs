@@ -6,12 +6,12 @@ use std::time::Instant;
 use crate::cli::options::{comma_list, option_error, worker_pool};
 use crate::cli::progress::Progress;
 use crate::error::InputError;
-use crate::film::{Image, PixelRect, SamplerKind};
+use crate::film::{Image, PixelRect};
 use crate::output::exr::encode_exr;
 use crate::output::{aov_path, encode, write_all_or_nothing, Format};
 use crate::plan::{Aov, RenderPlan};
 use crate::scene::framing::{Aim, View};
-use crate::scene::shadows::{ShadowOffset, ShadowTerminator};
+use crate::scene::overrides::Overrides;
 use crate::{render, scene};
 
 /// Arguments of `pointshade render`.
@@ -89,6 +89,9 @@ pub struct RenderArgs {
     /// Vertical field of view of the (perspective) camera, in degrees.
     #[arg(long, value_name = "DEGREES")]
     fov: Option<f32>,
+    /// Seed of the samplers' random sequences (default: the scene's, else 0).
+    #[arg(long)]
+    seed: Option<u64>,
     /// Print the render plan: stages kept and skipped, and why.
     #[arg(long)]
     explain: bool,
@@ -118,48 +121,40 @@ pub fn run(args: RenderArgs) -> Result<(), InputError> {
             })
             .transpose()
     };
-    let aim = Aim {
-        view: args
-            .view
-            .as_deref()
-            .map(View::parse)
-            .transpose()
-            .map_err(|e| option_error("--view", e))?,
-        look_from: point("--look-from", &args.look_from)?,
-        look_at: point("--look-at", &args.look_at)?,
-        fov: args.fov,
+    let crop = args.crop.as_deref().map(PixelRect::parse).transpose();
+    let crop = crop.map_err(|e| option_error("--crop", e))?;
+    if crop.is_some() && format != Format::Exr {
+        return Err(option_error(
+            "--crop",
+            "crops are written as EXR (linear, with their position): use -o NAME.exr",
+        ));
+    }
+    let overrides = Overrides {
+        width: args.width,
+        height: args.height,
+        spp: args.spp,
+        sampler: args.sampler.clone(),
+        adaptive_threshold: args.adaptive_threshold,
+        time_budget: args.time_budget,
+        seed: args.seed,
+        crop,
+        exposure: args.exposure,
+        shadow_offset: args.shadow_offset.clone(),
+        shadow_terminator: args.shadow_terminator.clone(),
+        aim: Aim {
+            view: args
+                .view
+                .as_deref()
+                .map(View::parse)
+                .transpose()
+                .map_err(|e| option_error("--view", e))?,
+            look_from: point("--look-from", &args.look_from)?,
+            look_at: point("--look-at", &args.look_at)?,
+            fov: args.fov,
+        },
     };
     let mut scene = pool.install(|| scene::load_with(&args.scene, scene::LoadOptions { camera: args.camera }))?;
-    aim.apply(&mut scene).map_err(|e| option_error(aim_option(&aim), e))?;
-    let f = &mut scene.film;
-    f.width = args.width.unwrap_or(f.width);
-    f.height = args.height.unwrap_or(f.height);
-    f.exposure = args.exposure.unwrap_or(f.exposure);
-    if let Some(name) = &args.sampler {
-        f.sampler = SamplerKind::parse(name).map_err(|e| option_error("--sampler", e))?;
-    }
-    if let Some(budget) = args.time_budget {
-        f.time_budget = Some(budget);
-        (f.spp, f.adaptive_threshold) = crate::film::time_budget_defaults(f.sampler);
-    }
-    f.spp = args.spp.unwrap_or(f.spp);
-    f.adaptive_threshold = args.adaptive_threshold.unwrap_or(f.adaptive_threshold);
-    if let Some(c) = &args.crop {
-        f.crop = Some(PixelRect::parse(c).map_err(|e| option_error("--crop", e))?);
-        if format != Format::Exr {
-            return Err(option_error(
-                "--crop",
-                "crops are written as EXR (linear, with their position): use -o NAME.exr",
-            ));
-        }
-    }
-    if let Some(name) = &args.shadow_offset {
-        scene.shadow_offset = ShadowOffset::parse(name).map_err(|e| option_error("--shadow-offset", e))?;
-    }
-    if let Some(name) = &args.shadow_terminator {
-        scene.shadow_terminator = ShadowTerminator::parse(name).map_err(|e| option_error("--shadow-terminator", e))?;
-    }
-    f.validate().map_err(|e| InputError::new(&args.scene, e))?;
+    overrides.apply(&mut scene, &|key| format!("--{}", key.replace('_', "-")))?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }
@@ -254,17 +249,4 @@ fn default_output(scene: &Path) -> PathBuf {
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "render".into());
     PathBuf::from(format!("{stem}.png"))
-}
-
-/// The option an aiming error is reported under: the last of them that was given.
-fn aim_option(aim: &Aim) -> &'static str {
-    if aim.fov.is_some() {
-        "--fov"
-    } else if aim.look_at.is_some() {
-        "--look-at"
-    } else if aim.look_from.is_some() {
-        "--look-from"
-    } else {
-        "--view"
-    }
 }

@@ -162,6 +162,38 @@ impl NormalImage {
         Self::decode(path, &bytes)
     }
 
+    /// An image of `width` × `height` row-major RGBA `samples` (alpha at full scale when the
+    /// source has none), from `source`: the size checks [`NormalImage::decode`] makes.
+    pub fn from_samples(
+        source: &Path,
+        width: u32,
+        height: u32,
+        samples: Samples,
+        has_alpha: bool,
+    ) -> InputResult<NormalImage> {
+        let err = |problem: String| InputError::new(source, problem);
+        if width == 0 || height == 0 {
+            return Err(err(format!("the image is empty ({width}×{height})")));
+        }
+        if width as u64 * height as u64 > MAX_PIXELS {
+            return Err(err(format!(
+                "{width}×{height} is too large (at most {MAX_PIXELS} pixels)"
+            )));
+        }
+        let len = match &samples {
+            Samples::Eight(s) => s.len(),
+            Samples::Sixteen(s) => s.len(),
+        };
+        assert_eq!(len as u64, width as u64 * height as u64, "one sample per pixel");
+        Ok(NormalImage {
+            source: source.to_path_buf(),
+            width,
+            height,
+            samples,
+            has_alpha,
+        })
+    }
+
     /// Decodes PNG bytes. RGB and RGBA at 8 or 16 bits are accepted (palette images arrive as
     /// RGB(A)); greyscale is refused — one channel cannot hold a direction — as is anything that
     /// is not a PNG, an empty image or one larger than a render may be.
@@ -177,22 +209,8 @@ impl NormalImage {
         reader.limits(limits);
         let img = reader.decode().map_err(|e| err(format!("cannot decode PNG: {e}")))?;
         let (width, height) = (img.width(), img.height());
-        if width == 0 || height == 0 {
-            return Err(err(format!("the image is empty ({width}×{height})")));
-        }
-        if width as u64 * height as u64 > MAX_PIXELS {
-            return Err(err(format!(
-                "{width}×{height} is too large (at most {MAX_PIXELS} pixels)"
-            )));
-        }
-        let image = |samples, has_alpha| NormalImage {
-            source: source.to_path_buf(),
-            width,
-            height,
-            samples,
-            has_alpha,
-        };
-        Ok(match img {
+        let image = |samples, has_alpha| Self::from_samples(source, width, height, samples, has_alpha);
+        match img {
             DynamicImage::ImageRgb8(b) => image(
                 Samples::Eight(b.pixels().map(|p| [p[0], p[1], p[2], u8::MAX]).collect()),
                 false,
@@ -206,13 +224,11 @@ impl NormalImage {
             DynamicImage::ImageLuma8(_)
             | DynamicImage::ImageLumaA8(_)
             | DynamicImage::ImageLuma16(_)
-            | DynamicImage::ImageLumaA16(_) => {
-                return Err(err(
-                    "greyscale PNG: a normal image needs three colour channels (RGB or RGBA)".into(),
-                ))
-            }
-            other => return Err(err(format!("unsupported PNG colour type {:?}", other.color()))),
-        })
+            | DynamicImage::ImageLumaA16(_) => Err(err(
+                "greyscale PNG: a normal image needs three colour channels (RGB or RGBA)".into(),
+            )),
+            other => Err(err(format!("unsupported PNG colour type {:?}", other.color()))),
+        }
     }
 
     /// Number of pixels.

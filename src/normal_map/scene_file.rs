@@ -182,12 +182,22 @@ impl NormalMapScene {
     /// the file's `brdf` (and may not be combined with a file that names its own material).
     pub fn load(path: &Path, brdf: Option<ModelName>) -> InputResult<Self> {
         let source = TomlSource::read(path)?;
+        Self::from_source(&source, path.parent().unwrap_or(Path::new(".")), brdf)
+    }
+
+    /// [`NormalMapScene::load`] of a scene file's `text` (named `name` in messages, its image
+    /// path relative to `dir`): what the Python module's `shade_normal_image` builds.
+    pub fn from_text(name: &Path, text: String, dir: &Path, brdf: Option<ModelName>) -> InputResult<Self> {
+        Self::from_source(&TomlSource::from_text(name, text), dir, brdf)
+    }
+
+    fn from_source(source: &TomlSource, dir: &Path, brdf: Option<ModelName>) -> InputResult<Self> {
+        let path = source.path;
         let at = |span, problem| source.at(span, problem);
         let file: NormalMapFile = source.parse()?;
         let nm_span = file.normal_map.span();
         let nm = file.normal_map.into_inner();
         let preset = nm.preset;
-        let dir = path.parent().unwrap_or(Path::new("."));
         let mut notes = Vec::new();
 
         let defaults = preset.material_defaults();

@@ -18,7 +18,7 @@ mod sample_cache;
 mod subdivision;
 pub mod tile;
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use glam::Vec3;
@@ -72,11 +72,26 @@ pub struct Rendered {
 /// A film's time budget counts from here: BVH build and render.
 #[inline(never)] // a stage boundary that benches/instructions.sh counts
 pub fn render_scene(scene: &Scene, plan: &RenderPlan, on_tile: &(dyn Fn(u64) + Sync)) -> Result<Rendered, String> {
+    render_scene_until(scene, plan, on_tile, None)
+}
+
+/// The message of a render that `stop` ended.
+pub const INTERRUPTED: &str = "interrupted";
+
+/// [`render_scene`], which ends early with the error [`INTERRUPTED`] once `stop` is set: no
+/// sample starts after that (each batch looks at it), so a render ends within one batch of
+/// samples per thread (the Python module's KeyboardInterrupt).
+pub fn render_scene_until(
+    scene: &Scene,
+    plan: &RenderPlan,
+    on_tile: &(dyn Fn(u64) + Sync),
+    stop: Option<&AtomicBool>,
+) -> Result<Rendered, String> {
     let start = Instant::now();
     // The plan's cut-out stage and `Bvh::for_scene`'s mask look at the same materials.
     let bvh = plan.trace_rays.then(|| Bvh::for_scene(scene));
     debug_assert!(bvh.as_ref().is_none_or(|b| b.has_alpha_mask() == plan.cutouts));
-    let mut rendered = render_from(start, scene, plan, bvh.as_ref(), on_tile)?;
+    let mut rendered = render_from(start, scene, plan, bvh.as_ref(), on_tile, stop)?;
     rendered.stats.bvh_time = bvh.map_or(Duration::ZERO, |b| b.build_time);
     Ok(rendered)
 }
@@ -90,7 +105,7 @@ pub fn render(
     bvh: Option<&Bvh>,
     on_tile: &(dyn Fn(u64) + Sync),
 ) -> Result<Rendered, String> {
-    render_from(Instant::now(), scene, plan, bvh, on_tile)
+    render_from(Instant::now(), scene, plan, bvh, on_tile, None)
 }
 
 /// [`render`], with a time budget counted from `budget_start`.
@@ -100,9 +115,10 @@ fn render_from(
     plan: &RenderPlan,
     bvh: Option<&Bvh>,
     on_tile: &(dyn Fn(u64) + Sync),
+    stop: Option<&AtomicBool>,
 ) -> Result<Rendered, String> {
     let start = Instant::now();
-    let ctx = Context::new(scene, plan, bvh)?;
+    let ctx = Context::new(scene, plan, bvh, stop)?;
     let film = &scene.film;
     let region = film.region();
     let deadline = film.time_budget.map(|b| budget_start + Duration::from_secs_f32(b));
@@ -121,6 +137,9 @@ fn render_from(
         }
         (Some(sequence), None) => (fixed(&ctx, sequence, region, on_tile), None, film.spp, None),
     };
+    if ctx.stopped() {
+        return Err(INTERRUPTED.into());
+    }
     let count = |i: usize| counts.as_ref().map_or(spp, |c| c[i]) as f32;
     let average = |sums: &[Vec3]| Image {
         width: region.width(),

@@ -5,7 +5,7 @@
 //! surface points of a batch stay in cache between the two stages.
 
 use std::borrow::Borrow;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
 use glam::{Vec2, Vec3};
@@ -138,11 +138,19 @@ pub struct Context<'a> {
     pub sampled_aovs: usize,
     /// Counters and stage times.
     pub counters: Counters,
+    /// Set by the caller to end the render early.
+    stop: Option<&'a AtomicBool>,
 }
 
 impl<'a> Context<'a> {
     /// The context of a render of `scene` (whole film geometry; the region only selects pixels).
-    pub fn new(scene: &'a Scene, plan: &'a RenderPlan, bvh: Option<&'a Bvh>) -> Result<Self, String> {
+    /// `stop`, when given, ends the render early: see [`Context::trace`].
+    pub fn new(
+        scene: &'a Scene,
+        plan: &'a RenderPlan,
+        bvh: Option<&'a Bvh>,
+        stop: Option<&'a AtomicBool>,
+    ) -> Result<Self, String> {
         let film = &scene.film;
         Ok(Self {
             scene,
@@ -164,12 +172,23 @@ impl<'a> Context<'a> {
             record_surface: film.sampler.is_adaptive(),
             sampled_aovs: plan.aovs.iter().filter(|a| a.per_sample()).count(),
             counters: Counters::default(),
+            stop,
         })
     }
 
+    /// Whether the caller asked the render to stop.
+    pub fn stopped(&self) -> bool {
+        self.stop.is_some_and(|s| s.load(Ordering::Relaxed))
+    }
+
     /// Traces and shades `jobs`, adding each sample's radiance and AOV values to its slot of
-    /// `sums`. Misses add nothing (black). `scratch` is reused between batches.
+    /// `sums`. Misses add nothing (black). `scratch` is reused between batches. Once the caller
+    /// asked to stop, nothing is traced: the remaining batches cost nothing, and the driver
+    /// discards the image.
     pub fn trace(&self, jobs: &[SampleJob], sums: &mut PixelSums, scratch: &mut Vec<SurfaceSample>) {
+        if self.stopped() {
+            return;
+        }
         let scene = self.scene;
         let plan = self.plan;
         scratch.clear();
@@ -340,6 +359,9 @@ pub(super) fn tile_samples(
     let mut jobs = Vec::with_capacity(((t.width() * t.height() * count) as usize).min(2 * JOBS_PER_TRACE));
     let mut scratch = Vec::new();
     for (x, y) in block_order(t) {
+        if ctx.stopped() {
+            return; // not even the sample positions: they cost as much as tracing at high spp
+        }
         pixel_offsets(sequence, film.seed, x, y, first, &mut offsets);
         let slot = (y - t.y0) * t.width() + (x - t.x0);
         let corner = Vec2::new(x as f32, y as f32);

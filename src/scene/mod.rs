@@ -11,6 +11,7 @@ pub mod gltf;
 mod load;
 pub mod mesh;
 pub mod obj;
+pub mod overrides;
 pub mod procedural;
 pub mod shadows;
 pub mod tangents;

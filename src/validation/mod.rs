@@ -5,6 +5,7 @@
 //! lives in the repository's `validation/` folder.
 
 pub mod compare;
+pub mod export;
 pub mod mitsuba;
 pub mod ply;
 pub mod report;

@@ -165,3 +165,23 @@ fn image_is_identical_for_any_thread_count() {
     assert_eq!(one, three);
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// A render whose stop flag is set ends with `INTERRUPTED`; never set, the same call renders the
+/// whole image.
+#[test]
+fn a_stopped_render_ends_without_an_image() {
+    use pointshade::render::{render_scene_until, INTERRUPTED};
+    use std::sync::atomic::AtomicBool;
+    let mut scene = scene::load(Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/cornell-box.toml"
+    )))
+    .unwrap();
+    (scene.film.width, scene.film.height, scene.film.spp) = (64, 48, 64);
+    let plan = RenderPlan::new(&scene, &[]);
+    let stopped = render_scene_until(&scene, &plan, &|_| {}, Some(&AtomicBool::new(true)));
+    assert_eq!(stopped.err().as_deref(), Some(INTERRUPTED));
+    let go_on = AtomicBool::new(false);
+    let rendered = render_scene_until(&scene, &plan, &|_| {}, Some(&go_on)).unwrap();
+    assert_eq!(rendered.stats.primary_rays, 64 * 48 * 64);
+}

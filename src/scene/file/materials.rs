@@ -223,3 +223,10 @@ pub(crate) fn material(name: &str, m: &MaterialSection, defaults: &MaterialDefau
     material.validate().map_err(plain)?;
     Ok(material)
 }
+
+/// The material of a `[material.NAME]` section's `text` (its keys, without the header), missing
+/// keys taken from `defaults`: the Python module's materials, checked as scene files' are.
+pub fn material_from_toml(name: &str, text: &str, defaults: &MaterialDefaults) -> Result<Material, String> {
+    let section: MaterialSection = toml::from_str(text).map_err(|e| e.message().to_string())?;
+    material(name, &section, defaults).map_err(|(_, problem)| format!("material '{name}': {problem}"))
+}

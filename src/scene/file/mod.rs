@@ -22,7 +22,7 @@ use crate::scene::framing::{default_lights, default_material, frame_bounds};
 use crate::scene::gltf::load_gltf;
 use crate::scene::mesh::DerivedNormals;
 use crate::scene::mesh::{placed_origin, TriangleMesh};
-use crate::scene::obj::{load_obj_underived, NO_MATERIAL};
+use crate::scene::obj::{load_mesh_arrays, load_obj_underived, MeshArrays, ObjContents, NO_MATERIAL};
 use crate::scene::shadows::{ShadowOffset, ShadowTerminator};
 use crate::scene::textures::{decode_used_images, offset_images, PendingImage};
 use crate::scene::{extension, Scene, SceneObject};
@@ -35,7 +35,7 @@ pub(crate) mod values;
 use crate::scene::tangents::complete_tangents;
 pub(crate) use lights::{light, LightSection};
 pub(crate) use materials::{material, MaterialSection};
-pub use materials::{MaterialDefaults, ModelName};
+pub use materials::{material_from_toml, MaterialDefaults, ModelName};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -144,12 +144,26 @@ enum ScaleValue {
     PerAxis([f32; 3]),
 }
 
+/// Meshes given as arrays, by the name an `[[object]]`'s `mesh` key gives them; looked up before
+/// the file system.
+pub type MeshTable = BTreeMap<String, MeshArrays>;
+
 /// Reads a scene file and everything it references.
 pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
     let source = TomlSource::read(path)?;
+    load_scene_source(&source, path.parent().unwrap_or(Path::new(".")), &MeshTable::new())
+}
+
+/// A scene file's `text` (named `name` in messages), whose relative paths start at `dir` and
+/// whose objects may name `arrays` instead of files: what the Python module renders.
+pub fn load_scene_text(name: &Path, text: String, dir: &Path, arrays: &MeshTable) -> InputResult<Scene> {
+    load_scene_source(&TomlSource::from_text(name, text), dir, arrays)
+}
+
+fn load_scene_source(source: &TomlSource, dir: &Path, arrays: &MeshTable) -> InputResult<Scene> {
+    let path = source.path;
     let at = |span, problem| source.at(span, problem);
     let file: SceneFile = source.parse()?;
-    let dir = path.parent().unwrap_or(Path::new("."));
 
     if let Some(nm) = &file.normal_map {
         return Err(at(
@@ -182,7 +196,13 @@ pub fn load_scene_file(path: &Path) -> InputResult<Scene> {
     for object in &file.object {
         let o = object.get_ref();
         let mesh_path = resolve(dir, &o.mesh);
-        let contents = load_object(&mesh_path).map_err(|e| match e {
+        let contents = match arrays.get(&o.mesh) {
+            Some(a) => load_mesh_arrays(Path::new(&o.mesh), a)
+                .map(ObjectContents::of_obj)
+                .map_err(ObjectError::Input),
+            None => load_object(&mesh_path),
+        };
+        let contents = contents.map_err(|e| match e {
             ObjectError::Input(e) => e,
             ObjectError::Unsupported => at(
                 object.span(),
@@ -318,6 +338,21 @@ struct ObjectContents {
     notes: Vec<String>,
 }
 
+impl ObjectContents {
+    fn of_obj((c, derived_normals): (ObjContents, Vec<DerivedNormals>)) -> Self {
+        ObjectContents {
+            mesh: c.mesh,
+            origin: c.origin,
+            derived_normals,
+            materials: c.materials,
+            images: c.images,
+            material_warnings: c.material_warnings,
+            warnings: Vec::new(),
+            notes: Vec::new(),
+        }
+    }
+}
+
 enum ObjectError {
     Input(InputError),
     Unsupported,
@@ -327,19 +362,9 @@ enum ObjectError {
 /// geometry and materials; its cameras and lights are not used, the scene file defines those).
 fn load_object(path: &Path) -> Result<ObjectContents, ObjectError> {
     match extension(path).as_deref() {
-        Some("obj") => {
-            let (c, derived_normals) = load_obj_underived(path).map_err(ObjectError::Input)?;
-            Ok(ObjectContents {
-                mesh: c.mesh,
-                origin: c.origin,
-                derived_normals,
-                materials: c.materials,
-                images: c.images,
-                material_warnings: c.material_warnings,
-                warnings: Vec::new(),
-                notes: Vec::new(),
-            })
-        }
+        Some("obj") => load_obj_underived(path)
+            .map(ObjectContents::of_obj)
+            .map_err(ObjectError::Input),
         Some("gltf" | "glb") => {
             let c = load_gltf(path).map_err(ObjectError::Input)?;
             let mut notes: Vec<String> = c.notes.iter().map(|n| format!("{}: {n}", path.display())).collect();
@@ -369,7 +394,7 @@ fn load_object(path: &Path) -> Result<ObjectContents, ObjectError> {
 /// The text of a TOML scene file, kept so that errors found after parsing can name the line
 /// and column of the value they are about.
 pub(crate) struct TomlSource<'a> {
-    path: &'a Path,
+    pub(crate) path: &'a Path,
     text: String,
 }
 
@@ -378,6 +403,11 @@ impl<'a> TomlSource<'a> {
     pub(crate) fn read(path: &'a Path) -> InputResult<Self> {
         let text = std::fs::read_to_string(path).map_err(|e| InputError::new(path, format!("cannot read: {e}")))?;
         Ok(TomlSource { path, text })
+    }
+
+    /// `text`, named `path` in messages.
+    pub(crate) fn from_text(path: &'a Path, text: String) -> Self {
+        TomlSource { path, text }
     }
 
     /// The file parsed as `T` (strictly, as the sections' serde attributes say), or the parser's

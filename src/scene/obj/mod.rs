@@ -63,6 +63,93 @@ pub fn load_obj_underived(path: &Path) -> InputResult<(ObjContents, Vec<DerivedN
     let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let (models, materials) =
         parse_with_tobj_semantics(&bytes, &dir).map_err(|e| InputError::new(path, format!("malformed OBJ: {e}")))?;
+    contents_of_models(path, &dir, &models, materials)
+}
+
+/// A mesh given as arrays rather than a file (the Python module's `Scene.add_mesh`): what an OBJ
+/// file with the same `v`, `vt`, `vn` and `f` lines holds, so it loads exactly as that file would.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshArrays {
+    /// x, y, z of each vertex.
+    pub positions: Vec<f64>,
+    /// Three vertex indices (0-based) per triangle.
+    pub indices: Vec<u32>,
+    /// x, y, z of each vertex's normal; empty: derived, as for an OBJ without `vn`.
+    pub normals: Vec<f64>,
+    /// u, v of each vertex, v pointing up as in OBJ; empty: none.
+    pub uvs: Vec<f64>,
+}
+
+/// Loads `arrays` (named `name` in messages) as [`load_obj_underived`] loads the OBJ file that
+/// holds them: same checks, same vertex order, same derived normals.
+pub fn load_mesh_arrays(name: &Path, arrays: &MeshArrays) -> InputResult<(ObjContents, Vec<DerivedNormals>)> {
+    let count = arrays.positions.len() / 3;
+    let err = |problem: String| InputError::new(name, problem);
+    if !arrays.positions.len().is_multiple_of(3) || !arrays.indices.len().is_multiple_of(3) {
+        return Err(err("positions and faces come in threes".into()));
+    }
+    if !arrays.normals.is_empty() && arrays.normals.len() != arrays.positions.len() {
+        return Err(err(format!(
+            "{} normals for {count} vertices",
+            arrays.normals.len() / 3
+        )));
+    }
+    if !arrays.uvs.is_empty() && arrays.uvs.len() != 2 * count {
+        return Err(err(format!(
+            "{} texture coordinates for {count} vertices",
+            arrays.uvs.len() / 2
+        )));
+    }
+    if let Some(bad) = arrays.uvs.iter().position(|v| !v.is_finite()) {
+        return Err(err(format!("texture coordinate {} is not finite", bad / 2 + 1)));
+    }
+    if let Some(bad) = arrays.indices.iter().find(|&&i| i as usize >= count) {
+        return Err(err(format!("face index {bad} out of range ({count} vertices)")));
+    }
+    // Vertices in order of first use, unused ones dropped: the order tobj gives the OBJ file.
+    const UNSEEN: u32 = u32::MAX;
+    let mut new_index = vec![UNSEEN; count];
+    let mut order = Vec::with_capacity(count);
+    let indices = arrays
+        .indices
+        .iter()
+        .map(|&i| {
+            let slot = &mut new_index[i as usize];
+            if *slot == UNSEEN {
+                *slot = order.len() as u32;
+                order.push(i as usize);
+            }
+            *slot
+        })
+        .collect();
+    let gather = |values: &[f64], width: usize| -> Vec<f64> {
+        match values.is_empty() {
+            true => Vec::new(),
+            false => order
+                .iter()
+                .flat_map(|&i| values[width * i..width * (i + 1)].iter().copied())
+                .collect(),
+        }
+    };
+    let mesh = tobj::Mesh {
+        positions: gather(&arrays.positions, 3),
+        normals: gather(&arrays.normals, 3),
+        texcoords: gather(&arrays.uvs, 2),
+        indices,
+        ..Default::default()
+    };
+    let models = [tobj::Model::new(mesh, "arrays".into())];
+    contents_of_models(name, Path::new("."), &models, Ok(Vec::new()))
+}
+
+/// The meshes and materials of parsed OBJ `models` (from `path`, whose textures are found in
+/// `dir`): positions relative to the local origin, every check, normals left to derive.
+fn contents_of_models(
+    path: &Path,
+    dir: &Path,
+    models: &[tobj::Model],
+    materials: Result<Vec<tobj::Material>, tobj::LoadError>,
+) -> InputResult<(ObjContents, Vec<DerivedNormals>)> {
     let mut material_warnings = Vec::new();
     let materials = match materials {
         Ok(m) => m,
@@ -84,7 +171,7 @@ pub fn load_obj_underived(path: &Path) -> InputResult<(ObjContents, Vec<DerivedN
     let mut derived = Vec::new();
     let mut all_have_uvs = true;
     let mut uvs = Vec::new();
-    for model in &models {
+    for model in models {
         let m = &model.mesh;
         let count = m.positions.len() / 3;
         let positions: Vec<Vec3> = m
@@ -167,7 +254,7 @@ pub fn load_obj_underived(path: &Path) -> InputResult<(ObjContents, Vec<DerivedN
     }
     mesh.uvs = (all_have_uvs && uvs.len() == mesh.positions.len()).then_some(uvs);
 
-    let mtl = mtl::convert(&materials, &dir, path, mesh.uvs.is_some())?;
+    let mtl = mtl::convert(&materials, dir, path, mesh.uvs.is_some())?;
     material_warnings.extend(mtl.warnings);
     Ok((
         ObjContents {

@@ -17,7 +17,7 @@ use glam::Vec3;
 use crate::brdf::LocalDots;
 
 use crate::accel::shadow::{Occluder, SceneExtent, ShadowRay};
-use crate::lanes::{map3, Mask, Real};
+use crate::lanes::{dot3, map3, Mask, Real, Scalar};
 use crate::light::{Light, LightSample};
 use crate::material::{Material, PointBrdf};
 use crate::scene::shadows::ShadowOffset;
@@ -312,6 +312,28 @@ fn clamped_term<R: Real>(
     reflected_radiance(f, irradiance, a.dots.n_dot_i)
 }
 
+/// f_r(ω_i, ω_o) as the physical shader forms it for an untextured `material` at a point whose
+/// shading normal is `n` (any length), towards unit directions `wi` (to the light) and `wo` (to
+/// the viewer): a two-sided material first turns `n` to the viewer's side; where ω_o or ω_i is
+/// not in front of it, or there is no shading frame, the light adds nothing and f_r is 0; else
+/// [`Material::eval`] of the same dot products `Shader::shade` gives it, so that a light of
+/// irradiance E adds f_r · E · cos θ_i there. (The Python module's `eval_brdf`.)
+pub fn brdf_value<R: Scalar>(material: &Material, n: [R; 3], wi: [R; 3], wo: [R; 3]) -> [R; 3] {
+    let n = match material.two_sided && dot3(n, wo) < R::zero() {
+        true => n.map(|c| -c),
+        false => n,
+    };
+    let (cos_i, cos_o) = (dot3(n, wi), dot3(n, wo));
+    if !(cos_i > R::zero() && cos_o > R::zero()) {
+        return [R::zero(); 3];
+    }
+    let dots = match material.has_specular() {
+        true => LocalDots::from_unit_vectors(n, wi, wo),
+        false => Some(LocalDots::from_cosines(cos_i, cos_o, R::zero(), R::zero())),
+    };
+    dots.map_or([R::zero(); 3], |d| material.eval(&d))
+}
+
 /// What one light adds: L = f_r(ω_i, ω_o) · E · cos θ_i per channel, E the light's irradiance
 /// at normal incidence. Every path of the shader (one point, lanes, either convention) combines
 /// a light's terms here; the conventions differ only in how they form f_r's dot products and
@@ -479,6 +501,38 @@ mod tests {
             let one = shader.shade(p, &mut 0);
             let bits = |v: Vec3| v.to_array().map(f32::to_bits);
             assert_eq!(bits(*got), bits(one), "{p:?}");
+        }
+    }
+
+    /// `brdf_value` is the f_r the shader uses: under one directional light, every point's
+    /// radiance is f_r · E · cos θ_i with f_r from `brdf_value`, bit for bit, for every model,
+    /// both sides and the degenerate points.
+    #[test]
+    fn brdf_value_is_what_the_shader_multiplies() {
+        let light = &lights()[2..];
+        for material in batch_materials() {
+            let materials = [material];
+            let shader = physical(&materials, light, &crate::accel::shadow::NoOcclusion);
+            for p in points() {
+                let ls = light[0]
+                    .sample(p.position)
+                    .expect("a directional light reaches everywhere");
+                let n = p.shading_normal;
+                let f = brdf_value(&materials[0], n.to_array(), ls.wi.to_array(), p.to_viewer.to_array());
+                let n = if materials[0].two_sided && n.dot(p.to_viewer) < 0.0 {
+                    -n
+                } else {
+                    n
+                };
+                let cos_i = n.dot(ls.wi).max(0.0);
+                let expected = Vec3::from(reflected_radiance(f, ls.irradiance.to_array(), cos_i));
+                let got = shader.shade(&p, &mut 0);
+                assert_eq!(
+                    got.to_array().map(f32::to_bits),
+                    expected.to_array().map(f32::to_bits),
+                    "{p:?}"
+                );
+            }
         }
     }
 
