@@ -1,0 +1,329 @@
+"""pointshade: render OBJ/glTF scenes, shade normal images and evaluate BRDFs on numpy arrays.
+
+Every function calls the Rust library the ``pointshade`` command line is built on, so a render
+from Python equals the CLI's bit for bit. The API reference is docs/python.md.
+
+    import pointshade
+    out = pointshade.render("scenes/cornell-box.toml", width=320, height=240)
+    out["color"]          # float32 (240, 320, 3) linear radiance
+
+Errors are exceptions carrying the CLI's one-line message: ``FileNotFoundError`` for a missing
+file, :class:`InputError` (a ``ValueError``) for bad contents or parameters, ``TypeError`` and
+``ValueError`` for arrays of the wrong dtype, shape or layout. The GIL is released while
+pointshade works, and Ctrl-C stops a render within about a tile per thread.
+"""
+
+import copy
+import os
+import warnings
+
+import numpy as np
+
+from . import _native
+from ._native import InputError
+
+__version__ = _native.__version__
+
+__all__ = [
+    "InputError",
+    "Scene",
+    "compare",
+    "eval_brdf",
+    "eval_terms",
+    "read_image",
+    "render",
+    "shade_normal_image",
+]
+
+AOVS = ("normal", "position", "depth", "albedo", "samples")
+
+
+def _path(value, what):
+    if isinstance(value, (str, os.PathLike)):
+        return os.fspath(value)
+    raise TypeError(f"{what}: expected a path (str or os.PathLike), got {type(value).__name__}")
+
+
+def render(
+    scene,
+    *,
+    width=None,
+    height=None,
+    spp=None,
+    sampler=None,
+    adaptive_threshold=None,
+    time_budget=None,
+    seed=None,
+    threads=None,
+    crop=None,
+    camera=None,
+    shadow_offset=None,
+    shadow_terminator=None,
+    view=None,
+    look_from=None,
+    look_at=None,
+    fov=None,
+    aovs=(),
+):
+    """Render ``scene`` and return its images as float32 (H, W, 3) arrays.
+
+    ``scene`` is a path (``.toml`` scene file, ``.obj``, ``.gltf``, ``.glb``) or a :class:`Scene`.
+    The keywords replace the scene's settings, as ``pointshade render``'s options of the same
+    names do: ``width``, ``height``, ``spp``, ``sampler`` (grid, sobol, independent, adaptive,
+    cells), ``adaptive_threshold``, ``time_budget`` (seconds), ``seed``, ``threads``, ``crop``
+    ``(x0, y0, x1, y1)`` (pixels of the frame, x1 and y1 excluded; the images then have the
+    crop's size), ``camera`` (a glTF file's camera index), ``shadow_offset`` (error-bound or
+    mitsuba), ``shadow_terminator`` (smooth or flat), ``view`` ``(azimuth, elevation[,
+    distance])`` in degrees around the automatic framing, ``look_from``/``look_at`` (points) and
+    ``fov`` (degrees), and ``aovs``, a subset of normal, position, depth, albedo, samples.
+
+    Returns a dict: ``color`` (linear radiance), one array per requested AOV, and ``stats``
+    (stage times in seconds, ray counts, samples per pixel, the region and frame, the triangle
+    count and the scene's warnings, which are also issued as Python warnings).
+    """
+    if isinstance(aovs, str):
+        aovs = [aovs]
+    options = dict(
+        width=width,
+        height=height,
+        spp=spp,
+        sampler=sampler,
+        adaptive_threshold=adaptive_threshold,
+        time_budget=time_budget,
+        seed=seed,
+        threads=threads,
+        crop=None if crop is None else tuple(int(c) for c in crop),
+        camera=camera,
+        shadow_offset=shadow_offset,
+        shadow_terminator=shadow_terminator,
+        view=None if view is None else [float(v) for v in view],
+        look_from=None if look_from is None else [float(v) for v in look_from],
+        look_at=None if look_at is None else [float(v) for v in look_at],
+        fov=fov,
+        aovs=list(aovs) if aovs else None,
+    )
+    if isinstance(scene, Scene):
+        out = _native.render(scene.name, text=scene.to_toml(), dir=scene.base_dir, meshes=scene._arrays(), **options)
+    else:
+        out = _native.render(_path(scene, "scene"), **options)
+    for w in out["stats"]["warnings"]:
+        warnings.warn(w, stacklevel=2)
+    return out
+
+
+def _normal_map_toml(image, preset, brdf, material, lights, camera):
+    section = {"image": image, "preset": preset}
+    doc = {"normal_map": section}
+    if material is not None:
+        if brdf is not None:
+            raise ValueError("brdf: give either brdf (the preset's material) or material (a dict), not both")
+        section["material"] = "material"
+        doc["material"] = {"material": dict(material)}
+    elif brdf is not None:
+        section["brdf"] = brdf
+    else:
+        raise ValueError("brdf: give brdf='lambert' | 'blinn-phong' | 'cook-torrance', or material={...}")
+    if lights is not None:
+        doc["light"] = [dict(light) for light in lights]
+    if camera is not None:
+        doc["camera"] = dict(camera)
+    return _native.to_toml(doc)
+
+
+def shade_normal_image(
+    normals, *, preset="physical", brdf=None, material=None, lights=None, camera=None, threads=None, return_8bit=False
+):
+    """Shade a normal image as ``pointshade normalmap`` does; return L_o as float32 (H, W, 3).
+
+    ``normals`` is a PNG path or an (H, W, 3) or (H, W, 4) uint8 or uint16 array of the samples
+    a PNG stores (what ``imageio.imread`` or ``PIL`` give). ``preset`` is ``"tp"`` (the NPM3D TP4
+    report's conventions, exactly) or ``"physical"``. The material is the preset's of model
+    ``brdf`` (lambert, blinn-phong, cook-torrance), or ``material``, a dict of scene-file
+    material keys (``{"model": "cook-torrance", "roughness": 0.3}``) with the preset's defaults.
+    ``lights`` (a list of dicts of ``[[light]]`` keys) and ``camera`` (a dict of the normal-map
+    ``[camera]`` keys) replace the preset's. With ``return_8bit=True`` (tp preset) the result is
+    a tuple ``(L_o, image)``, ``image`` the uint8 (H, W, 3) PNG ``normalmap --preset tp`` writes.
+    """
+    if isinstance(normals, (str, os.PathLike)):
+        image, array, base = os.path.abspath(os.fspath(normals)), None, None
+    else:
+        image, array, base = "normals", normals, None
+    text = _normal_map_toml(image, preset, brdf, material, lights, camera)
+    lo, eight = _native.shade_normal_image(text, normals=array, dir=base, threads=threads, eight_bit=return_8bit)
+    return (lo, eight) if return_8bit else lo
+
+
+def _material_toml(material):
+    if not isinstance(material, dict):
+        raise TypeError(f"material: expected a dict of scene-file material keys, got {type(material).__name__}")
+    return _native.to_toml(material)
+
+
+def eval_brdf(material, n, wi, wo, *, precision="float32", defaults="scene"):
+    """f_r of ``material`` for each row of the (N, 3) arrays ``n``, ``wi``, ``wo``: (N, 3).
+
+    The very function the renderer's shader multiplies by E·cos θ_i: a two-sided material turns
+    ``n`` towards ``wo``; rows where ``wi`` or ``wo`` is below the surface give 0. ``wi`` and
+    ``wo`` are unit directions towards the light and the viewer; ``n`` may have any length.
+    ``material`` is a dict of scene-file material keys; ``defaults`` ``"scene"`` (scene files')
+    or ``"tp"`` (the tp preset's) fills the rest. ``precision``: ``"float32"`` (the renderer's)
+    or ``"float64"`` (for checking).
+    """
+    return _native.eval_brdf(_material_toml(material), n, wi, wo, precision=precision, defaults=defaults)
+
+
+def eval_terms(material, n, wi, wo, *, defaults="scene"):
+    """The Cook-Torrance terms of ``material`` for each row, in float64: a dict of ``D`` (N,),
+    ``G`` (N,), ``F`` (N, 3) and ``f_r`` (N, 3), the functions its ``d``, ``g`` and ``fresnel``
+    keys name (ggx, beckmann; smith-ggx, smith-ggx-correlated, schlick-smith, ...; schlick,
+    schlick-sg, conductor, constant)."""
+    return _native.eval_terms(_material_toml(material), n, wi, wo, defaults=defaults)
+
+
+def read_image(path):
+    """A linear image file (EXR as pointshade writes it) as float32 (H, W, 3)."""
+    return _native.read_image(_path(path, "path"))
+
+
+def compare(ours, ref, tol=1e-3, worst=10):
+    """The metrics ``pointshade compare`` prints, for two (H, W, 3) float arrays or EXR paths.
+
+    Returns a dict: pixels, rmse, rel_mse, mean_relative_error, within_tolerance, tolerance,
+    non_finite_ours, non_finite_reference, worst (the worst pixels, worst first), summary (the
+    CLI's text) and relative_error, the float32 (H, W) per-pixel relative error.
+    """
+    ours = read_image(ours) if isinstance(ours, (str, os.PathLike)) else ours
+    ref = read_image(ref) if isinstance(ref, (str, os.PathLike)) else ref
+    return _native.compare(ours, ref, tol=tol, worst=worst)
+
+
+class Scene:
+    """A scene built in Python: meshes from numpy arrays or files, materials, lights, a camera.
+
+    It is kept as the document a scene file parses to (docs/scene-format.md), so every key,
+    default and check is the scene file's; :meth:`to_toml` writes that file. Meshes given as
+    arrays are named ``NAME.obj`` in it, and :meth:`save` writes them beside the scene file as
+    OBJ files that load exactly as the arrays do.
+    """
+
+    def __init__(self, base_dir=None):
+        """An empty scene; relative mesh paths are relative to ``base_dir`` (default: the
+        current directory)."""
+        self.base_dir = os.path.abspath(base_dir or os.getcwd())
+        self.name = "Scene"
+        self.doc = {}
+        self.meshes = {}
+
+    @classmethod
+    def from_toml(cls, path):
+        """The scene of a scene file (its mesh paths stay relative to the file's folder)."""
+        path = _path(path, "path")
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+        scene = cls(os.path.dirname(os.path.abspath(path)))
+        scene.name = path
+        scene.doc = _native.parse_toml(text, path)
+        return scene
+
+    def _section(self, key, default):
+        return self.doc.setdefault(key, default)
+
+    def add_mesh(self, vertices, faces, *, normals=None, uvs=None, material=None, transform=None, name=None):
+        """Add a mesh of (N, 3) float ``vertices`` and (M, 3) integer ``faces`` (0-based), with
+        optional (N, 3) ``normals`` (else angle-weighted normals, as for an OBJ without them) and
+        (N, 2) ``uvs`` (v pointing up, as in OBJ). ``material`` names a material of the scene;
+        ``transform`` is a dict of ``translate``, ``rotate`` (degrees about x, y, z) and
+        ``scale``. Returns the mesh's name in the scene file. The arrays are kept, not copied:
+        do not change them before rendering."""
+        name = name or f"mesh{len(self.meshes)}"
+        file = f"{name}.obj"
+        if file in self.meshes:
+            raise ValueError(f"name: a mesh named '{name}' is already in the scene")
+        self.meshes[file] = (vertices, faces, normals, uvs)
+        self._add_object(file, material, transform)
+        return name
+
+    def add_object(self, path, *, material=None, transform=None):
+        """Add a mesh file (.obj, .gltf, .glb), with its own materials unless ``material``
+        names one of the scene's."""
+        self._add_object(_path(path, "path"), material, transform)
+
+    def _add_object(self, mesh, material, transform):
+        obj = {"mesh": mesh}
+        if material is not None:
+            obj["material"] = material
+        if transform is not None:
+            obj["transform"] = dict(transform)
+        self._section("object", []).append(obj)
+
+    def add_material(self, name, model="lambert", **params):
+        """Add material ``name`` of ``model`` (lambert, blinn-phong, cook-torrance) with
+        scene-file keys (albedo, kd, two_sided, ks, shininess, specular_color, roughness,
+        metallic, ior, d, g, fresnel, eta, k)."""
+        self._section("material", {})[name] = {"model": model, **params}
+
+    def add_light(self, type="point", **params):
+        """Add a light of ``type`` (point, directional, spot) with its ``[[light]]`` keys
+        (position, direction, look_at, intensity, irradiance, color, angles, range, ...)."""
+        self._section("light", []).append({"type": type, **params})
+
+    def set_camera(self, **params):
+        """Set the camera's ``[camera]`` keys (position, look_at, up, fov, type, ...)."""
+        self.doc["camera"] = dict(params)
+
+    def set_film(self, **params):
+        """Set the ``[film]`` keys (width, height, spp, sampler, seed, exposure, ...)."""
+        self._section("film", {}).update(params)
+
+    def set_render(self, **params):
+        """Set the ``[render]`` keys (shadows, shadow_offset, shadow_terminator)."""
+        self._section("render", {}).update(params)
+
+    def _arrays(self):
+        return dict(self.meshes)
+
+    def to_toml(self):
+        """The scene file of this scene (array meshes named ``NAME.obj``; see :meth:`save`)."""
+        return _native.to_toml(self.doc)
+
+    def save(self, path):
+        """Write the scene file to ``path`` and each array mesh beside it as ``NAME.obj``;
+        relative mesh paths are rewritten to stay valid from the new folder."""
+        path = os.path.abspath(_path(path, "path"))
+        folder = os.path.dirname(path)
+        doc = copy.deepcopy(self.doc)
+        for obj in doc.get("object", []):
+            if obj["mesh"] not in self.meshes and not os.path.isabs(obj["mesh"]):
+                obj["mesh"] = os.path.relpath(os.path.join(self.base_dir, obj["mesh"]), folder)
+        for file, (vertices, faces, normals, uvs) in self.meshes.items():
+            _write_obj(os.path.join(folder, file), vertices, faces, normals, uvs)
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(_native.to_toml(doc))
+
+    def export_mitsuba(self, path, *, spp=None, sampler=None, per_light=False):
+        """Write the scene as Mitsuba 3 XML at ``path`` (meshes Mitsuba cannot read as PLY
+        beside it), as ``pointshade export-mitsuba`` does; returns its notes and differences."""
+        return _native.export_mitsuba(
+            self.name, _path(path, "path"), text=self.to_toml(), dir=self.base_dir, meshes=self._arrays(),
+            spp=spp, sampler=sampler, per_light=per_light,
+        )
+
+    def __repr__(self):
+        counts = {k: len(self.doc.get(k, ())) for k in ("object", "material", "light")}
+        return f"Scene({counts['object']} objects, {counts['material']} materials, {counts['light']} lights)"
+
+
+def _write_obj(path, vertices, faces, normals, uvs):
+    """An OBJ file that loads as the arrays do: shortest round-trip decimals, 1-based indices."""
+    v = np.asarray(vertices, dtype=np.float64)
+    lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in v.tolist()]
+    if uvs is not None:
+        lines += [f"vt {a!r} {b!r}" for a, b in np.asarray(uvs, dtype=np.float64).tolist()]
+    if normals is not None:
+        lines += [f"vn {x!r} {y!r} {z!r}" for x, y, z in np.asarray(normals, dtype=np.float64).tolist()]
+    slot = {(False, False): "{0}", (True, False): "{0}/{0}", (False, True): "{0}//{0}", (True, True): "{0}/{0}/{0}"}
+    fmt = slot[(uvs is not None, normals is not None)]
+    for tri in np.asarray(faces, dtype=np.int64).tolist():
+        lines.append("f " + " ".join(fmt.format(i + 1) for i in tri))
+    with open(path, "w", encoding="utf-8") as f:
+        f.write("\n".join(lines) + "\n")

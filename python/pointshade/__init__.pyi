@@ -1,0 +1,132 @@
+"""Type stubs of pointshade's Python module (the reference is docs/python.md)."""
+
+import os
+from typing import Any, Literal, Mapping, Optional, Sequence, Tuple, Union, overload
+
+import numpy as np
+import numpy.typing as npt
+
+PathLike = Union[str, os.PathLike]
+Vec3 = Sequence[float]
+AovName = Literal["normal", "position", "depth", "albedo", "samples"]
+
+__version__: str
+
+class InputError(ValueError):
+    """A problem with a file's contents or a parameter; the message is the CLI's one line."""
+
+def render(
+    scene: Union[PathLike, "Scene"],
+    *,
+    width: Optional[int] = ...,
+    height: Optional[int] = ...,
+    spp: Optional[int] = ...,
+    sampler: Optional[Literal["grid", "sobol", "independent", "adaptive", "cells"]] = ...,
+    adaptive_threshold: Optional[float] = ...,
+    time_budget: Optional[float] = ...,
+    seed: Optional[int] = ...,
+    threads: Optional[int] = ...,
+    crop: Optional[Tuple[int, int, int, int]] = ...,
+    camera: Optional[int] = ...,
+    shadow_offset: Optional[Literal["error-bound", "mitsuba"]] = ...,
+    shadow_terminator: Optional[Literal["smooth", "flat"]] = ...,
+    view: Optional[Sequence[float]] = ...,
+    look_from: Optional[Vec3] = ...,
+    look_at: Optional[Vec3] = ...,
+    fov: Optional[float] = ...,
+    aovs: Union[AovName, Sequence[AovName]] = ...,
+) -> dict[str, Any]:
+    """Render a scene file, mesh, glTF file or Scene; float32 (H, W, 3) arrays and stats."""
+
+@overload
+def shade_normal_image(
+    normals: Union[PathLike, npt.NDArray[np.uint8], npt.NDArray[np.uint16]],
+    *,
+    preset: Literal["tp", "physical"] = ...,
+    brdf: Optional[Literal["lambert", "blinn-phong", "cook-torrance"]] = ...,
+    material: Optional[Mapping[str, Any]] = ...,
+    lights: Optional[Sequence[Mapping[str, Any]]] = ...,
+    camera: Optional[Mapping[str, Any]] = ...,
+    threads: Optional[int] = ...,
+    return_8bit: Literal[False] = ...,
+) -> npt.NDArray[np.float32]: ...
+@overload
+def shade_normal_image(
+    normals: Union[PathLike, npt.NDArray[np.uint8], npt.NDArray[np.uint16]],
+    *,
+    preset: Literal["tp", "physical"] = ...,
+    brdf: Optional[Literal["lambert", "blinn-phong", "cook-torrance"]] = ...,
+    material: Optional[Mapping[str, Any]] = ...,
+    lights: Optional[Sequence[Mapping[str, Any]]] = ...,
+    camera: Optional[Mapping[str, Any]] = ...,
+    threads: Optional[int] = ...,
+    return_8bit: Literal[True],
+) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.uint8]]: ...
+def eval_brdf(
+    material: Mapping[str, Any],
+    n: npt.NDArray[np.floating],
+    wi: npt.NDArray[np.floating],
+    wo: npt.NDArray[np.floating],
+    *,
+    precision: Literal["float32", "float64"] = ...,
+    defaults: Literal["scene", "tp"] = ...,
+) -> npt.NDArray[np.floating]:
+    """f_r per row of the (N, 3) direction arrays: (N, 3)."""
+
+def eval_terms(
+    material: Mapping[str, Any],
+    n: npt.NDArray[np.floating],
+    wi: npt.NDArray[np.floating],
+    wo: npt.NDArray[np.floating],
+    *,
+    defaults: Literal["scene", "tp"] = ...,
+) -> dict[str, npt.NDArray[np.float64]]:
+    """D (N,), G (N,), F (N, 3) and f_r (N, 3) of a Cook-Torrance material, float64."""
+
+def read_image(path: PathLike) -> npt.NDArray[np.float32]:
+    """A linear EXR as float32 (H, W, 3)."""
+
+def compare(
+    ours: Union[PathLike, npt.NDArray[np.floating]],
+    ref: Union[PathLike, npt.NDArray[np.floating]],
+    tol: float = ...,
+    worst: int = ...,
+) -> dict[str, Any]:
+    """pointshade compare's metrics and the per-pixel relative error (H, W)."""
+
+class Scene:
+    """A scene built in Python, kept as the document a scene file parses to."""
+
+    base_dir: str
+    name: str
+    doc: dict[str, Any]
+    meshes: dict[str, tuple]
+    def __init__(self, base_dir: Optional[PathLike] = ...) -> None: ...
+    @classmethod
+    def from_toml(cls, path: PathLike) -> "Scene": ...
+    def add_mesh(
+        self,
+        vertices: npt.NDArray[np.floating],
+        faces: npt.NDArray[np.integer],
+        *,
+        normals: Optional[npt.NDArray[np.floating]] = ...,
+        uvs: Optional[npt.NDArray[np.floating]] = ...,
+        material: Optional[str] = ...,
+        transform: Optional[Mapping[str, Any]] = ...,
+        name: Optional[str] = ...,
+    ) -> str: ...
+    def add_object(
+        self, path: PathLike, *, material: Optional[str] = ..., transform: Optional[Mapping[str, Any]] = ...
+    ) -> None: ...
+    def add_material(
+        self, name: str, model: Literal["lambert", "blinn-phong", "cook-torrance"] = ..., **params: Any
+    ) -> None: ...
+    def add_light(self, type: Literal["point", "directional", "spot"] = ..., **params: Any) -> None: ...
+    def set_camera(self, **params: Any) -> None: ...
+    def set_film(self, **params: Any) -> None: ...
+    def set_render(self, **params: Any) -> None: ...
+    def to_toml(self) -> str: ...
+    def save(self, path: PathLike) -> None: ...
+    def export_mitsuba(
+        self, path: PathLike, *, spp: Optional[int] = ..., sampler: Optional[str] = ..., per_light: bool = ...
+    ) -> list[str]: ...

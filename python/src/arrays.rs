@@ -1,0 +1,241 @@
+//! numpy arrays in: dtype, shape, layout and finiteness checked before use, each failure a
+//! `TypeError` (wrong dtype or not an array) or `ValueError` (shape, layout, NaN) naming the
+//! argument. Arrays are read in place: nothing is copied to convert a layout or a dtype.
+
+use numpy::{Element, PyArrayDyn, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
+use pyo3::exceptions::PyTypeError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use pointshade::film::Image;
+use pointshade::lanes::Scalar;
+use pointshade::normal_map::image::Samples;
+use pointshade::scene::file::MeshTable;
+use pointshade::scene::obj::MeshArrays;
+
+use crate::value_error;
+
+/// `value` as a numpy array, C-contiguous, of `ndim` dimensions whose trailing ones are
+/// `trailing` (`None`: any length).
+fn array<'a, 'py>(
+    name: &str,
+    value: &'a Bound<'py, PyAny>,
+    ndim: usize,
+    trailing: &[Option<usize>],
+) -> PyResult<&'a Bound<'py, PyUntypedArray>> {
+    let a = value
+        .cast::<PyUntypedArray>()
+        .map_err(|_| PyTypeError::new_err(format!("{name}: expected a numpy array, got {}", type_name(value))))?;
+    let shape = a.shape();
+    let wanted = || {
+        let dims: Vec<String> = std::iter::repeat_n("N".to_string(), ndim - trailing.len())
+            .chain(trailing.iter().map(|t| t.map_or("N".into(), |n| n.to_string())))
+            .collect();
+        format!("({})", dims.join(", "))
+    };
+    let tail_ok = shape.len() == ndim
+        && shape[ndim - trailing.len()..]
+            .iter()
+            .zip(trailing)
+            .all(|(&s, t)| t.is_none_or(|t| s == t));
+    if !tail_ok {
+        return Err(value_error(name, format!("expected shape {}, got {shape:?}", wanted())));
+    }
+    if !a.is_c_contiguous() {
+        return Err(value_error(
+            name,
+            "must be C-contiguous (pass np.ascontiguousarray(...): pointshade does not copy arrays silently)",
+        ));
+    }
+    Ok(a)
+}
+
+fn type_name(value: &Bound<'_, PyAny>) -> String {
+    value.get_type().name().map_or_else(|_| "?".into(), |n| n.to_string())
+}
+
+/// The dtype's name, for messages.
+fn dtype_name(a: &Bound<'_, PyUntypedArray>) -> String {
+    a.dtype().to_string()
+}
+
+/// `read` of the elements of a C-contiguous array of element type `T`, if that is its dtype.
+fn with_elements<T: Element, R>(a: &Bound<'_, PyUntypedArray>, read: impl FnOnce(&[T]) -> R) -> Option<R> {
+    let typed = a.cast::<PyArrayDyn<T>>().ok()?;
+    let ro = typed.readonly();
+    ro.as_slice().ok().map(read)
+}
+
+/// The elements of a C-contiguous array of element type `T`, if that is its dtype.
+fn elements<T: Element + Copy>(a: &Bound<'_, PyUntypedArray>) -> Option<Vec<T>> {
+    with_elements(a, <[T]>::to_vec)
+}
+
+/// Float elements (float32 or float64) as f64, each checked finite.
+fn finite_floats(name: &str, a: &Bound<'_, PyUntypedArray>) -> PyResult<Vec<f64>> {
+    let values = match elements::<f64>(a) {
+        Some(v) => v,
+        None => match elements::<f32>(a) {
+            Some(v) => v.into_iter().map(f64::from).collect(),
+            None => {
+                return Err(PyTypeError::new_err(format!(
+                    "{name}: expected a float32 or float64 array, got dtype {}",
+                    dtype_name(a)
+                )))
+            }
+        },
+    };
+    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+        return Err(value_error(
+            name,
+            format!("element {i} is {} (every value must be finite)", values[i]),
+        ));
+    }
+    Ok(values)
+}
+
+/// Integer elements of any integer dtype as u32 indices, each checked in range of u32.
+fn indices(name: &str, a: &Bound<'_, PyUntypedArray>) -> PyResult<Vec<u32>> {
+    let bad = |v: i128| value_error(name, format!("index {v} is negative or too large"));
+    macro_rules! try_dtype {
+        ($($t:ty),*) => {
+            $(if let Some(v) = elements::<$t>(a) {
+                return v.into_iter().map(|x| u32::try_from(x).map_err(|_| bad(x as i128))).collect();
+            })*
+        };
+    }
+    try_dtype!(i64, i32, u32, u64, i16, u16, u8, i8);
+    Err(PyTypeError::new_err(format!(
+        "{name}: expected an integer array, got dtype {}",
+        dtype_name(a)
+    )))
+}
+
+/// The meshes of a `{name: (vertices, faces, normals | None, uvs | None)}` dict.
+pub fn mesh_table(meshes: &Bound<'_, PyDict>) -> PyResult<MeshTable> {
+    let mut table = MeshTable::new();
+    for (key, value) in meshes.iter() {
+        let name: String = key.extract()?;
+        let (vertices, faces, normals, uvs): (Bound<PyAny>, Bound<PyAny>, Bound<PyAny>, Bound<PyAny>) =
+            value.extract()?;
+        let what = |part: &str| format!("mesh '{name}' {part}");
+        let positions = finite_floats(&what("vertices"), array(&what("vertices"), &vertices, 2, &[Some(3)])?)?;
+        let faces = indices(&what("faces"), array(&what("faces"), &faces, 2, &[Some(3)])?)?;
+        if faces.is_empty() {
+            return Err(value_error(&what("faces"), "no faces: nothing to render"));
+        }
+        let optional = |part: &str, value: &Bound<PyAny>, width: usize| -> PyResult<Vec<f64>> {
+            match value.is_none() {
+                true => Ok(Vec::new()),
+                false => finite_floats(&what(part), array(&what(part), value, 2, &[Some(width)])?),
+            }
+        };
+        let arrays = MeshArrays {
+            normals: optional("normals", &normals, 3)?,
+            uvs: optional("uvs", &uvs, 2)?,
+            positions,
+            indices: faces,
+        };
+        table.insert(name, arrays);
+    }
+    Ok(table)
+}
+
+/// An (H, W, 3|4) uint8 or uint16 normal image's samples: width, height, RGBA samples (alpha at
+/// full scale for three channels), whether it has alpha.
+pub fn normal_samples(value: &Bound<'_, PyAny>) -> PyResult<(u32, u32, Samples, bool)> {
+    let a = array("normals", value, 3, &[None])?;
+    let shape = a.shape();
+    let (h, w, c) = (shape[0], shape[1], shape[2]);
+    if c != 3 && c != 4 {
+        return Err(value_error(
+            "normals",
+            format!("expected (H, W, 3) or (H, W, 4), got {shape:?}"),
+        ));
+    }
+    let size = |v: usize| u32::try_from(v).map_err(|_| value_error("normals", format!("{w}×{h} is too large")));
+    let (w32, h32) = (size(w)?, size(h)?);
+    fn rgba<T: Copy>(v: &[T], c: usize, full: T) -> Vec<[T; 4]> {
+        v.chunks_exact(c)
+            .map(|p| [p[0], p[1], p[2], if c == 4 { p[3] } else { full }])
+            .collect()
+    }
+    let samples = if let Some(s) = with_elements(a, |v| rgba(v, c, u8::MAX)) {
+        Samples::Eight(s)
+    } else if let Some(s) = with_elements(a, |v| rgba(v, c, u16::MAX)) {
+        Samples::Sixteen(s)
+    } else {
+        return Err(PyTypeError::new_err(format!(
+            "normals: expected a uint8 or uint16 array (the samples a PNG stores), got dtype {}",
+            dtype_name(a)
+        )));
+    };
+    Ok((w32, h32, samples, c == 4))
+}
+
+/// An (H, W, 3) float array as an image (NaN and infinity kept: the comparison counts them).
+pub fn image_of(name: &str, value: &Bound<'_, PyAny>) -> PyResult<Image> {
+    let a = array(name, value, 3, &[None, None, Some(3)])?;
+    let shape = a.shape();
+    let values: Vec<f32> = match elements::<f32>(a) {
+        Some(v) => v,
+        None => match elements::<f64>(a) {
+            Some(v) => v.into_iter().map(|x| x as f32).collect(),
+            None => {
+                return Err(PyTypeError::new_err(format!(
+                    "{name}: expected a float32 or float64 array, got dtype {}",
+                    dtype_name(a)
+                )))
+            }
+        },
+    };
+    let size = |v: usize| u32::try_from(v).map_err(|_| value_error(name, "too large"));
+    Ok(Image {
+        width: size(shape[1])?,
+        height: size(shape[0])?,
+        pixels: values.chunks_exact(3).map(glam::Vec3::from_slice).collect(),
+    })
+}
+
+/// An (N, 3) array of directions, as f64 (converted to the evaluation's precision per row).
+pub struct DirectionArray(Vec<f64>);
+
+impl DirectionArray {
+    /// Number of rows.
+    pub fn rows(&self) -> usize {
+        self.0.len() / 3
+    }
+
+    /// Row `i` in precision `R`.
+    pub fn row<R: Scalar>(&self, i: usize) -> [R; 3] {
+        [
+            R::lit(self.0[3 * i]),
+            R::lit(self.0[3 * i + 1]),
+            R::lit(self.0[3 * i + 2]),
+        ]
+    }
+}
+
+/// `n`, `wi` and `wo` as (N, 3) direction arrays of one length, finite.
+pub fn directions(
+    n: &Bound<'_, PyAny>,
+    wi: &Bound<'_, PyAny>,
+    wo: &Bound<'_, PyAny>,
+) -> PyResult<(DirectionArray, DirectionArray, DirectionArray)> {
+    let read = |name: &str, v: &Bound<'_, PyAny>| -> PyResult<DirectionArray> {
+        Ok(DirectionArray(finite_floats(name, array(name, v, 2, &[Some(3)])?)?))
+    };
+    let (n, wi, wo) = (read("n", n)?, read("wi", wi)?, read("wo", wo)?);
+    if n.rows() != wi.rows() || n.rows() != wo.rows() {
+        return Err(value_error(
+            "wi",
+            format!(
+                "n, wi and wo need one row each per direction: {}, {}, {} rows",
+                n.rows(),
+                wi.rows(),
+                wo.rows()
+            ),
+        ));
+    }
+    Ok((n, wi, wo))
+}

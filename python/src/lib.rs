@@ -1,0 +1,611 @@
+//! `pointshade._native`: the Rust side of the Python module. Each function here converts
+//! Python values and numpy arrays to the library's types, calls the same library function the
+//! CLI calls, and converts the result back; the Python package (`python/pointshade/`) adds the
+//! `Scene` builder and the keyword interface on top. Nothing here shades or loads by itself.
+//!
+//! Errors: every `pointshade::error::InputError` becomes a Python exception carrying the CLI's
+//! one-line message (`FileNotFoundError` for a missing file, else `pointshade.InputError`, a
+//! `ValueError`); arrays of the wrong dtype, shape or layout are a `TypeError` or `ValueError`
+//! raised before anything is copied. The GIL is released while loading, rendering and shading.
+
+mod arrays;
+mod interrupt;
+mod toml_values;
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use numpy::ndarray::{Array2, Array3};
+use numpy::{IntoPyArray, PyArrayDyn};
+use pyo3::exceptions::{PyFileNotFoundError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use pointshade::brdf::LocalDots;
+use pointshade::error::InputError as LibError;
+use pointshade::film::{Image, PixelRect};
+use pointshade::material::{BrdfModel, Material};
+use pointshade::normal_map::formats::min_max_8bit;
+use pointshade::normal_map::image::NormalImage;
+use pointshade::normal_map::scene_file::{NormalMapScene, Preset};
+use pointshade::normal_map::{image_surface, plan as normal_map_plan, shade_image};
+use pointshade::plan::{Aov, RenderPlan};
+use pointshade::scene::file::{load_scene_text, material_from_toml, MaterialDefaults, MeshTable};
+use pointshade::scene::framing::{Aim, View};
+use pointshade::scene::overrides::Overrides;
+use pointshade::shading::shader::brdf_value;
+use pointshade::validation::compare::compare as compare_images;
+use pointshade::validation::export::{export_files, ExportOptions};
+
+use arrays::{directions, image_of, DirectionArray};
+use interrupt::run_interruptible;
+
+pyo3::create_exception!(
+    pointshade,
+    InputError,
+    PyValueError,
+    "A problem with something given to pointshade (a file's contents, a parameter): the message is the CLI's one line, `SOURCE: problem`."
+);
+
+/// The Python exception of a library error: `FileNotFoundError` when the file is missing, else
+/// `pointshade.InputError`; the message is what the CLI prints after `error: `.
+fn py_err(e: LibError) -> PyErr {
+    let missing = e.problem == "file not found" || e.problem.contains("No such file or directory");
+    match missing {
+        true => PyFileNotFoundError::new_err(e.to_string()),
+        false => InputError::new_err(e.to_string()),
+    }
+}
+
+/// A `ValueError` about the keyword `name`.
+pub(crate) fn value_error(name: &str, problem: impl std::fmt::Display) -> PyErr {
+    PyValueError::new_err(format!("{name}: {problem}"))
+}
+
+/// The worker pool of a call: rayon's global one (all cores, started once) when `threads` is
+/// `None`, else a pool of that many threads. Starting threads costs more than shading a small
+/// normal image, so the common case reuses them.
+enum Workers {
+    Global,
+    Own(rayon::ThreadPool),
+}
+
+impl Workers {
+    fn new(threads: Option<usize>) -> PyResult<Self> {
+        match threads {
+            None => Ok(Workers::Global),
+            Some(0) => Err(value_error("threads", "must be at least 1")),
+            Some(n) => rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map(Workers::Own)
+                .map_err(|e| value_error("threads", e)),
+        }
+    }
+
+    /// Runs `work` on these workers.
+    fn install<T: Send>(&self, work: impl FnOnce() -> T + Send) -> T {
+        match self {
+            Workers::Global => work(),
+            Workers::Own(pool) => pool.install(work),
+        }
+    }
+}
+
+/// An image's pixels as a float32 (H, W, 3) array, taking over the pixel buffer: an
+/// (H, W, 3) float32 array is exactly `Vec<Vec3>`'s memory, and copying 12 bytes a pixel took a
+/// noticeable share of a normal image's call (docs/python.md, "Benchmarks").
+fn rgb_array<'py>(py: Python<'py>, image: Image) -> Bound<'py, PyArrayDyn<f32>> {
+    let shape = (image.height as usize, image.width as usize, 3);
+    let flat = vec3_floats(image.pixels);
+    Array3::from_shape_vec(shape, flat)
+        .expect("one pixel per width × height")
+        .into_dyn()
+        .into_pyarray(py)
+}
+
+/// The floats of `pixels`, without copying them.
+fn vec3_floats(pixels: Vec<glam::Vec3>) -> Vec<f32> {
+    // glam's Vec3 is `#[repr(C)] { x, y, z: f32 }`: three floats, 4-byte aligned, no padding.
+    const _: () = assert!(std::mem::size_of::<glam::Vec3>() == 12 && std::mem::align_of::<glam::Vec3>() == 4);
+    let mut pixels = std::mem::ManuallyDrop::new(pixels);
+    let (ptr, len, capacity) = (pixels.as_mut_ptr(), pixels.len(), pixels.capacity());
+    // SAFETY: the allocation holds `capacity` Vec3s = 3·capacity f32s of the same alignment, the
+    // first 3·len of them initialised, and `pixels` no longer owns it.
+    unsafe { Vec::from_raw_parts(ptr.cast::<f32>(), 3 * len, 3 * capacity) }
+}
+
+/// The scene a `render` call names: a file, or a scene file's text with meshes given as arrays.
+enum SceneInput {
+    File {
+        path: PathBuf,
+        camera: Option<usize>,
+    },
+    Text {
+        name: PathBuf,
+        text: String,
+        dir: PathBuf,
+        meshes: MeshTable,
+    },
+}
+
+/// Renders a scene; see `pointshade.render` for the keywords. Returns a dict: `color`, one
+/// entry per AOV, and `stats`.
+#[pyfunction]
+#[pyo3(signature = (
+    path, *, text=None, dir=None, meshes=None, width=None, height=None, spp=None, sampler=None,
+    adaptive_threshold=None, time_budget=None, seed=None, threads=None, crop=None, camera=None,
+    shadow_offset=None, shadow_terminator=None, view=None, look_from=None, look_at=None, fov=None,
+    aovs=None
+))]
+#[allow(clippy::too_many_arguments)]
+fn render<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    text: Option<String>,
+    dir: Option<PathBuf>,
+    meshes: Option<Bound<'py, PyDict>>,
+    width: Option<i64>,
+    height: Option<i64>,
+    spp: Option<i64>,
+    sampler: Option<String>,
+    adaptive_threshold: Option<f32>,
+    time_budget: Option<f32>,
+    seed: Option<i64>,
+    threads: Option<i64>,
+    crop: Option<(i64, i64, i64, i64)>,
+    camera: Option<i64>,
+    shadow_offset: Option<String>,
+    shadow_terminator: Option<String>,
+    view: Option<Vec<f64>>,
+    look_from: Option<[f64; 3]>,
+    look_at: Option<[f64; 3]>,
+    fov: Option<f32>,
+    aovs: Option<Vec<String>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let count = |name: &str, v: Option<i64>| -> PyResult<Option<u32>> {
+        v.map(|v| u32::try_from(v).map_err(|_| value_error(name, format!("must be an integer ≥ 0, got {v}"))))
+            .transpose()
+    };
+    let crop = match crop {
+        Some((x0, y0, x1, y1)) => {
+            let c =
+                |v: i64| u32::try_from(v).map_err(|_| value_error("crop", format!("coordinates must be ≥ 0, got {v}")));
+            Some(PixelRect {
+                x0: c(x0)?,
+                y0: c(y0)?,
+                x1: c(x1)?,
+                y1: c(y1)?,
+            })
+        }
+        None => None,
+    };
+    let view = match view {
+        Some(v) => Some(
+            View::parse(&v.iter().map(f64::to_string).collect::<Vec<_>>().join(","))
+                .map_err(|e| value_error("view", e))?,
+        ),
+        None => None,
+    };
+    let overrides = Overrides {
+        width: count("width", width)?,
+        height: count("height", height)?,
+        spp: count("spp", spp)?,
+        sampler,
+        adaptive_threshold,
+        time_budget,
+        seed: seed
+            .map(|s| u64::try_from(s).map_err(|_| value_error("seed", format!("must be ≥ 0, got {s}"))))
+            .transpose()?,
+        crop,
+        exposure: None,
+        shadow_offset,
+        shadow_terminator,
+        aim: Aim {
+            view,
+            look_from: look_from.map(glam::DVec3::from_array),
+            look_at: look_at.map(glam::DVec3::from_array),
+            fov,
+        },
+    };
+    let aovs = match aovs {
+        Some(names) => Aov::parse_list(&names.join(",")).map_err(|e| value_error("aovs", e))?,
+        None => Vec::new(),
+    };
+    let threads = threads
+        .map(|t| usize::try_from(t).map_err(|_| value_error("threads", format!("must be at least 1, got {t}"))))
+        .transpose()?;
+    let camera = camera
+        .map(|c| usize::try_from(c).map_err(|_| value_error("camera", format!("must be ≥ 0, got {c}"))))
+        .transpose()?;
+    let input = match text {
+        Some(text) => {
+            if camera.is_some() {
+                return Err(value_error(
+                    "camera",
+                    "selects a glTF file's camera: give the glTF file's path",
+                ));
+            }
+            let table = match &meshes {
+                Some(m) => arrays::mesh_table(m)?,
+                None => MeshTable::new(),
+            };
+            SceneInput::Text {
+                name: path,
+                text,
+                dir: dir.unwrap_or_else(|| PathBuf::from(".")),
+                meshes: table,
+            }
+        }
+        None => SceneInput::File { path, camera },
+    };
+    let pool = Workers::new(threads)?;
+
+    let t_load = Instant::now();
+    let outcome = run_interruptible(py, &pool, |stop| -> Result<_, LibError> {
+        let mut scene = match &input {
+            SceneInput::File { path, camera } => {
+                pointshade::scene::load_with(path, pointshade::scene::LoadOptions { camera: *camera })?
+            }
+            SceneInput::Text {
+                name,
+                text,
+                dir,
+                meshes,
+            } => load_scene_text(name, text.clone(), dir, meshes)?,
+        };
+        overrides.apply(&mut scene, &|key| key.to_string())?;
+        let load_time = t_load.elapsed();
+        let plan = RenderPlan::new(&scene, &aovs);
+        let rendered = pointshade::render::render_scene_until(&scene, &plan, &|_| {}, Some(stop))
+            .map_err(|e| LibError::new(&scene.source, e))?;
+        Ok((scene, rendered, load_time))
+    })?;
+    let (scene, rendered, load_time) = outcome.map_err(py_err)?;
+
+    let out = PyDict::new(py);
+    let (s, region, spp, threshold) = (
+        rendered.stats.clone(),
+        rendered.region,
+        rendered.spp,
+        rendered.adaptive_threshold,
+    );
+    out.set_item("color", rgb_array(py, rendered.image))?;
+    for (aov, image) in rendered.aovs {
+        out.set_item(aov.name(), rgb_array(py, image))?;
+    }
+    let stats = PyDict::new(py);
+    stats.set_item("load_seconds", load_time.as_secs_f64())?;
+    stats.set_item("bvh_seconds", s.bvh_time.as_secs_f64())?;
+    stats.set_item("render_seconds", s.wall_time.as_secs_f64())?;
+    stats.set_item("surface_seconds", s.surface_time.as_secs_f64())?;
+    stats.set_item("shading_seconds", s.shading_time.as_secs_f64())?;
+    stats.set_item("primary_rays", s.primary_rays)?;
+    stats.set_item("shadow_rays", s.shadow_rays)?;
+    stats.set_item("spp", spp)?;
+    let pixels = (region.width() as u64 * region.height() as u64).max(1);
+    stats.set_item("mean_spp", s.primary_rays as f64 / pixels as f64)?;
+    stats.set_item("adaptive_threshold", threshold)?;
+    let r = region;
+    stats.set_item("region", (r.x0, r.y0, r.x1, r.y1))?;
+    stats.set_item("frame", (scene.film.width, scene.film.height))?;
+    stats.set_item("triangles", scene.mesh.triangle_count())?;
+    stats.set_item("warnings", PyList::new(py, &scene.warnings)?)?;
+    out.set_item("stats", stats)?;
+    Ok(out)
+}
+
+/// L_o of a normal image, and the tp preset's 8-bit image when asked for.
+type Shaded<'py> = (Bound<'py, PyArrayDyn<f32>>, Option<Bound<'py, PyArrayDyn<u8>>>);
+
+/// Shades a normal image as `pointshade normalmap` does. `text` is a normal-map scene file (its
+/// `[normal_map]` image is read unless `normals` gives the samples). Returns L_o as float32
+/// (H, W, 3), and the tp preset's 8-bit image when `eight_bit` is set.
+#[pyfunction]
+#[pyo3(signature = (text, *, normals=None, dir=None, threads=None, eight_bit=false))]
+fn shade_normal_image<'py>(
+    py: Python<'py>,
+    text: String,
+    normals: Option<Bound<'py, PyAny>>,
+    dir: Option<PathBuf>,
+    threads: Option<usize>,
+    eight_bit: bool,
+) -> PyResult<Shaded<'py>> {
+    let source = Path::new("shade_normal_image");
+    let dir = dir.unwrap_or_else(|| PathBuf::from("."));
+    let samples = normals.map(|a| arrays::normal_samples(&a)).transpose()?;
+    let pool = Workers::new(threads)?;
+    // Milliseconds of work: without the GIL, but not worth a thread that watches for Ctrl-C.
+    let outcome = py.detach(|| {
+        pool.install(|| -> Result<_, LibError> {
+            let scene = NormalMapScene::from_text(source, text.clone(), &dir, None)?;
+            let image = match &samples {
+                Some((w, h, samples, alpha)) => {
+                    NormalImage::from_samples(Path::new("normals"), *w, *h, samples.clone(), *alpha)?
+                }
+                None => NormalImage::load(&scene.image)?,
+            };
+            let surface = image_surface(&scene, &image).map_err(|e| LibError::new(&image.source, e))?;
+            let plan = normal_map_plan::plan(&scene, &image, "numpy array of L_o");
+            let (shaded, _) = shade_image(&scene, &plan, &image, &surface);
+            if let Some((x, y, p)) = shaded.first_non_finite() {
+                return Err(LibError::new(&image.source, pointshade::film::overflow_error(x, y, p)));
+            }
+            let tp_bytes = (eight_bit && scene.preset == Preset::Tp).then(|| min_max_8bit(&shaded).0);
+            Ok((shaded, tp_bytes, scene.preset))
+        })
+    });
+    let (shaded, bytes, preset) = outcome.map_err(py_err)?;
+    if eight_bit && preset != Preset::Tp {
+        return Err(value_error(
+            "return_8bit",
+            "the 8-bit image is the tp preset's (min-max normalised); use preset=\"tp\"",
+        ));
+    }
+    let eight = bytes.map(|b| {
+        Array3::from_shape_vec((shaded.height as usize, shaded.width as usize, 3), b)
+            .expect("three bytes a pixel")
+            .into_dyn()
+            .into_pyarray(py)
+    });
+    Ok((rgb_array(py, shaded), eight))
+}
+
+/// A material from a `[material.NAME]` section's text, with the scene files' defaults or the
+/// tp preset's.
+fn material_of(text: &str, defaults: &str) -> PyResult<Material> {
+    let defaults = match defaults {
+        "scene" => MaterialDefaults::SCENE,
+        "tp" => Preset::Tp.material_defaults(),
+        other => {
+            return Err(value_error(
+                "defaults",
+                format!("expected 'scene' or 'tp', got '{other}'"),
+            ))
+        }
+    };
+    material_from_toml("material", text, &defaults).map_err(|e| InputError::new_err(format!("material: {e}")))
+}
+
+/// f_r of `material` (a material section's TOML text) for each row of the (N, 3) arrays, in
+/// float32 or float64 (`precision`): `pointshade::shading::shader::brdf_value`, the shader's own.
+#[pyfunction]
+#[pyo3(signature = (material, n, wi, wo, *, precision="float32", defaults="scene"))]
+fn eval_brdf<'py>(
+    py: Python<'py>,
+    material: &str,
+    n: Bound<'py, PyAny>,
+    wi: Bound<'py, PyAny>,
+    wo: Bound<'py, PyAny>,
+    precision: &str,
+    defaults: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    let material = material_of(material, defaults)?;
+    let (n, wi, wo) = directions(&n, &wi, &wo)?;
+    fn rows<R: pointshade::lanes::Scalar + numpy::Element>(
+        py: Python<'_>,
+        m: &Material,
+        d: &[DirectionArray; 3],
+    ) -> Vec<R> {
+        use rayon::prelude::*;
+        py.detach(|| {
+            let mut out = vec![R::zero(); 3 * d[0].rows()];
+            out.par_chunks_mut(3).enumerate().for_each(|(i, f)| {
+                f.copy_from_slice(&brdf_value::<R>(m, d[0].row(i), d[1].row(i), d[2].row(i)));
+            });
+            out
+        })
+    }
+    let d = [n, wi, wo];
+    let count = d[0].rows();
+    Ok(match precision {
+        "float32" => Array2::from_shape_vec((count, 3), rows::<f32>(py, &material, &d))
+            .expect("3 a row")
+            .into_pyarray(py)
+            .into_any(),
+        "float64" => Array2::from_shape_vec((count, 3), rows::<f64>(py, &material, &d))
+            .expect("3 a row")
+            .into_pyarray(py)
+            .into_any(),
+        other => {
+            return Err(value_error(
+                "precision",
+                format!("expected 'float32' or 'float64', got '{other}'"),
+            ))
+        }
+    })
+}
+
+/// The Cook-Torrance terms D, G and F of `material` for each row, with f_r: the functions its
+/// `d`, `g` and `fresnel` keys name, of the dot products the shader forms (two-sided materials
+/// turn n towards ω_o first). Rows without a shading frame (ω_i = −ω_o, n = 0) give 0.
+#[pyfunction]
+#[pyo3(signature = (material, n, wi, wo, *, defaults="scene"))]
+fn eval_terms<'py>(
+    py: Python<'py>,
+    material: &str,
+    n: Bound<'py, PyAny>,
+    wi: Bound<'py, PyAny>,
+    wo: Bound<'py, PyAny>,
+    defaults: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let material = material_of(material, defaults)?;
+    let BrdfModel::CookTorrance(ct) = material.model else {
+        return Err(value_error(
+            "material",
+            format!(
+                "D, G and F are Cook-Torrance terms; this material is {}",
+                material.model_name()
+            ),
+        ));
+    };
+    let (n, wi, wo) = directions(&n, &wi, &wo)?;
+    let count = n.rows();
+    let (mut d, mut g, mut f, mut fr) = (
+        Vec::with_capacity(count),
+        Vec::with_capacity(count),
+        Vec::with_capacity(3 * count),
+        Vec::with_capacity(3 * count),
+    );
+    for i in 0..count {
+        let (mut ni, wii, woi) = (n.row::<f64>(i), wi.row::<f64>(i), wo.row::<f64>(i));
+        if material.two_sided && pointshade::lanes::dot3(ni, woi) < 0.0 {
+            ni = ni.map(|c| -c);
+        }
+        let alpha = ct.alpha as f64;
+        match LocalDots::from_unit_vectors(ni, wii, woi) {
+            Some(dots) => {
+                d.push(ct.d.eval(dots.n_dot_h, dots.sin2_h, alpha));
+                g.push(ct.g.g(dots.n_dot_i, dots.n_dot_o, alpha));
+                f.extend(ct.fresnel(dots.i_dot_h));
+            }
+            None => {
+                d.push(0.0);
+                g.push(0.0);
+                f.extend([0.0; 3]);
+            }
+        }
+        fr.extend(brdf_value::<f64>(&material, ni, wii, woi));
+    }
+    let out = PyDict::new(py);
+    out.set_item("D", d.into_pyarray(py))?;
+    out.set_item("G", g.into_pyarray(py))?;
+    out.set_item(
+        "F",
+        Array2::from_shape_vec((count, 3), f).expect("3 a row").into_pyarray(py),
+    )?;
+    out.set_item(
+        "f_r",
+        Array2::from_shape_vec((count, 3), fr)
+            .expect("3 a row")
+            .into_pyarray(py),
+    )?;
+    Ok(out)
+}
+
+/// The metrics `pointshade compare` prints, for two float (H, W, 3) arrays, with the per-pixel
+/// relative errors as a float32 (H, W) array.
+#[pyfunction]
+#[pyo3(signature = (ours, reference, *, tol=1e-3, worst=10))]
+fn compare<'py>(
+    py: Python<'py>,
+    ours: Bound<'py, PyAny>,
+    reference: Bound<'py, PyAny>,
+    tol: f32,
+    worst: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    if !(tol >= 0.0 && tol.is_finite()) {
+        return Err(value_error("tol", format!("must be a finite number ≥ 0, got {tol}")));
+    }
+    let ours = image_of("ours", &ours)?;
+    let reference = image_of("ref", &reference)?;
+    if (ours.width, ours.height) != (reference.width, reference.height) {
+        return Err(value_error(
+            "ref",
+            format!(
+                "size {}×{} differs from {}×{} of ours",
+                reference.width, reference.height, ours.width, ours.height
+            ),
+        ));
+    }
+    let c = py.detach(|| compare_images(&ours, &reference, tol, worst));
+    let out = PyDict::new(py);
+    out.set_item("pixels", c.pixels)?;
+    out.set_item("rmse", c.rmse)?;
+    out.set_item("rel_mse", c.rel_mse)?;
+    out.set_item("mean_relative_error", c.mean_relative_error)?;
+    out.set_item("within_tolerance", c.within_tolerance)?;
+    out.set_item("tolerance", c.tolerance)?;
+    out.set_item("non_finite_ours", c.non_finite_ours)?;
+    out.set_item("non_finite_reference", c.non_finite_reference)?;
+    let worst = PyList::empty(py);
+    for w in &c.worst {
+        let d = PyDict::new(py);
+        d.set_item("x", w.x)?;
+        d.set_item("y", w.y)?;
+        d.set_item("relative_error", w.relative_error)?;
+        d.set_item("ours", w.ours.to_array())?;
+        d.set_item("reference", w.reference.to_array())?;
+        worst.append(d)?;
+    }
+    out.set_item("worst", worst)?;
+    out.set_item("summary", c.summary())?;
+    let errors =
+        Array2::from_shape_vec((ours.height as usize, ours.width as usize), c.relative_errors).expect("one a pixel");
+    out.set_item("relative_error", errors.into_pyarray(py))?;
+    Ok(out)
+}
+
+/// A linear image file (EXR, or PNG decoded to linear) as a float32 (H, W, 3) array.
+#[pyfunction]
+fn read_image<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
+    let image = py.detach(|| pointshade::output::read_linear(&path)).map_err(py_err)?;
+    Ok(rgb_array(py, image))
+}
+
+/// Writes a scene (a file at `path`, or a scene file's `text` whose meshes `meshes` may give as
+/// arrays) as Mitsuba 3 XML at `output`, as `pointshade export-mitsuba` does, with the meshes
+/// Mitsuba cannot read beside it; returns the lines the CLI prints (material notes, differences).
+#[pyfunction]
+#[pyo3(signature = (path, output, *, text=None, dir=None, meshes=None, spp=None, sampler=None, per_light=false))]
+#[allow(clippy::too_many_arguments)]
+fn export_mitsuba<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    output: PathBuf,
+    text: Option<String>,
+    dir: Option<PathBuf>,
+    meshes: Option<Bound<'py, PyDict>>,
+    spp: Option<u32>,
+    sampler: Option<String>,
+    per_light: bool,
+) -> PyResult<Vec<String>> {
+    let table = meshes.map(|m| arrays::mesh_table(&m)).transpose()?.unwrap_or_default();
+    let options = ExportOptions {
+        spp,
+        sampler,
+        per_light,
+        plugin_everywhere: false,
+    };
+    py.detach(|| -> Result<Vec<String>, LibError> {
+        let scene = match text {
+            Some(text) => load_scene_text(&path, text, &dir.unwrap_or_else(|| PathBuf::from(".")), &table)?,
+            None => pointshade::scene::load(&path)?,
+        };
+        let (files, lines) = export_files(scene, &output, &options, &|key| key.to_string())?;
+        pointshade::output::write_all_or_nothing(&files)?;
+        Ok(lines)
+    })
+    .map_err(py_err)
+}
+
+/// A TOML document's text from a dict of str, bool, int, float, lists and dicts.
+#[pyfunction]
+fn to_toml(value: Bound<'_, PyDict>) -> PyResult<String> {
+    let table = toml_values::table_of(&value)?;
+    toml::to_string(&table).map_err(|e| value_error("to_toml", e))
+}
+
+/// A TOML document as a dict; errors name `name` and the line.
+#[pyfunction]
+fn parse_toml<'py>(py: Python<'py>, text: &str, name: &str) -> PyResult<Bound<'py, PyAny>> {
+    let table: toml::Table =
+        toml::from_str(text).map_err(|e| InputError::new_err(format!("{name}: {}", e.message())))?;
+    toml_values::py_of(py, &toml::Value::Table(table))
+}
+
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("InputError", m.py().get_type::<InputError>())?;
+    m.add_function(wrap_pyfunction!(render, m)?)?;
+    m.add_function(wrap_pyfunction!(shade_normal_image, m)?)?;
+    m.add_function(wrap_pyfunction!(eval_brdf, m)?)?;
+    m.add_function(wrap_pyfunction!(eval_terms, m)?)?;
+    m.add_function(wrap_pyfunction!(compare, m)?)?;
+    m.add_function(wrap_pyfunction!(read_image, m)?)?;
+    m.add_function(wrap_pyfunction!(export_mitsuba, m)?)?;
+    m.add_function(wrap_pyfunction!(to_toml, m)?)?;
+    m.add_function(wrap_pyfunction!(parse_toml, m)?)?;
+    Ok(())
+}

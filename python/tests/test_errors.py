@@ -1,0 +1,123 @@
+"""Every kind of bad input is a Python exception with the CLI's one-line message."""
+
+import numpy as np
+import pytest
+
+import pointshade
+from conftest import REPO
+
+
+def test_a_missing_file_is_file_not_found_with_the_cli_message(cli):
+    with pytest.raises(FileNotFoundError, match=r"^/nonexistent/mesh\.obj: file not found$"):
+        pointshade.render("/nonexistent/mesh.obj")
+    with pytest.raises(FileNotFoundError):
+        pointshade.shade_normal_image("/nonexistent.png", brdf="lambert")
+
+
+def test_a_malformed_scene_file_is_an_input_error_naming_file_and_line(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[film]\nwidth = 'wide'\n")
+    with pytest.raises(pointshade.InputError, match=r"bad\.toml: line 2, column 9: ") as e:
+        pointshade.render(bad)
+    assert isinstance(e.value, ValueError) and "\n" not in str(e.value)
+
+
+def test_bad_keywords_are_value_errors_naming_them():
+    cornell = REPO / "scenes" / "cornell-box.toml"
+    for kwargs, pattern in [
+        ({"sampler": "bogus"}, "^sampler: unknown sampler"),
+        ({"width": -3}, "^width: must be an integer"),
+        ({"spp": 0}, "spp must be at least 1"),
+        ({"fov": float("nan")}, "^fov: "),
+        ({"crop": (0, 0, 9999, 10)}, "crop"),
+        ({"aovs": ["colour"]}, "^aovs: "),
+        ({"threads": 0}, "^threads: must be at least 1"),
+        ({"view": (1.0,)}, "^view: "),
+        ({"camera": 3}, "camera"),
+    ]:
+        with pytest.raises(ValueError, match=pattern):
+            pointshade.render(cornell, **{"width": 16, "height": 12, "spp": 1, **kwargs})
+
+
+def square():
+    return np.array([[0.0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]), np.array([[0, 1, 2], [0, 2, 3]])
+
+
+def render_mesh(v, f, **kw):
+    s = pointshade.Scene()
+    s.add_mesh(v, f, **kw)
+    return pointshade.render(s, width=8, height=8, spp=1)
+
+
+def test_wrong_mesh_arrays_are_clear_exceptions():
+    v, f = square()
+    with pytest.raises(TypeError, match="vertices: expected a float32 or float64 array, got dtype int64"):
+        render_mesh(v.astype(np.int64), f)
+    with pytest.raises(ValueError, match=r"vertices: expected shape \(N, 3\), got \[4, 2\]"):
+        render_mesh(np.ascontiguousarray(v[:, :2]), f)
+    with pytest.raises(ValueError, match="C-contiguous"):
+        render_mesh(np.asfortranarray(np.tile(v, (1, 1)).T.copy().T), f)
+    nan = v.copy()
+    nan[2, 1] = np.nan
+    with pytest.raises(ValueError, match="element 7 is NaN"):
+        render_mesh(nan, f)
+    with pytest.raises(ValueError, match="no faces"):
+        render_mesh(v, np.zeros((0, 3), dtype=np.int64))
+    with pytest.raises(pointshade.InputError, match="face index 9 out of range"):
+        render_mesh(v, np.array([[0, 1, 9]]))
+    with pytest.raises(ValueError, match="negative"):
+        render_mesh(v, np.array([[0, 1, -1]]))
+    with pytest.raises(TypeError, match="faces: expected an integer array"):
+        render_mesh(v, f.astype(np.float64))
+    with pytest.raises(TypeError, match="expected a numpy array, got list"):
+        render_mesh(v.tolist(), f)
+
+
+def test_wrong_normal_images_are_clear_exceptions():
+    with pytest.raises(TypeError, match="uint8 or uint16"):
+        pointshade.shade_normal_image(np.zeros((4, 4, 3), np.float32), brdf="lambert")
+    with pytest.raises(ValueError, match=r"\(H, W, 3\) or \(H, W, 4\)"):
+        pointshade.shade_normal_image(np.zeros((4, 4, 2), np.uint8), brdf="lambert")
+    with pytest.raises(ValueError, match="C-contiguous"):
+        pointshade.shade_normal_image(np.zeros((4, 6, 3), np.uint8)[:, ::2], brdf="lambert")
+    with pytest.raises(ValueError, match="empty"):
+        pointshade.shade_normal_image(np.zeros((0, 4, 3), np.uint8), brdf="lambert")
+    with pytest.raises(ValueError, match="brdf"):
+        pointshade.shade_normal_image(np.zeros((4, 4, 3), np.uint8))
+    with pytest.raises(pointshade.InputError, match="unknown variant `pt`, expected `tp` or `physical`"):
+        pointshade.shade_normal_image(np.zeros((4, 4, 3), np.uint8), preset="pt", brdf="lambert")
+    with pytest.raises(ValueError, match="tp preset"):
+        pointshade.shade_normal_image(np.zeros((4, 4, 3), np.uint8), brdf="lambert", return_8bit=True)
+
+
+def test_wrong_brdf_inputs_are_clear_exceptions():
+    n = np.array([[0.0, 0.0, 1.0]])
+    with pytest.raises(pointshade.InputError, match="unknown field `rougness`"):
+        pointshade.eval_brdf({"model": "cook-torrance", "rougness": 0.2}, n, n, n)
+    with pytest.raises(pointshade.InputError, match="roughness"):
+        pointshade.eval_brdf({"model": "cook-torrance", "roughness": -1.0}, n, n, n)
+    with pytest.raises(TypeError, match="not a finite number"):
+        pointshade.eval_brdf({"model": "cook-torrance", "roughness": float("nan")}, n, n, n)
+    with pytest.raises(ValueError, match="one row each"):
+        pointshade.eval_brdf({"model": "lambert"}, n, np.tile(n, (2, 1)), n)
+    with pytest.raises(ValueError, match="is NaN"):
+        pointshade.eval_brdf({"model": "lambert"}, np.array([[np.nan, 0.0, 1.0]]), n, n)
+    with pytest.raises(ValueError, match="precision"):
+        pointshade.eval_brdf({"model": "lambert"}, n, n, n, precision="float16")
+    with pytest.raises(ValueError, match="Cook-Torrance terms"):
+        pointshade.eval_terms({"model": "lambert"}, n, n, n)
+
+
+def test_compare_gives_the_cli_metrics_and_a_per_pixel_error():
+    ref = np.full((4, 5, 3), 0.5, np.float32)
+    ours = ref.copy()
+    ours[1, 2] = 0.6
+    c = pointshade.compare(ours, ref, tol=1e-3)
+    assert c["pixels"] == 20 and c["within_tolerance"] == pytest.approx(19 / 20)
+    assert c["relative_error"].shape == (4, 5) and c["relative_error"][1, 2] == pytest.approx(0.2, rel=1e-5)
+    assert c["worst"][0]["x"] == 2 and c["worst"][0]["y"] == 1
+    assert "RMSE" in c["summary"]
+    with pytest.raises(ValueError, match="size"):
+        pointshade.compare(ours, ref[:3])
+    with pytest.raises(ValueError, match="tol"):
+        pointshade.compare(ours, ref, tol=float("nan"))
