@@ -136,7 +136,8 @@ def shade_normal_image(
     """Shade a normal image as ``pointshade normalmap`` does; return L_o as float32 (H, W, 3).
 
     ``normals`` is a PNG path or an (H, W, 3) or (H, W, 4) uint8 or uint16 array of the samples
-    a PNG stores (what ``imageio.imread`` or ``PIL`` give). ``preset`` is ``"tp"`` (the NPM3D TP4
+    a PNG stores (what ``imageio.imread`` or ``PIL`` give), or a float32/float64 array of them
+    divided by full scale, in [0, 1] (unit normals n go in as (n + 1) / 2). ``preset`` is ``"tp"`` (the NPM3D TP4
     report's conventions, exactly) or ``"physical"``. The material is the preset's of model
     ``brdf`` (lambert, blinn-phong, cook-torrance), or ``material``, a dict of scene-file
     material keys (``{"model": "cook-torrance", "roughness": 0.3}``) with the preset's defaults.

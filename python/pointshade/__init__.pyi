@@ -40,7 +40,7 @@ def render(
 
 @overload
 def shade_normal_image(
-    normals: Union[PathLike, npt.NDArray[np.uint8], npt.NDArray[np.uint16]],
+    normals: Union[PathLike, npt.NDArray[np.uint8], npt.NDArray[np.uint16], npt.NDArray[np.floating]],
     *,
     preset: Literal["tp", "physical"] = ...,
     brdf: Optional[Literal["lambert", "blinn-phong", "cook-torrance"]] = ...,
@@ -52,7 +52,7 @@ def shade_normal_image(
 ) -> npt.NDArray[np.float32]: ...
 @overload
 def shade_normal_image(
-    normals: Union[PathLike, npt.NDArray[np.uint8], npt.NDArray[np.uint16]],
+    normals: Union[PathLike, npt.NDArray[np.uint8], npt.NDArray[np.uint16], npt.NDArray[np.floating]],
     *,
     preset: Literal["tp", "physical"] = ...,
     brdf: Optional[Literal["lambert", "blinn-phong", "cook-torrance"]] = ...,

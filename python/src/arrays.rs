@@ -9,7 +9,7 @@ use pyo3::types::PyDict;
 
 use pointshade::film::Image;
 use pointshade::lanes::Scalar;
-use pointshade::normal_map::image::Samples;
+use pointshade::normal_map::image::{Samples, UnitSample};
 use pointshade::scene::file::MeshTable;
 use pointshade::scene::obj::MeshArrays;
 
@@ -141,7 +141,7 @@ pub fn mesh_table(meshes: &Bound<'_, PyDict>) -> PyResult<MeshTable> {
     Ok(table)
 }
 
-/// An (H, W, 3|4) uint8 or uint16 normal image's samples: width, height, RGBA samples (alpha at
+/// An (H, W, 3|4) uint8, uint16 or float normal image's samples: width, height, RGBA samples (alpha at
 /// full scale for three channels), whether it has alpha.
 pub fn normal_samples(value: &Bound<'_, PyAny>) -> PyResult<(u32, u32, Samples, bool)> {
     let a = array("normals", value, 3, &[None])?;
@@ -155,6 +155,10 @@ pub fn normal_samples(value: &Bound<'_, PyAny>) -> PyResult<(u32, u32, Samples, 
     }
     let size = |v: usize| u32::try_from(v).map_err(|_| value_error("normals", format!("{w}×{h} is too large")));
     let (w32, h32) = (size(w)?, size(h)?);
+    fn floats(v: impl Iterator<Item = f32>, c: usize) -> Vec<[UnitSample; 4]> {
+        let v: Vec<UnitSample> = v.map(UnitSample).collect();
+        rgba(&v, c, UnitSample(1.0))
+    }
     fn rgba<T: Copy>(v: &[T], c: usize, full: T) -> Vec<[T; 4]> {
         v.chunks_exact(c)
             .map(|p| [p[0], p[1], p[2], if c == 4 { p[3] } else { full }])
@@ -164,9 +168,13 @@ pub fn normal_samples(value: &Bound<'_, PyAny>) -> PyResult<(u32, u32, Samples, 
         Samples::Eight(s)
     } else if let Some(s) = with_elements(a, |v| rgba(v, c, u16::MAX)) {
         Samples::Sixteen(s)
+    } else if let Some(s) = with_elements(a, |v: &[f32]| floats(v.iter().copied(), c)) {
+        Samples::Float(s)
+    } else if let Some(s) = with_elements(a, |v: &[f64]| floats(v.iter().map(|&x| x as f32), c)) {
+        Samples::Float(s)
     } else {
         return Err(PyTypeError::new_err(format!(
-            "normals: expected a uint8 or uint16 array (the samples a PNG stores), got dtype {}",
+            "normals: expected a uint8, uint16 or float array (a PNG's samples, or them divided by full scale), got dtype {}",
             dtype_name(a)
         )));
     };

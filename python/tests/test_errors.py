@@ -74,8 +74,12 @@ def test_wrong_mesh_arrays_are_clear_exceptions():
 
 
 def test_wrong_normal_images_are_clear_exceptions():
-    with pytest.raises(TypeError, match="uint8 or uint16"):
-        pointshade.shade_normal_image(np.zeros((4, 4, 3), np.float32), brdf="lambert")
+    with pytest.raises(TypeError, match="uint8, uint16 or float"):
+        pointshade.shade_normal_image(np.zeros((4, 4, 3), np.int32), brdf="lambert")
+    with pytest.raises(ValueError, match=r"row 0, column 1, channel 2 is 1.5: float samples .* in \[0, 1\]"):
+        pointshade.shade_normal_image(np.array([[[0.5, 0.5, 1.0], [0.2, 0.3, 1.5]]]), brdf="lambert")
+    with pytest.raises(ValueError, match="row 0, column 0, channel 0 is NaN"):
+        pointshade.shade_normal_image(np.full((2, 2, 3), np.nan, np.float32), brdf="lambert")
     with pytest.raises(ValueError, match=r"\(H, W, 3\) or \(H, W, 4\)"):
         pointshade.shade_normal_image(np.zeros((4, 4, 2), np.uint8), brdf="lambert")
     with pytest.raises(ValueError, match="C-contiguous"):

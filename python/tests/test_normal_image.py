@@ -54,6 +54,15 @@ def test_sixteen_bit_samples_are_read_at_their_depth(baked):
     assert np.allclose(a, b, rtol=1e-6, atol=1e-7) and a.max() > 0
 
 
+@pytest.mark.parametrize("preset", ["tp", "physical"])
+def test_float_samples_are_the_integers_divided_by_full_scale(baked, preset):
+    rgba = np.asarray(Image.open(baked))
+    ints = pointshade.shade_normal_image(rgba, preset=preset, brdf="cook-torrance")
+    for dtype in (np.float32, np.float64):
+        floats = pointshade.shade_normal_image(rgba.astype(dtype) / dtype(255), preset=preset, brdf="cook-torrance")
+        assert floats.dtype == np.float32 and np.allclose(floats, ints, rtol=1e-5, atol=1e-6 * ints.max())
+
+
 def test_material_lights_and_camera_are_the_scene_file_keys(baked):
     rgba = np.asarray(Image.open(baked))
     default = pointshade.shade_normal_image(rgba, preset="physical", material={"model": "cook-torrance"})

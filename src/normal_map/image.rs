@@ -44,6 +44,27 @@ pub enum Samples {
     Eight(Vec<[u8; 4]>),
     /// 16 bits per channel.
     Sixteen(Vec<[u16; 4]>),
+    /// Floats in [0, 1], as a PNG's samples divided by full scale (arrays from the Python module).
+    Float(Vec<[UnitSample; 4]>),
+}
+
+/// A float sample in [0, 1]: what v/(2^bits − 1) is for an integer sample. Ordered (never NaN:
+/// [`NormalImage::from_samples`] refuses NaN and values outside [0, 1]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UnitSample(pub f32);
+
+impl Eq for UnitSample {}
+
+impl PartialOrd for UnitSample {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for UnitSample {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&other.0)
+    }
 }
 
 /// An integer sample of a PNG channel.
@@ -135,6 +156,20 @@ impl Sample for u8 {
     }
 }
 
+impl Sample for UnitSample {
+    const ZERO: UnitSample = UnitSample(0.0);
+    const TP_BACKGROUND_MAX: UnitSample = UnitSample(TP_BACKGROUND_LEVEL);
+    const FULL_SCALE: f64 = 1.0;
+    #[inline(always)]
+    fn unit(self) -> f32 {
+        self.0
+    }
+    #[inline(always)]
+    fn level(self) -> f64 {
+        self.0 as f64
+    }
+}
+
 impl Sample for u16 {
     const ZERO: u16 = 0;
     const TP_BACKGROUND_MAX: u16 = 4 * 257;
@@ -183,6 +218,18 @@ impl NormalImage {
         let len = match &samples {
             Samples::Eight(s) => s.len(),
             Samples::Sixteen(s) => s.len(),
+            Samples::Float(s) => {
+                let outside = s.iter().flatten().position(|v| !(0.0..=1.0).contains(&v.0));
+                if let Some(i) = outside {
+                    let (pixel, channel) = (i / 4, i % 4);
+                    let (row, col) = (pixel / width as usize, pixel % width as usize);
+                    return Err(err(format!(
+                        "the sample at row {row}, column {col}, channel {channel} is {}: float samples are a PNG's values divided by full scale, in [0, 1] (for unit normals n, pass (n + 1) / 2)",
+                        s[pixel][channel].0
+                    )));
+                }
+                s.len()
+            }
         };
         assert_eq!(len as u64, width as u64 * height as u64, "one sample per pixel");
         Ok(NormalImage {
@@ -241,6 +288,7 @@ impl NormalImage {
         match self.samples {
             Samples::Eight(_) => 8,
             Samples::Sixteen(_) => 16,
+            Samples::Float(_) => 32,
         }
     }
 
@@ -249,6 +297,7 @@ impl NormalImage {
         match &self.samples {
             Samples::Eight(s) => unit_rgba(s[index]),
             Samples::Sixteen(s) => unit_rgba(s[index]),
+            Samples::Float(s) => unit_rgba(s[index]),
         }
     }
 
@@ -257,6 +306,7 @@ impl NormalImage {
         match &self.samples {
             Samples::Eight(s) => map3([0, 1, 2], |c| s[index][c].level()),
             Samples::Sixteen(s) => map3([0, 1, 2], |c| s[index][c].level()),
+            Samples::Float(s) => map3([0, 1, 2], |c| s[index][c].level()),
         }
     }
 
@@ -265,6 +315,7 @@ impl NormalImage {
         match self.samples {
             Samples::Eight(_) => u8::FULL_SCALE,
             Samples::Sixteen(_) => u16::FULL_SCALE,
+            Samples::Float(_) => UnitSample::FULL_SCALE,
         }
     }
 
@@ -303,6 +354,7 @@ impl NormalImage {
         match &self.samples {
             Samples::Eight(s) => range(s),
             Samples::Sixteen(s) => range(s),
+            Samples::Float(s) => range(s),
         }
         .unwrap_or((0.0, 0.0))
     }
@@ -311,6 +363,25 @@ impl NormalImage {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Float samples read as the integers divided by full scale; NaN and values outside [0, 1]
+    /// are an error naming the sample.
+    #[test]
+    fn float_samples_are_units_and_checked() {
+        let source = Path::new("normals");
+        let unit = |v: [f32; 4]| v.map(UnitSample);
+        let image = NormalImage::from_samples(source, 2, 1, Samples::Float(vec![unit([0.2, 0.4, 1.0, 1.0]); 2]), false);
+        let image = image.unwrap();
+        assert_eq!(image.pixel(1), ([0.2, 0.4, 1.0], 1.0));
+        assert_eq!(image.levels(0), [0.2f32 as f64, 0.4f32 as f64, 1.0]);
+        assert_eq!(image.full_scale(), 1.0);
+        for bad in [f32::NAN, -0.1, 1.5] {
+            let samples = Samples::Float(vec![unit([0.2, 0.4, 1.0, 1.0]), unit([0.5, bad, 0.5, 1.0])]);
+            let e = NormalImage::from_samples(source, 2, 1, samples, false).unwrap_err();
+            let expected = format!("normals: the sample at row 0, column 1, channel 1 is {bad}:");
+            assert!(e.to_string().starts_with(&expected), "{e}");
+        }
+    }
 
     fn png(img: DynamicImage) -> Vec<u8> {
         let mut bytes = Cursor::new(Vec::new());

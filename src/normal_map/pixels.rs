@@ -23,8 +23,8 @@ use glam::{Vec2, Vec3};
 use crate::lanes::{map3, normalize_or_zero, F32x8, Lanes, Real, Scalar, LANES};
 use crate::normal_map::image::NormalImage;
 use crate::normal_map::image::Sample;
-use crate::normal_map::image::Samples;
 use crate::normal_map::image::TP_BACKGROUND_LEVEL;
+use crate::normal_map::image::{Samples, UnitSample};
 use crate::shading::convention::report_unit;
 use crate::surface::{SurfaceLanes, SurfacePoint};
 
@@ -279,6 +279,7 @@ impl ImageSurface {
         match &image.samples {
             Samples::Eight(s) => rows(self, &s[self.row_range(row)], out),
             Samples::Sixteen(s) => rows(self, &s[self.row_range(row)], out),
+            Samples::Float(s) => rows(self, &s[self.row_range(row)], out),
         }
     }
 
@@ -293,6 +294,7 @@ impl ImageSurface {
         let rgb = match &image.samples {
             Samples::Eight(s) => u8::unit_lanes(&s[self.row_range(row)], cols),
             Samples::Sixteen(s) => u16::unit_lanes(&s[self.row_range(row)], cols),
+            Samples::Float(s) => UnitSample::unit_lanes(&s[self.row_range(row)], cols),
         };
         // Columns are below 2^16 (images are at most 65536 wide): exact through i32, which
         // converts in one instruction where u32 → f32 takes several.
@@ -325,6 +327,7 @@ impl ImageSurface {
         let v = match &image.samples {
             Samples::Eight(s) => levels(&s[self.row_range(row)], cols),
             Samples::Sixteen(s) => levels(&s[self.row_range(row)], cols),
+            Samples::Float(s) => levels(&s[self.row_range(row)], cols),
         };
         let col = Lanes::from_fn(|i| T::lit(cols[i] as f64));
         self.tp_point(scaling, v, col, Lanes::splat(T::lit(row as f64)))
