@@ -22,7 +22,8 @@
 # baseline records: when either differs here, the check says SKIPPED and why, and exits 0.
 #   Usage: benches/instructions.sh [--update]      (needs valgrind: installed with apt when missing
 #   and run as root, as in CI). POINTSHADE_BIN=path measures another build (an A/B of two
-#   binaries: copy target/release/pointshade aside first).
+#   binaries: copy target/instructions/pointshade aside first). It builds the `instructions`
+#   profile (Cargo.toml): the release build with pointshade in one codegen unit.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 TOLERANCE_PERCENT=3
@@ -38,9 +39,9 @@ if ! command -v valgrind >/dev/null; then
   apt_install valgrind || { echo "FAILED: valgrind is not installed (apt-get install valgrind)" >&2; exit 1; }
 fi
 if [ -z "${POINTSHADE_BIN:-}" ]; then
-  cargo build --release --quiet
+  cargo build --profile instructions --quiet
 fi
-bin=${POINTSHADE_BIN:-./target/release/pointshade}
+bin=${POINTSHADE_BIN:-./target/instructions/pointshade}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
