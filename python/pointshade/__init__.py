@@ -13,11 +13,11 @@ file, :class:`InputError` (a ``ValueError``) for bad contents or parameters, ``T
 pointshade works, and Ctrl-C stops a render within about a tile per thread.
 """
 
-import copy
-import os
-import warnings
+import copy as _copy
+import os as _os
+import warnings as _warnings
 
-import numpy as np
+import numpy as _np
 
 from . import _native
 from ._native import InputError
@@ -35,12 +35,9 @@ __all__ = [
     "shade_normal_image",
 ]
 
-AOVS = ("normal", "position", "depth", "albedo", "samples")
-
-
 def _path(value, what):
-    if isinstance(value, (str, os.PathLike)):
-        return os.fspath(value)
+    if isinstance(value, (str, _os.PathLike)):
+        return _os.fspath(value)
     raise TypeError(f"{what}: expected a path (str or os.PathLike), got {type(value).__name__}")
 
 
@@ -107,7 +104,7 @@ def render(
     else:
         out = _native.render(_path(scene, "scene"), **options)
     for w in out["stats"]["warnings"]:
-        warnings.warn(w, stacklevel=2)
+        _warnings.warn(w, stacklevel=2)
     return out
 
 
@@ -145,8 +142,8 @@ def shade_normal_image(
     ``[camera]`` keys) replace the preset's. With ``return_8bit=True`` (tp preset) the result is
     a tuple ``(L_o, image)``, ``image`` the uint8 (H, W, 3) PNG ``normalmap --preset tp`` writes.
     """
-    if isinstance(normals, (str, os.PathLike)):
-        image, array, base = os.path.abspath(os.fspath(normals)), None, None
+    if isinstance(normals, (str, _os.PathLike)):
+        image, array, base = _os.path.abspath(_os.fspath(normals)), None, None
     else:
         image, array, base = "normals", normals, None
     text = _normal_map_toml(image, preset, brdf, material, lights, camera)
@@ -193,8 +190,8 @@ def compare(ours, ref, tol=1e-3, worst=10):
     non_finite_ours, non_finite_reference, worst (the worst pixels, worst first), summary (the
     CLI's text) and relative_error, the float32 (H, W) per-pixel relative error.
     """
-    ours = read_image(ours) if isinstance(ours, (str, os.PathLike)) else ours
-    ref = read_image(ref) if isinstance(ref, (str, os.PathLike)) else ref
+    ours = read_image(ours) if isinstance(ours, (str, _os.PathLike)) else ours
+    ref = read_image(ref) if isinstance(ref, (str, _os.PathLike)) else ref
     return _native.compare(ours, ref, tol=tol, worst=worst)
 
 
@@ -210,7 +207,7 @@ class Scene:
     def __init__(self, base_dir=None):
         """An empty scene; relative mesh paths are relative to ``base_dir`` (default: the
         current directory)."""
-        self.base_dir = os.path.abspath(base_dir or os.getcwd())
+        self.base_dir = _os.path.abspath(base_dir or _os.getcwd())
         self.name = "Scene"
         self.doc = {}
         self.meshes = {}
@@ -221,7 +218,7 @@ class Scene:
         path = _path(path, "path")
         with open(path, encoding="utf-8") as f:
             text = f.read()
-        scene = cls(os.path.dirname(os.path.abspath(path)))
+        scene = cls(_os.path.dirname(_os.path.abspath(path)))
         scene.name = path
         scene.doc = _native.parse_toml(text, path)
         return scene
@@ -290,14 +287,14 @@ class Scene:
     def save(self, path):
         """Write the scene file to ``path`` and each array mesh beside it as ``NAME.obj``;
         relative mesh paths are rewritten to stay valid from the new folder."""
-        path = os.path.abspath(_path(path, "path"))
-        folder = os.path.dirname(path)
-        doc = copy.deepcopy(self.doc)
+        path = _os.path.abspath(_path(path, "path"))
+        folder = _os.path.dirname(path)
+        doc = _copy.deepcopy(self.doc)
         for obj in doc.get("object", []):
-            if obj["mesh"] not in self.meshes and not os.path.isabs(obj["mesh"]):
-                obj["mesh"] = os.path.relpath(os.path.join(self.base_dir, obj["mesh"]), folder)
+            if obj["mesh"] not in self.meshes and not _os.path.isabs(obj["mesh"]):
+                obj["mesh"] = _os.path.relpath(_os.path.join(self.base_dir, obj["mesh"]), folder)
         for file, (vertices, faces, normals, uvs) in self.meshes.items():
-            _write_obj(os.path.join(folder, file), vertices, faces, normals, uvs)
+            _write_obj(_os.path.join(folder, file), vertices, faces, normals, uvs)
         with open(path, "w", encoding="utf-8") as f:
             f.write(_native.to_toml(doc))
 
@@ -316,15 +313,15 @@ class Scene:
 
 def _write_obj(path, vertices, faces, normals, uvs):
     """An OBJ file that loads as the arrays do: shortest round-trip decimals, 1-based indices."""
-    v = np.asarray(vertices, dtype=np.float64)
+    v = _np.asarray(vertices, dtype=_np.float64)
     lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in v.tolist()]
     if uvs is not None:
-        lines += [f"vt {a!r} {b!r}" for a, b in np.asarray(uvs, dtype=np.float64).tolist()]
+        lines += [f"vt {a!r} {b!r}" for a, b in _np.asarray(uvs, dtype=_np.float64).tolist()]
     if normals is not None:
-        lines += [f"vn {x!r} {y!r} {z!r}" for x, y, z in np.asarray(normals, dtype=np.float64).tolist()]
+        lines += [f"vn {x!r} {y!r} {z!r}" for x, y, z in _np.asarray(normals, dtype=_np.float64).tolist()]
     slot = {(False, False): "{0}", (True, False): "{0}/{0}", (False, True): "{0}//{0}", (True, True): "{0}/{0}/{0}"}
     fmt = slot[(uvs is not None, normals is not None)]
-    for tri in np.asarray(faces, dtype=np.int64).tolist():
+    for tri in _np.asarray(faces, dtype=_np.int64).tolist():
         lines.append("f " + " ".join(fmt.format(i + 1) for i in tri))
     with open(path, "w", encoding="utf-8") as f:
         f.write("\n".join(lines) + "\n")
