@@ -100,7 +100,7 @@ def render(
         aovs=list(aovs) if aovs else None,
     )
     if isinstance(scene, Scene):
-        out = _native.render(scene.name, text=scene.to_toml(), dir=scene.base_dir, meshes=scene._arrays(), **options)
+        out = _native.render(scene.name, text=scene.to_toml(), dir=scene.base_dir, meshes=scene.meshes, **options)
     else:
         out = _native.render(_path(scene, "scene"), **options)
     for w in out["stats"]["warnings"]:
@@ -143,11 +143,11 @@ def shade_normal_image(
     a tuple ``(L_o, image)``, ``image`` the uint8 (H, W, 3) PNG ``normalmap --preset tp`` writes.
     """
     if isinstance(normals, (str, _os.PathLike)):
-        image, array, base = _os.path.abspath(_os.fspath(normals)), None, None
+        image, array = _os.path.abspath(_os.fspath(normals)), None
     else:
-        image, array, base = "normals", normals, None
+        image, array = "normals", normals
     text = _normal_map_toml(image, preset, brdf, material, lights, camera)
-    lo, eight = _native.shade_normal_image(text, normals=array, dir=base, threads=threads, eight_bit=return_8bit)
+    lo, eight = _native.shade_normal_image(text, normals=array, threads=threads, eight_bit=return_8bit)
     return (lo, eight) if return_8bit else lo
 
 
@@ -277,9 +277,6 @@ class Scene:
         """Set the ``[render]`` keys (shadows, shadow_offset, shadow_terminator)."""
         self._section("render", {}).update(params)
 
-    def _arrays(self):
-        return dict(self.meshes)
-
     def to_toml(self):
         """The scene file of this scene (array meshes named ``NAME.obj``; see :meth:`save`)."""
         return _native.to_toml(self.doc)
@@ -302,7 +299,7 @@ class Scene:
         """Write the scene as Mitsuba 3 XML at ``path`` (meshes Mitsuba cannot read as PLY
         beside it), as ``pointshade export-mitsuba`` does; returns its notes and differences."""
         return _native.export_mitsuba(
-            self.name, _path(path, "path"), text=self.to_toml(), dir=self.base_dir, meshes=self._arrays(),
+            self.name, _path(path, "path"), text=self.to_toml(), dir=self.base_dir, meshes=self.meshes,
             spp=spp, sampler=sampler, per_light=per_light,
         )
 

@@ -79,15 +79,14 @@ def test_eval_brdf_is_the_renderers_value_at_the_same_point():
     v = np.array([[-2.0, -2.0, 0.0], [2.0, -2.0, 0.0], [2.0, 2.0, 0.0], [-2.0, 2.0, 0.0]])
     f = np.array([[0, 1, 2], [0, 2, 3]])
     wi = np.array([0.0, 0.6, 0.8])
-    for kind, extra in (("directional", {}),):
-        s = pointshade.Scene()
-        s.add_material("m", **material)
-        s.add_mesh(v, f, normals=np.tile([0.0, 0.0, 1.0], (4, 1)), material="m")
-        s.add_light(kind, direction=(-wi).tolist(), intensity=1.0, **extra)
-        s.set_camera(type="orthographic", position=[0.0, 0.0, 5.0], look_at=[0.0, 0.0, 0.0], scale=1.0)
-        s.set_film(width=8, height=8, spp=1, sampler="grid")
-        s.set_render(shadows=False)
-        pixel = pointshade.render(s)["color"][4, 4]
+    s = pointshade.Scene()
+    s.add_material("m", **material)
+    s.add_mesh(v, f, normals=np.tile([0.0, 0.0, 1.0], (4, 1)), material="m")
+    s.add_light("directional", direction=(-wi).tolist(), intensity=1.0)
+    s.set_camera(type="orthographic", position=[0.0, 0.0, 5.0], look_at=[0.0, 0.0, 0.0], scale=1.0)
+    s.set_film(width=8, height=8, spp=1, sampler="grid")
+    s.set_render(shadows=False)
+    pixel = pointshade.render(s)["color"][4, 4]
     n = np.array([[0.0, 0.0, 1.0]])
     fr = pointshade.eval_brdf(material, n, wi[None], n)[0]
     assert fr.dtype == np.float32
