@@ -8,10 +8,13 @@
 //!   floating point; distances come back divided by the same factor.
 //! - **Leaf-ordered triangles.** Triangle vertices are copied into the leaves' SIMD quads in
 //!   traversal order, so traversal reads memory linearly and needs no index indirection.
-//! - **No lost subtrees.** Deep trees (which PLOC builds for geometric chains) are traversed with
-//!   a growable stack ([`TraversalStack`]); padded leaf boxes keep rays through shared vertices.
+//! - **Bounded depth.** Where PLOC degenerates (boxes that all overlap, as a fan's do) the tree is
+//!   built balanced instead ([`balanced`]), so no input makes it deep or slow; trees deeper than
+//!   the fixed stack are traversed with a growable one ([`TraversalStack`]); padded leaf boxes
+//!   keep rays through shared vertices.
 
 pub mod alpha;
+pub mod balanced;
 pub mod packet;
 pub mod shadow;
 pub mod triangle;
@@ -133,7 +136,18 @@ impl Bvh {
             max_prims_per_leaf: 4,
             ..preset.params()
         };
-        let bvh2 = obvhs::bvh2::builder::build_bvh2(&boxes, params, &mut Duration::default());
+        // PLOC, unless the boxes overlap so that it would take quadratic time; its tree rebuilt
+        // balanced if it came out too deep all the same ([`balanced`]).
+        let bvh2 = if balanced::overlaps_too_much(&boxes) {
+            balanced::balanced_bvh2(&boxes, 4)
+        } else {
+            let bvh2 = obvhs::bvh2::builder::build_bvh2(&boxes, params, &mut Duration::default());
+            if balanced::bvh2_depth(&bvh2) > balanced::MAX_BINARY_DEPTH {
+                balanced::balanced_bvh2(&boxes, 4)
+            } else {
+                bvh2
+            }
+        };
         let mut wide = WideBvh::from_bvh2(&bvh2, &triangles);
         wide.map_primitives(|p| kept[p as usize]);
         Bvh {
@@ -444,6 +458,37 @@ fn world_to_bvh_scale(bounds: Option<(Vec3, Vec3)>) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `n` triangles around the origin, as an OBJ polygon of n + 1 vertices triangulates.
+    fn fan(n: usize, offset: Vec3) -> TriangleMesh {
+        let mut positions = vec![offset];
+        positions.extend((0..=n).map(|k| {
+            let a = std::f32::consts::PI * k as f32 / n as f32;
+            offset + Vec3::new(a.cos(), a.sin(), 0.0)
+        }));
+        TriangleMesh {
+            normals: vec![Vec3::Z; positions.len()],
+            positions,
+            triangles: (0..n as u32).map(|k| [0, k + 1, k + 2]).collect(),
+            material_of_triangle: vec![0; n],
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn fans_build_balanced_trees_and_are_hit_where_they_are() {
+        // PLOC built a chain about 600 levels deep for 30,000 triangles, in time quadratic in
+        // their count, and its collapse overflowed the stack.
+        for offset in [Vec3::ZERO, Vec3::new(9.2e18, 0.0, 0.0)] {
+            let mesh = fan(30_000, offset);
+            let bvh = Bvh::build(&mesh, BvhPreset::DEFAULT);
+            assert!(bvh.depth() <= 12, "depth {} at offset {offset}", bvh.depth());
+            if offset == Vec3::ZERO {
+                let hit = bvh.intersect(Vec3::new(0.3, 0.4, 1.0), Vec3::NEG_Z, f32::INFINITY);
+                assert!(hit.is_some_and(|h| (h.t - 1.0).abs() < 1e-5), "{hit:?}");
+            }
+        }
+    }
 
     fn quad(y: f32, half: f32, offset: Vec3) -> TriangleMesh {
         let p = [

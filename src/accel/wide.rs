@@ -339,20 +339,72 @@ impl WideBvh {
                 bounds: empty_bounds(),
                 child: [EMPTY; 4],
             });
-            out.set_child(0, 0, bvh2, 0, triangles, 1);
+            let leaf = out.push_leaf(bvh2, 0, triangles);
+            out.set_bounds(0, 0, bvh2, 0, leaf);
+            out.depth = 1;
         } else {
             out.emit(bvh2, 0, triangles, 1, parallel);
         }
         out
     }
 
-    /// Writes node `node2` (inner) of `bvh2` and, recursively, its subtree; returns its index.
-    /// Nodes and quads come out in depth-first order, children in slot order. The subtrees of
-    /// the top `parallel` levels are written in parallel into trees of their own and appended in
-    /// that same order, so the result does not depend on it.
+    /// Writes node `node2` (inner) of `bvh2` and its subtree; returns its index. Nodes and quads
+    /// come out in depth-first order, children in slot order. The subtrees of the top `parallel`
+    /// levels are written in parallel into trees of their own and appended in that same order,
+    /// so the result does not depend on it; below them [`Self::emit_sequential`] writes them.
     fn emit(&mut self, bvh2: &Bvh2, node2: usize, triangles: &[[Vec3A; 3]], depth: u32, parallel: u32) -> u32 {
+        if parallel == 0 {
+            return self.emit_sequential(bvh2, node2, triangles, depth);
+        }
+        let (index, slots, count) = self.push_node(bvh2, node2, depth);
+        let subtrees: Vec<Option<WideBvh>> = slots[..count]
+            .par_iter()
+            .map(|&slot| {
+                (!bvh2.nodes[slot].is_leaf()).then(|| {
+                    // Sized up front: growing from empty copied each subtree on every
+                    // doubling, before appending copies it again.
+                    let mut subtree = WideBvh::with_capacity(leaf_count(bvh2, slot));
+                    subtree.emit(bvh2, slot, triangles, depth + 1, parallel - 1);
+                    subtree
+                })
+            })
+            .collect();
+        for (k, (&slot, subtree)) in slots[..count].iter().zip(subtrees).enumerate() {
+            let child = match subtree {
+                Some(subtree) => self.append(subtree),
+                None => self.push_leaf(bvh2, slot, triangles),
+            };
+            self.set_bounds(index, k, bvh2, slot, child);
+        }
+        index as u32
+    }
+
+    /// [`Self::emit`] without parallel levels, with an explicit stack instead of recursion, so
+    /// that no tree is too deep to collapse: the same depth-first order, each node written when
+    /// it is reached and its children queued in reverse slot order.
+    fn emit_sequential(&mut self, bvh2: &Bvh2, node2: usize, triangles: &[[Vec3A; 3]], depth: u32) -> u32 {
+        let (root, slots, count) = self.push_node(bvh2, node2, depth);
+        // (parent node, its slot k, bvh2 node, the parent's depth)
+        let mut pending: Vec<(usize, usize, usize, u32)> = Vec::new();
+        pending.extend((0..count).rev().map(|k| (root, k, slots[k], depth)));
+        while let Some((parent, k, slot, parent_depth)) = pending.pop() {
+            let child = if bvh2.nodes[slot].is_leaf() {
+                self.push_leaf(bvh2, slot, triangles)
+            } else {
+                let (index, slots, count) = self.push_node(bvh2, slot, parent_depth + 1);
+                pending.extend((0..count).rev().map(|k| (index, k, slots[k], parent_depth + 1)));
+                index as u32
+            };
+            self.set_bounds(parent, k, bvh2, slot, child);
+        }
+        root as u32
+    }
+
+    /// Appends an empty node for `bvh2` inner node `node2` at `depth`; returns its index and the
+    /// bvh2 nodes of its children (`slots[..count]`): the largest inner child opened until there
+    /// are four children or only leaves are left.
+    fn push_node(&mut self, bvh2: &Bvh2, node2: usize, depth: u32) -> (usize, [usize; 4], usize) {
         self.depth = self.depth.max(depth);
-        // Open the largest inner child until there are four children or only leaves are left.
         let first = bvh2.nodes[node2].first_index as usize;
         let mut slots = [first, first + 1, 0, 0];
         let mut count = 2;
@@ -369,39 +421,25 @@ impl WideBvh {
             slots[count] = opened + 1;
             count += 1;
         }
-        let index = self.nodes.len();
         self.nodes.push(Node4 {
             bounds: empty_bounds(),
             child: [EMPTY; 4],
         });
-        if parallel == 0 {
-            for (k, &slot) in slots[..count].iter().enumerate() {
-                self.set_child(index, k, bvh2, slot, triangles, depth);
-            }
-        } else {
-            let subtrees: Vec<Option<WideBvh>> = slots[..count]
-                .par_iter()
-                .map(|&slot| {
-                    (!bvh2.nodes[slot].is_leaf()).then(|| {
-                        // Sized up front: growing from empty copied each subtree on every
-                        // doubling, before appending copies it again.
-                        let mut subtree = WideBvh::with_capacity(leaf_count(bvh2, slot));
-                        subtree.emit(bvh2, slot, triangles, depth + 1, parallel - 1);
-                        subtree
-                    })
-                })
-                .collect();
-            for (k, (&slot, subtree)) in slots[..count].iter().zip(subtrees).enumerate() {
-                match subtree {
-                    Some(subtree) => {
-                        let child = self.append(subtree);
-                        self.set_bounds(index, k, bvh2, slot, child);
-                    }
-                    None => self.set_child(index, k, bvh2, slot, triangles, depth),
-                }
-            }
-        }
-        index as u32
+        (self.nodes.len() - 1, slots, count)
+    }
+
+    /// Appends the quad of `bvh2` leaf `slot`; returns its child reference.
+    fn push_leaf(&mut self, bvh2: &Bvh2, slot: usize, triangles: &[[Vec3A; 3]]) -> u32 {
+        let node2 = &bvh2.nodes[slot];
+        let range = node2.first_index as usize..(node2.first_index + node2.prim_count) as usize;
+        let prims = &bvh2.primitive_indices[range];
+        self.quads
+            .push(TriangleQuad::from_fn(prims.len(), |l| triangles[prims[l] as usize]));
+        self.quad_triangles
+            .push([0, 1, 2, 3].map(|l| prims.get(l).copied().unwrap_or(EMPTY)));
+        let b = node2.aabb();
+        self.quad_bounds.push([b.min.to_array(), b.max.to_array()]);
+        LEAF | (self.quads.len() as u32 - 1)
     }
 
     /// Appends `subtree` (its root first), renumbering its node and quad references; returns
@@ -423,26 +461,6 @@ impl WideBvh {
         self.quad_bounds.extend(subtree.quad_bounds);
         self.depth = self.depth.max(subtree.depth);
         node_base
-    }
-
-    /// Child slot `k` of node `index` becomes `bvh2` node `slot`: a leaf quad, or its subtree
-    /// written sequentially.
-    fn set_child(&mut self, index: usize, k: usize, bvh2: &Bvh2, slot: usize, triangles: &[[Vec3A; 3]], depth: u32) {
-        let node2 = &bvh2.nodes[slot];
-        let child = if node2.is_leaf() {
-            let range = node2.first_index as usize..(node2.first_index + node2.prim_count) as usize;
-            let prims = &bvh2.primitive_indices[range];
-            self.quads
-                .push(TriangleQuad::from_fn(prims.len(), |l| triangles[prims[l] as usize]));
-            self.quad_triangles
-                .push([0, 1, 2, 3].map(|l| prims.get(l).copied().unwrap_or(EMPTY)));
-            let b = node2.aabb();
-            self.quad_bounds.push([b.min.to_array(), b.max.to_array()]);
-            LEAF | (self.quads.len() as u32 - 1)
-        } else {
-            self.emit(bvh2, slot, triangles, depth + 1, 0)
-        };
-        self.set_bounds(index, k, bvh2, slot, child);
     }
 
     /// Child slot `k` of node `index` becomes `child`, with the box of `bvh2` node `slot`.
@@ -512,6 +530,58 @@ mod tests {
     use super::*;
     use obvhs::bvh2::builder::build_bvh2;
     use obvhs::BvhBuildParams;
+
+    /// A binary chain of `n` leaves (each inner node: a leaf and the rest of the chain), as PLOC
+    /// builds for degenerate inputs, over triangles along x.
+    fn chain(n: usize) -> (Bvh2, Vec<[Vec3A; 3]>) {
+        let triangles: Vec<[Vec3A; 3]> = (0..n)
+            .map(|i| {
+                let x = i as f32;
+                [
+                    Vec3A::new(x, 0.0, 0.0),
+                    Vec3A::new(x + 1.0, 0.0, 0.0),
+                    Vec3A::new(x, 1.0, 0.0),
+                ]
+            })
+            .collect();
+        let leaf_box = |i: usize| obvhs::aabb::Aabb::new(triangles[i][0], triangles[i][1] + Vec3A::Y);
+        let rest_box = |i: usize| obvhs::aabb::Aabb::new(triangles[i][0], Vec3A::new(n as f32, 1.0, 0.0));
+        // Node 0 is the root; inner node j's children are 2j + 1 (leaf j) and 2j + 2.
+        let mut nodes = vec![obvhs::bvh2::node::Bvh2Node::new(rest_box(0), 0, 1)];
+        for j in 0..n - 1 {
+            nodes.push(obvhs::bvh2::node::Bvh2Node::new(leaf_box(j), 1, j as u32));
+            nodes.push(if j + 1 == n - 1 {
+                obvhs::bvh2::node::Bvh2Node::new(leaf_box(j + 1), 1, (j + 1) as u32)
+            } else {
+                obvhs::bvh2::node::Bvh2Node::new(rest_box(j + 1), 0, nodes.len() as u32 + 1)
+            });
+        }
+        let bvh2 = Bvh2 {
+            nodes,
+            primitive_indices: (0..n as u32).collect(),
+            ..Bvh2::default()
+        };
+        (bvh2, triangles)
+    }
+
+    #[test]
+    fn a_chain_a_hundred_thousand_deep_collapses_without_recursion() {
+        // The recursive collapse overflowed the stack on chains some thousands deep (a
+        // 30,000-triangle fan); the explicit stack does not care.
+        let n = 100_000;
+        let (bvh2, triangles) = chain(n);
+        let tree = WideBvh::from_bvh2(&bvh2, &triangles);
+        assert_eq!(tree.quads.len(), n, "one leaf of one triangle each");
+        assert!(
+            tree.depth() as usize > n / 4,
+            "a chain stays a chain: depth {}",
+            tree.depth()
+        );
+        assert_eq!(tree.stack(), TraversalStack::Growable);
+        let mut seen: Vec<u32> = tree.quad_triangles.iter().map(|q| q[0]).collect();
+        seen.sort_unstable();
+        assert!(seen.iter().copied().eq(0..n as u32));
+    }
 
     #[test]
     fn collapsing_subtrees_in_parallel_gives_the_sequential_tree() {
