@@ -14,6 +14,7 @@ pub mod brdf;
 pub mod cli;
 pub mod error;
 pub mod film;
+pub mod input_files;
 pub mod lanes;
 pub mod light;
 pub mod material;

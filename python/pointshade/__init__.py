@@ -183,8 +183,11 @@ def read_image(path):
     return _native.read_image(_path(path, "path"))
 
 
-def compare(ours, ref, tol=1e-3, worst=10):
+def compare(ours, ref, tol=1e-3, worst=10, count_non_finite=False):
     """The metrics ``pointshade compare`` prints, for two (H, W, 3) float arrays or EXR paths.
+
+    Images of different sizes, and images with a NaN or infinite pixel, raise ValueError naming
+    the image; with ``count_non_finite=True`` such pixels count as mismatches instead.
 
     Returns a dict: pixels, rmse, rel_mse, mean_relative_error, within_tolerance, tolerance,
     non_finite_ours, non_finite_reference, worst (the worst pixels, worst first), summary (the
@@ -192,7 +195,7 @@ def compare(ours, ref, tol=1e-3, worst=10):
     """
     ours = read_image(ours) if isinstance(ours, (str, _os.PathLike)) else ours
     ref = read_image(ref) if isinstance(ref, (str, _os.PathLike)) else ref
-    return _native.compare(ours, ref, tol=tol, worst=worst)
+    return _native.compare(ours, ref, tol=tol, worst=worst, count_non_finite=count_non_finite)
 
 
 class Scene:

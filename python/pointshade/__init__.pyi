@@ -91,6 +91,7 @@ def compare(
     ref: Union[PathLike, npt.NDArray[np.floating]],
     tol: float = ...,
     worst: int = ...,
+    count_non_finite: bool = ...,
 ) -> dict[str, Any]:
     """pointshade compare's metrics and the per-pixel relative error (H, W)."""
 

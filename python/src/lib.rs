@@ -34,7 +34,7 @@ use pointshade::scene::file::{load_scene_text, material_from_toml, MaterialDefau
 use pointshade::scene::framing::{Aim, View};
 use pointshade::scene::overrides::Overrides;
 use pointshade::shading::shader::brdf_value;
-use pointshade::validation::compare::compare as compare_images;
+use pointshade::validation::compare::{compare_checked, Side};
 use pointshade::validation::export::{export_files, ExportOptions};
 
 use arrays::{directions, image_of, DirectionArray};
@@ -74,10 +74,7 @@ impl Workers {
     fn new(threads: Option<usize>) -> PyResult<Self> {
         match threads {
             None => Ok(Workers::Global),
-            Some(0) => Err(value_error("threads", "must be at least 1")),
-            Some(n) => rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
-                .build()
+            Some(n) => pointshade::render::worker_pool(n)
                 .map(Workers::Own)
                 .map_err(|e| value_error("threads", e)),
         }
@@ -486,29 +483,26 @@ fn eval_terms<'py>(
 /// The metrics `pointshade compare` prints, for two float (H, W, 3) arrays, with the per-pixel
 /// relative errors as a float32 (H, W) array.
 #[pyfunction]
-#[pyo3(signature = (ours, reference, *, tol=1e-3, worst=10))]
+#[pyo3(signature = (ours, reference, *, tol=1e-3, worst=10, count_non_finite=false))]
 fn compare<'py>(
     py: Python<'py>,
     ours: Bound<'py, PyAny>,
     reference: Bound<'py, PyAny>,
     tol: f32,
     worst: usize,
+    count_non_finite: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     if !(tol >= 0.0 && tol.is_finite()) {
         return Err(value_error("tol", format!("must be a finite number ≥ 0, got {tol}")));
     }
     let ours = image_of("ours", &ours)?;
     let reference = image_of("ref", &reference)?;
-    if (ours.width, ours.height) != (reference.width, reference.height) {
-        return Err(value_error(
-            "ref",
-            format!(
-                "size {}×{} differs from {}×{} of ours",
-                reference.width, reference.height, ours.width, ours.height
-            ),
-        ));
-    }
-    let c = py.detach(|| compare_images(&ours, &reference, tol, worst));
+    let c = py
+        .detach(|| compare_checked(&ours, &reference, tol, worst, count_non_finite))
+        .map_err(|(side, problem)| match side {
+            Side::Ours => value_error("ours", problem),
+            Side::Reference => value_error("ref", problem),
+        })?;
     let out = PyDict::new(py);
     out.set_item("pixels", c.pixels)?;
     out.set_item("rmse", c.rmse)?;

@@ -6,7 +6,7 @@ use crate::cli::options::{comma_list, option_error};
 use crate::error::InputError;
 use crate::film::Image;
 use crate::output::{encode, read_linear, write_all_or_nothing, Format};
-use crate::validation::compare::{bin_labels, compare, error_by_group, group_table};
+use crate::validation::compare::{bin_labels, compare_checked, error_by_group, group_table, Side};
 use crate::validation::staleness::{check_reference, ReferenceCheck};
 
 /// Arguments of `pointshade compare`.
@@ -40,6 +40,10 @@ pub struct CompareArgs {
     /// counts as stale: docs/reference-drift.md.
     #[arg(long, conflicts_with_all = ["heatmap", "group_by"])]
     reference_check: bool,
+    /// Count NaN and infinite pixels as mismatches (never within tolerance, left out of the
+    /// averages) instead of refusing the images.
+    #[arg(long)]
+    count_non_finite: bool,
 }
 
 /// Runs `pointshade compare`; prints the metrics on stdout.
@@ -105,7 +109,12 @@ pub fn run(args: CompareArgs) -> Result<(), InputError> {
         }
         None => None,
     };
-    let c = compare(&ours, &reference, args.tol, args.worst);
+    let c = compare_checked(&ours, &reference, args.tol, args.worst, args.count_non_finite).map_err(
+        |(side, problem)| match side {
+            Side::Ours => InputError::new(&args.ours, problem),
+            Side::Reference => InputError::new(&args.reference, problem),
+        },
+    )?;
     if let Some(path) = &args.heatmap {
         let bytes = encode(&c.heat_map(ours.width, ours.height), Format::of(path)?, 0.0)
             .map_err(|e| InputError::new(path, e))?;

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use crate::error::InputError;
-use crate::output::exr::{merge, read_crop};
+use crate::output::exr::{check_tiling, merge, read_crop, read_crop_placement};
 use crate::output::{encode, write_all_or_nothing, Format};
 
 /// Arguments of `pointshade merge`.
@@ -30,6 +30,14 @@ pub fn run(args: MergeArgs) -> Result<(), InputError> {
             format!("must be in [-64, 64], got {}", args.exposure),
         ));
     }
+    // Headers first: a set of crops that does not tile one frame is refused before gigabytes of
+    // pixels are decoded.
+    let placements = args
+        .crops
+        .iter()
+        .map(|p| read_crop_placement(p).map(|(region, frame)| (p.clone(), region, frame)))
+        .collect::<Result<Vec<_>, InputError>>()?;
+    check_tiling(&placements)?;
     let crops = args
         .crops
         .iter()

@@ -55,6 +55,9 @@ enum Command {
 /// Parses the command line, runs the subcommand, and maps errors to exit code 2.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    remove_temporaries_on_signals();
+    // Every file read is recorded, so that no command writes over one of its inputs.
+    crate::input_files::record_reads();
     let result = match cli.command {
         Command::Render(args) => render::run(args).map(|()| ExitCode::SUCCESS),
         Command::Normalmap(args) => normalmap::run(args).map(|()| ExitCode::SUCCESS),
@@ -67,6 +70,33 @@ pub fn main() -> ExitCode {
         Command::Stability(args) => stability::run(args),
     };
     finish(result)
+}
+
+/// On SIGINT or SIGTERM, removes the temporary files of writes in progress (a large EXR takes a
+/// while) before the process exits with 128 + the signal's number, as a shell reports it.
+///
+/// The two signals are blocked in this thread before any other starts, so every thread inherits
+/// the mask, and one thread of its own waits for them with `sigwait`: the cleanup then runs as
+/// ordinary code, not in a signal handler. (Child processes start with an empty mask: the
+/// standard library resets it.)
+fn remove_temporaries_on_signals() {
+    // SAFETY: sigemptyset/sigaddset initialise `set`; pthread_sigmask and sigwait only read it.
+    let set = unsafe {
+        let mut set: libc::sigset_t = std::mem::zeroed();
+        libc::sigemptyset(&mut set);
+        libc::sigaddset(&mut set, libc::SIGINT);
+        libc::sigaddset(&mut set, libc::SIGTERM);
+        libc::pthread_sigmask(libc::SIG_BLOCK, &set, std::ptr::null_mut());
+        set
+    };
+    std::thread::spawn(move || {
+        let mut signal = 0;
+        // SAFETY: `set` is an initialised signal set, `signal` a valid place for the result.
+        if unsafe { libc::sigwait(&set, &mut signal) } == 0 {
+            crate::output::atomic::remove_pending();
+            std::process::exit(128 + signal);
+        }
+    });
 }
 
 fn finish(result: Result<ExitCode, InputError>) -> ExitCode {

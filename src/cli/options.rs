@@ -10,13 +10,8 @@ pub(crate) fn option_error(option: &str, problem: impl std::fmt::Display) -> Inp
 /// The worker threads of a command's `--threads` (all cores when absent). Everything parallel,
 /// loading included, runs inside it, so the option bounds the whole command.
 pub(crate) fn worker_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, InputError> {
-    if threads == Some(0) {
-        return Err(option_error("--threads", "must be at least 1"));
-    }
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.unwrap_or(0))
-        .build()
-        .map_err(|e| option_error("--threads", e))
+    let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
+    crate::render::worker_pool(threads.unwrap_or(cpus)).map_err(|e| option_error("--threads", e))
 }
 
 /// The comma-separated values of `option` (`text`), each read by `parse`; an error naming the

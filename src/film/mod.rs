@@ -3,6 +3,7 @@
 //! Pixels use a box filter: a pixel's value is the plain mean of its own samples, which is what
 //! Mitsuba's `box` rfilter computes, so references compare pixel for pixel.
 
+pub mod memory;
 pub mod sampler;
 
 use std::mem::MaybeUninit;

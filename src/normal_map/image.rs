@@ -193,7 +193,7 @@ fn unit_rgba<S: Sample>(p: [S; 4]) -> ([f32; 3], f32) {
 impl NormalImage {
     /// Reads and decodes the PNG at `path`.
     pub fn load(path: &Path) -> InputResult<NormalImage> {
-        let bytes = std::fs::read(path).map_err(|e| InputError::new(path, format!("cannot read: {e}")))?;
+        let bytes = crate::input_files::read(path).map_err(|e| InputError::new(path, e))?;
         Self::decode(path, &bytes)
     }
 

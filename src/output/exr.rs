@@ -71,9 +71,75 @@ pub fn check_exr_size(bytes: &[u8]) -> std::result::Result<(), String> {
     Ok(())
 }
 
+/// Where the pixels of an EXR lie: its data window in its display window, read from the header
+/// alone (the first layer).
+fn placement(header: &exr::meta::header::Header) -> std::result::Result<(PixelRect, (u32, u32)), String> {
+    let display = header.shared_attributes.display_window;
+    let (x0, y0) = (
+        header.own_attributes.layer_position.x(),
+        header.own_attributes.layer_position.y(),
+    );
+    if display.position.x() != 0 || display.position.y() != 0 || x0 < 0 || y0 < 0 {
+        return Err("its display window does not start at (0, 0) or its data lies outside it".into());
+    }
+    let (width, height) = (header.layer_size.width() as u32, header.layer_size.height() as u32);
+    let region = PixelRect {
+        x0: x0 as u32,
+        y0: y0 as u32,
+        x1: x0 as u32 + width,
+        y1: y0 as u32 + height,
+    };
+    let frame = (display.size.width() as u32, display.size.height() as u32);
+    if region.x1 > frame.0 || region.y1 > frame.1 {
+        return Err("its data window lies outside its display window".into());
+    }
+    Ok((region, frame))
+}
+
+/// Refuses an EXR crop where a full frame is expected (`compare`, `validate`): the image crate
+/// would pad it to its frame with zeros, and a comparison would count the padding as error or,
+/// worse, as agreement. Other formats and unreadable headers pass (decoding reports those).
+pub fn check_full_frame(bytes: &[u8]) -> std::result::Result<(), String> {
+    let Ok(meta) = exr::meta::MetaData::read_from_buffered(Cursor::new(bytes), false) else {
+        return Ok(());
+    };
+    let Some(header) = meta.headers.first() else {
+        return Ok(());
+    };
+    let (region, frame) = placement(header)?;
+    if region != PixelRect::full(frame.0, frame.1) {
+        return Err(format!(
+            "is a crop (columns {}..{}, rows {}..{} of a {}×{} frame), not a whole image: \
+             `pointshade merge` its crops first",
+            region.x0, region.x1, region.y0, region.y1, frame.0, frame.1
+        ));
+    }
+    Ok(())
+}
+
+/// The header of a crop: where its pixels go and the frame's size, without decoding them.
+pub fn read_crop_placement(path: &Path) -> InputResult<(PixelRect, (u32, u32))> {
+    crate::input_files::check(path).map_err(|e| InputError::new(path, e))?;
+    let meta = exr::meta::MetaData::read_from_file(path, false)
+        .map_err(|e| InputError::new(path, format!("not a readable OpenEXR file: {e}")))?;
+    let header = meta
+        .headers
+        .first()
+        .ok_or_else(|| InputError::new(path, "an OpenEXR file without a layer"))?;
+    let size = header.layer_size;
+    if size.width() as u64 * size.height() as u64 > MAX_PIXELS {
+        return Err(InputError::new(
+            path,
+            format!("its data window of {}×{} is too large", size.width(), size.height()),
+        ));
+    }
+    placement(header).map_err(|e| InputError::new(path, e))
+}
+
 /// Reads a crop written by [`encode_exr`] (or any RGB(A) EXR: a full frame is a crop of itself).
+/// A NaN or infinite pixel is an error naming it: `render` never writes one.
 pub fn read_crop(path: &Path) -> InputResult<Crop> {
-    let bytes = std::fs::read(path).map_err(|e| InputError::new(path, format!("cannot read: {e}")))?;
+    let bytes = crate::input_files::read(path).map_err(|e| InputError::new(path, e))?;
     check_exr_size(&bytes).map_err(|e| InputError::new(path, e))?;
     let image = read()
         .no_deep_data()
@@ -86,80 +152,101 @@ pub fn read_crop(path: &Path) -> InputResult<Crop> {
         )
         .first_valid_layer()
         .all_attributes()
-        .from_buffered(Cursor::new(bytes))
+        .from_buffered(Cursor::new(&bytes))
         .map_err(|e| InputError::new(path, format!("not a readable RGB OpenEXR file: {e}")))?;
+    let meta = exr::meta::MetaData::read_from_buffered(Cursor::new(&bytes), false)
+        .map_err(|e| InputError::new(path, format!("not a readable OpenEXR file: {e}")))?;
+    let (region, frame) = placement(&meta.headers[0]).map_err(|e| InputError::new(path, e))?;
     let layer = &image.layer_data;
-    let (x0, y0) = (layer.attributes.layer_position.x(), layer.attributes.layer_position.y());
-    let display = image.attributes.display_window;
-    if display.position.x() != 0 || display.position.y() != 0 || x0 < 0 || y0 < 0 {
+    let (width, height) = (layer.size.width() as u32, layer.size.height() as u32);
+    let image = Image {
+        width,
+        height,
+        pixels: layer.channel_data.pixels.1.clone(),
+    };
+    if let Some((x, y, value)) = image.first_non_finite() {
         return Err(InputError::new(
             path,
-            "its display window does not start at (0, 0) or its data lies outside it",
+            format!(
+                "pixel ({}, {}) of the frame is not finite: {value}",
+                region.x0 + x,
+                region.y0 + y
+            ),
         ));
     }
-    let (width, height) = (layer.size.width() as u32, layer.size.height() as u32);
-    let region = PixelRect {
-        x0: x0 as u32,
-        y0: y0 as u32,
-        x1: x0 as u32 + width,
-        y1: y0 as u32 + height,
-    };
-    let frame = (display.size.width() as u32, display.size.height() as u32);
-    if region.x1 > frame.0 || region.y1 > frame.1 {
-        return Err(InputError::new(path, "its data window lies outside its display window"));
-    }
-    let pixels = layer.channel_data.pixels.1.clone();
-    Ok(Crop {
-        image: Image { width, height, pixels },
-        region,
-        frame,
-    })
+    Ok(Crop { image, region, frame })
 }
 
-/// Assembles `crops` into their frame: they must share one frame size and cover it exactly once.
-/// Errors name the crop at fault.
-pub fn merge(crops: &[(std::path::PathBuf, Crop)]) -> InputResult<Image> {
-    let (first_path, first) = crops
+/// Checks, from their headers alone, that `placements` (path, region, frame) share one frame
+/// and cover it exactly once, before any pixel is decoded or the frame allocated. Errors name
+/// the crop at fault.
+pub fn check_tiling(placements: &[(std::path::PathBuf, PixelRect, (u32, u32))]) -> InputResult<()> {
+    let (first_path, _, frame) = placements
         .first()
         .ok_or_else(|| InputError::new("merge", "no crops given"))?;
-    let (w, h) = first.frame;
-    let mut covered = vec![false; w as usize * h as usize];
-    let mut frame = Image::new(w, h);
-    for (path, crop) in crops {
-        if crop.frame != first.frame {
+    let (w, h) = *frame;
+    for (i, (path, region, other)) in placements.iter().enumerate() {
+        if other != frame {
             return Err(InputError::new(
                 path,
                 format!(
-                    "frame {}×{} differs from {}×{} of {}",
-                    crop.frame.0,
-                    crop.frame.1,
-                    w,
-                    h,
+                    "frame {}×{} differs from {w}×{h} of {}",
+                    other.0,
+                    other.1,
                     first_path.display()
                 ),
             ));
         }
-        let r = crop.region;
-        for y in r.y0..r.y1 {
-            for x in r.x0..r.x1 {
-                let at = (y * w + x) as usize;
-                if covered[at] {
-                    return Err(InputError::new(
-                        path,
-                        format!("overlaps another crop at pixel ({x}, {y})"),
-                    ));
-                }
-                covered[at] = true;
-                frame.pixels[at] = crop.image.pixels[((y - r.y0) * r.width() + (x - r.x0)) as usize];
+        for (earlier, r) in placements[..i].iter().map(|(p, r, _)| (p, r)) {
+            let (x0, y0) = (region.x0.max(r.x0), region.y0.max(r.y0));
+            if x0 < region.x1.min(r.x1) && y0 < region.y1.min(r.y1) {
+                return Err(InputError::new(
+                    path,
+                    format!("overlaps {} at pixel ({x0}, {y0})", earlier.display()),
+                ));
             }
         }
     }
-    if let Some(missing) = covered.iter().position(|c| !c) {
-        let (x, y) = (missing as u32 % w, missing as u32 / w);
+    // Disjoint rectangles inside the frame cover it exactly when their areas add up to it.
+    let covered: u64 = placements
+        .iter()
+        .map(|(_, r, _)| r.width() as u64 * r.height() as u64)
+        .sum();
+    if covered != w as u64 * h as u64 {
+        let missing = (0..h)
+            .flat_map(|y| (0..w).map(move |x| (x, y)))
+            .find(|&(x, y)| {
+                !placements
+                    .iter()
+                    .any(|(_, r, _)| (r.x0..r.x1).contains(&x) && (r.y0..r.y1).contains(&y))
+            })
+            .unwrap_or((0, 0));
         return Err(InputError::new(
             first_path,
-            format!("the crops leave pixel ({x}, {y}) of the {w}×{h} frame uncovered"),
+            format!(
+                "the crops leave pixel ({}, {}) of the {w}×{h} frame uncovered",
+                missing.0, missing.1
+            ),
         ));
+    }
+    Ok(())
+}
+
+/// Assembles `crops` into their frame: they must share one frame size and cover it exactly once
+/// ([`check_tiling`]). Errors name the crop at fault.
+pub fn merge(crops: &[(std::path::PathBuf, Crop)]) -> InputResult<Image> {
+    let placements: Vec<_> = crops.iter().map(|(p, c)| (p.clone(), c.region, c.frame)).collect();
+    check_tiling(&placements)?;
+    let (w, h) = crops[0].1.frame;
+    let mut frame = Image::new(w, h);
+    for (_, crop) in crops {
+        let r = crop.region;
+        for y in r.y0..r.y1 {
+            let row = ((y - r.y0) * r.width()) as usize;
+            let at = (y * w + r.x0) as usize;
+            frame.pixels[at..at + r.width() as usize]
+                .copy_from_slice(&crop.image.pixels[row..row + r.width() as usize]);
+        }
     }
     Ok(frame)
 }

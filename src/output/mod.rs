@@ -4,7 +4,10 @@
 //! never leaves partial output behind. The NPM3D assignment's formats (min-max 8-bit renders,
 //! RGBA normal images) are the normal-map mode's, in [`crate::normal_map::formats`].
 
+pub mod atomic;
 pub mod exr;
+
+pub use atomic::{refuse_overwriting_inputs, write_all_or_nothing};
 
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
@@ -93,10 +96,11 @@ pub fn encode(image: &Image, format: Format, exposure: f32) -> Result<Vec<u8>, S
 /// Reads a linear RGB image (EXR, or any format the image crate decodes, taken as is) for
 /// comparisons. Alpha is dropped. Errors name the file.
 pub fn read_linear(path: &Path) -> InputResult<Image> {
-    let bytes = std::fs::read(path).map_err(|e| InputError::new(path, format!("cannot read: {e}")))?;
+    let bytes = crate::input_files::read(path).map_err(|e| InputError::new(path, e))?;
     // An EXR's header is checked before the image crate decodes (other formats pass: their
     // header is not one).
     exr::check_exr_size(&bytes).map_err(|e| InputError::new(path, e))?;
+    exr::check_full_frame(&bytes).map_err(|e| InputError::new(path, e))?;
     let decoded =
         image::load_from_memory(&bytes).map_err(|e| InputError::new(path, format!("not a readable image: {e}")))?;
     let rgb = decoded.into_rgb32f();
@@ -112,40 +116,6 @@ pub fn aov_path(out: &Path, aov: Aov) -> PathBuf {
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
     out.with_file_name(format!("{stem}.{}.exr", aov.name()))
-}
-
-/// Writes every `(path, bytes)` or none: temporary files first, then renames.
-pub fn write_all_or_nothing(files: &[(PathBuf, Vec<u8>)]) -> InputResult<()> {
-    let mut written: Vec<PathBuf> = Vec::new();
-    let cleanup = |written: &[PathBuf]| {
-        for t in written {
-            let _ = std::fs::remove_file(t);
-        }
-    };
-    for (path, bytes) in files {
-        let tmp = temporary_path(path);
-        if let Err(e) = std::fs::write(&tmp, bytes) {
-            cleanup(&written);
-            let _ = std::fs::remove_file(&tmp);
-            return Err(InputError::new(path, format!("cannot write: {e}")));
-        }
-        written.push(tmp);
-    }
-    for ((path, _), tmp) in files.iter().zip(&written) {
-        if let Err(e) = std::fs::rename(tmp, path) {
-            cleanup(&written);
-            return Err(InputError::new(path, format!("cannot write: {e}")));
-        }
-    }
-    Ok(())
-}
-
-fn temporary_path(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
 }
 
 #[cfg(test)]
@@ -180,18 +150,5 @@ mod tests {
             aov_path(Path::new("out/dragon.png"), Aov::Depth),
             PathBuf::from("out/dragon.depth.exr")
         );
-    }
-
-    #[test]
-    fn failed_write_leaves_no_file() {
-        let dir = std::env::temp_dir().join(format!("pointshade-out-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let good = dir.join("a.png");
-        let bad = dir.join("missing-dir").join("b.png");
-        let r = write_all_or_nothing(&[(good.clone(), vec![1, 2, 3]), (bad, vec![4])]);
-        assert!(r.is_err());
-        assert!(!good.exists(), "first file must not appear when the second fails");
-        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0, "no temporary left behind");
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

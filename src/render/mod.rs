@@ -75,6 +75,38 @@ pub fn render_scene(scene: &Scene, plan: &RenderPlan, on_tile: &(dyn Fn(u64) + S
     render_scene_until(scene, plan, on_tile, None)
 }
 
+/// Worker threads allowed per logical CPU: more only adds switching, and a thread count
+/// typed with extra zeros (`--threads 100000`) would spawn threads until the process is killed.
+pub const MAX_THREADS_PER_CPU: usize = 8;
+
+/// A pool of `threads` worker threads (1 ≤ threads ≤ [`MAX_THREADS_PER_CPU`] × the logical
+/// CPUs); the message says which bound a refused count breaks. Both front ends build their
+/// pools with it.
+pub fn worker_pool(threads: usize) -> Result<rayon::ThreadPool, String> {
+    let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let most = MAX_THREADS_PER_CPU * cpus;
+    if threads == 0 {
+        return Err("must be at least 1".into());
+    }
+    if threads > most {
+        return Err(format!(
+            "{threads} is more than {most} ({MAX_THREADS_PER_CPU} per logical CPU, {cpus} here)"
+        ));
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| format!("cannot start {threads} threads: {e}"))
+}
+
+/// Refuses a film whose peak memory is more than the process can have
+/// ([`crate::film::memory::check_fits`]), before the BVH is built or a pixel rendered.
+fn check_film_memory(region: PixelRect, plan: &RenderPlan) -> Result<(), String> {
+    let samples_aov = plan.aovs.contains(&Aov::Samples);
+    let others = plan.aovs.len() - usize::from(samples_aov);
+    crate::film::memory::check_fits(region.width(), region.height(), others, samples_aov, plan.adaptive)
+}
+
 /// The message of a render that `stop` ended.
 pub const INTERRUPTED: &str = "interrupted";
 
@@ -88,6 +120,7 @@ pub fn render_scene_until(
     stop: Option<&AtomicBool>,
 ) -> Result<Rendered, String> {
     let start = Instant::now();
+    check_film_memory(scene.film.region(), plan)?;
     // The plan's cut-out stage and `Bvh::for_scene`'s mask look at the same materials.
     let bvh = plan.trace_rays.then(|| Bvh::for_scene(scene));
     debug_assert!(bvh.as_ref().is_none_or(|b| b.has_alpha_mask() == plan.cutouts));
@@ -118,9 +151,10 @@ fn render_from(
     stop: Option<&AtomicBool>,
 ) -> Result<Rendered, String> {
     let start = Instant::now();
-    let ctx = Context::new(scene, plan, bvh, stop)?;
     let film = &scene.film;
     let region = film.region();
+    check_film_memory(region, plan)?;
+    let ctx = Context::new(scene, plan, bvh, stop)?;
     let deadline = film.time_budget.map(|b| budget_start + Duration::from_secs_f32(b));
     let (sums, counts, spp, threshold) = match (film.sampler.fixed_sequence(), deadline) {
         (None, Some(deadline)) => {

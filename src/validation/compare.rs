@@ -61,7 +61,54 @@ pub struct Comparison {
     pub relative_errors: Vec<f32>,
 }
 
+/// Which of the two images a [`compare_checked`] refusal is about.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    /// The image under test.
+    Ours,
+    /// The reference.
+    Reference,
+}
+
+/// [`compare`], after checking that the images can be compared: the same size, and — unless
+/// `count_non_finite`, which counts such pixels as mismatches — no NaN or infinite pixel, since
+/// a metric that leaves them out would call an image of NaN a match. The error says which image
+/// is at fault and why, on one line.
+pub fn compare_checked(
+    ours: &Image,
+    reference: &Image,
+    tolerance: f32,
+    worst: usize,
+    count_non_finite: bool,
+) -> Result<Comparison, (Side, String)> {
+    if (ours.width, ours.height) != (reference.width, reference.height) {
+        return Err((
+            Side::Reference,
+            format!(
+                "size {}×{} differs from {}×{} of the image compared with it",
+                reference.width, reference.height, ours.width, ours.height
+            ),
+        ));
+    }
+    if !count_non_finite {
+        for (side, image) in [(Side::Ours, ours), (Side::Reference, reference)] {
+            if let Some((x, y, value)) = image.first_non_finite() {
+                let count = image.pixels.iter().filter(|p| !p.is_finite()).count();
+                return Err((
+                    side,
+                    format!(
+                        "{count} pixel(s) are not finite, the first at ({x}, {y}): {value}; \
+                         count them as mismatches with --count-non-finite (Python: count_non_finite=True)"
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(compare(ours, reference, tolerance, worst))
+}
+
 /// Compares `ours` with `reference` (same size; checked by the caller). `worst` pixels are kept.
+/// Non-finite pixels are counted and never within tolerance ([`compare_checked`] refuses them).
 pub fn compare(ours: &Image, reference: &Image, tolerance: f32, worst: usize) -> Comparison {
     assert_eq!(
         (ours.width, ours.height),

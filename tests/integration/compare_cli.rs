@@ -68,7 +68,29 @@ fn reports_known_errors_and_non_finite_pixels_and_writes_a_heat_map() {
     let (ours, reference, heat) = (d.join("ours.exr"), d.join("ref.exr"), d.join("heat.png"));
     write(&ours, &[1.0, 2.0, f32::NAN, 4.0, 5.0, 6.5], 3);
     write(&reference, &[1.0, 2.0, 3.0, f32::INFINITY, 5.0, 6.0], 3);
+    // By default a NaN is no match and no pixel to leave out: it is an error naming the image
+    // (compare printed RMSE 0 and exit 0 for an image of NaN).
     let (code, stdout, stderr) = run_with(&ours, &reference, "--heatmap", &heat);
+    assert_eq!(code, Some(2), "{stdout}");
+    assert!(
+        stderr.starts_with(&format!(
+            "error: {}: 1 pixel(s) are not finite, the first at (2, 0): [NaN, NaN, NaN]",
+            ours.display()
+        )),
+        "{stderr}"
+    );
+    assert!(!heat.exists(), "no heat map after an error");
+    let (code, _, stderr) = run(&[reference.as_os_str(), reference.as_os_str()]);
+    assert_eq!(code, Some(2));
+    assert!(stderr.contains("the first at (0, 1): [inf, inf, inf]"), "{stderr}");
+    // Counted as mismatches on request.
+    let (code, stdout, stderr) = run(&[
+        ours.as_os_str(),
+        reference.as_os_str(),
+        "--heatmap".as_ref(),
+        heat.as_os_str(),
+        "--count-non-finite".as_ref(),
+    ]);
     assert_eq!(code, Some(0), "{stderr}");
     assert!(stdout.contains("within 1e-3           50.0000%"), "{stdout}");
     assert!(

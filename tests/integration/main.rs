@@ -17,6 +17,7 @@ mod examples;
 mod gltf;
 mod gltf_mutations;
 mod gltf_shared;
+mod hostile;
 mod meshes;
 mod mtl;
 mod normalmap;

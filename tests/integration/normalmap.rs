@@ -744,7 +744,7 @@ fn bad_images_are_refused_with_one_line() {
     let truncated = dir.path("truncated.png");
     std::fs::write(&truncated, &png_with_header(64, 64)[..30]).unwrap();
     run(&truncated, &["truncated.png"]);
-    run(&dir.path("missing.png"), &["missing.png", "cannot read"]);
+    run(&dir.path("missing.png"), &["missing.png", "file not found"]);
     // min = max: the tp scaling would divide by zero (the physical preset shades such an image).
     let flat = dir.path("flat.png");
     image::RgbImage::from_pixel(8, 8, image::Rgb([77, 77, 77]))

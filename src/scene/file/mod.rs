@@ -401,7 +401,7 @@ pub(crate) struct TomlSource<'a> {
 impl<'a> TomlSource<'a> {
     /// Reads `path`; a missing or unreadable file is an error naming it.
     pub(crate) fn read(path: &'a Path) -> InputResult<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| InputError::new(path, format!("cannot read: {e}")))?;
+        let text = crate::input_files::read_to_string(path).map_err(|e| InputError::new(path, e))?;
         Ok(TomlSource { path, text })
     }
 

@@ -42,10 +42,7 @@ impl GltfDocument {
 /// Reads and validates `path` (.gltf or .glb) and loads its buffers.
 pub fn read_document(path: &Path) -> InputResult<GltfDocument> {
     let err = |p: String| InputError::new(path, p);
-    if !path.is_file() {
-        return Err(err("file not found".into()));
-    }
-    let bytes = std::fs::read(path).map_err(|e| err(format!("cannot read: {e}")))?;
+    let bytes = crate::input_files::read(path).map_err(err)?;
     let binary = crate::scene::extension(path).as_deref() == Some("glb") || bytes.starts_with(b"glTF");
     if binary {
         check_glb_header(&bytes).map_err(err)?;

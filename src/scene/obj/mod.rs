@@ -56,10 +56,7 @@ pub fn load_obj(path: &Path) -> InputResult<ObjContents> {
 /// returned: a caller that transforms the mesh derives them afterwards
 /// ([`TriangleMesh::derive_normals`]), from the transformed positions, as Mitsuba does.
 pub fn load_obj_underived(path: &Path) -> InputResult<(ObjContents, Vec<DerivedNormals>)> {
-    if !path.is_file() {
-        return Err(InputError::new(path, "file not found"));
-    }
-    let bytes = std::fs::read(path).map_err(|e| InputError::new(path, format!("cannot read: {e}")))?;
+    let bytes = crate::input_files::read(path).map_err(|e| InputError::new(path, e))?;
     let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let (models, materials) =
         parse_with_tobj_semantics(&bytes, &dir).map_err(|e| InputError::new(path, format!("malformed OBJ: {e}")))?;
@@ -294,11 +291,13 @@ fn parse_with_tobj_semantics(bytes: &[u8], dir: &Path) -> tobj::LoadResult {
 /// values is a parse error: tobj 4.0.5 unwraps it and panics. (The error makes the library's
 /// materials a warning, as every MTL error does.)
 fn load_mtl(path: &Path) -> tobj::MTLLoadResult {
-    use std::io::Read;
-    // tobj's two errors: the file does not open, or it opens and does not read (a directory).
-    let mut file = std::fs::File::open(path).map_err(|_| tobj::LoadError::OpenFileFailed)?;
-    let mut bytes = Vec::new();
-    file.read_to_end(&mut bytes).map_err(|_| tobj::LoadError::ReadError)?;
+    // tobj's two errors: the file does not open (missing, a FIFO or a device, which are not
+    // opened at all), or it does not read (a directory, as tobj finds).
+    crate::input_files::check(path).map_err(|_| match path.is_dir() {
+        true => tobj::LoadError::ReadError,
+        false => tobj::LoadError::OpenFileFailed,
+    })?;
+    let bytes = crate::input_files::read(path).map_err(|_| tobj::LoadError::ReadError)?;
     let short_colour = String::from_utf8_lossy(&bytes).lines().any(|line| {
         let mut words = line.split_whitespace();
         matches!(words.next(), Some("Ka" | "Kd" | "Ks" | "Ke")) && words.count() < 3
