@@ -14,38 +14,81 @@
 use glam::Vec3A;
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::{node::Bvh2Node, Bvh2};
+use rayon::prelude::*;
 
 /// Binary trees deeper than this are rebuilt balanced ([`balanced_bvh2`]). An ordinary mesh of a
 /// few million triangles builds to depth 30–40 with PLOC; a balanced tree of 2³² triangles is 31
 /// levels deep.
 pub const MAX_BINARY_DEPTH: usize = 64;
 
-/// Above this mean overlap — the boxes' summed half areas over the half area of their union, per
-/// √n — PLOC is not tried. A tessellated surface has a mean overlap of order one whatever its
-/// triangle count (its boxes tile its surface); n boxes that all share a point have one of order
-/// n, which grows past any multiple of √n.
-const MAX_OVERLAP_PER_SQRT_N: f64 = 4.0;
+/// Boxes per window of the overlap test ([`overlaps_too_much`]).
+const WINDOW: usize = 64;
+/// A window whose boxes' summed half areas exceed this many times its union's is degenerate: a
+/// tessellated surface's windows tile it (about 1–4), a fan's boxes all share a corner (about
+/// the window's size).
+const MAX_WINDOW_OVERLAP: f64 = 16.0;
+/// This many degenerate windows in a row (1,024 boxes) make PLOC's cost matter: a cluster of
+/// m such boxes costs it about m² box unions. Shorter runs (a sphere's pole, a cylinder's cap)
+/// are left to it.
+const MAX_DEGENERATE_RUN: usize = 16;
 
-/// Whether PLOC would degenerate on `boxes`: whether they overlap as a fan's do (see
-/// [`MAX_OVERLAP_PER_SQRT_N`]). Flat or empty unions (a plane seen edge-on has zero area in one
-/// projection only; half areas sum three projections) count as overlapping only when every
-/// box is a point.
+/// Whether PLOC would degenerate on `boxes`: whether, in Morton order of their centroids, a run
+/// of [`MAX_DEGENERATE_RUN`] consecutive windows of [`WINDOW`] boxes each overlap as a fan's
+/// do ([`MAX_WINDOW_OVERLAP`]), wherever in the scene that fan is. A window of boxes that are
+/// all one point counts as degenerate.
 pub fn overlaps_too_much(boxes: &[Aabb]) -> bool {
-    if boxes.len() < 1024 {
+    if boxes.len() < WINDOW * MAX_DEGENERATE_RUN {
         return false; // PLOC is quick on a thousand boxes, whatever their shape
     }
-    let mut union = Aabb::empty();
-    let mut summed = 0.0f64;
+    let mut centres = Aabb::empty();
     for b in boxes {
-        union.extend(b.min);
-        union.extend(b.max);
-        summed += f64::from(b.half_area());
+        centres.extend((b.min + b.max) * 0.5);
     }
-    let total = f64::from(union.half_area());
-    if !(total > 0.0) {
-        return true; // every box is one point: nothing to sort
+    let extent = (centres.max - centres.min).max(Vec3A::splat(f32::MIN_POSITIVE));
+    let mut order: Vec<u64> = boxes
+        .par_iter()
+        .enumerate()
+        .map(|(i, b)| {
+            let unit = (((b.min + b.max) * 0.5 - centres.min) / extent).clamp(Vec3A::ZERO, Vec3A::ONE);
+            let cell = (unit * 1023.0).as_uvec3();
+            (u64::from(morton3(cell.x, cell.y, cell.z)) << 32) | i as u64
+        })
+        .collect();
+    order.par_sort_unstable();
+    let mut run = 0;
+    for window in order.chunks(WINDOW) {
+        let mut union = Aabb::empty();
+        let mut summed = 0.0f64;
+        for &key in window {
+            let b = &boxes[(key & u64::from(u32::MAX)) as usize];
+            union.extend(b.min);
+            union.extend(b.max);
+            summed += f64::from(b.half_area());
+        }
+        let total = f64::from(union.half_area());
+        let degenerate = if total > 0.0 {
+            summed > MAX_WINDOW_OVERLAP * total
+        } else {
+            true
+        };
+        run = if degenerate { run + 1 } else { 0 };
+        if run >= MAX_DEGENERATE_RUN {
+            return true;
+        }
     }
-    summed / total > MAX_OVERLAP_PER_SQRT_N * (boxes.len() as f64).sqrt()
+    false
+}
+
+/// The 30-bit Morton code of a cell (10 bits per axis, interleaved x, y, z).
+fn morton3(x: u32, y: u32, z: u32) -> u32 {
+    let spread = |v: u32| {
+        let mut v = v & 0x3ff;
+        v = (v | (v << 16)) & 0x0300_00ff;
+        v = (v | (v << 8)) & 0x0300_f00f;
+        v = (v | (v << 4)) & 0x030c_30c3;
+        (v | (v << 2)) & 0x0924_9249
+    };
+    spread(x) | (spread(y) << 1) | (spread(z) << 2)
 }
 
 /// Depth of `bvh2` (a single leaf or the root alone = 1), walked without recursion.
@@ -149,7 +192,19 @@ mod tests {
     #[test]
     fn fans_and_coincident_boxes_overlap_too_much_and_surfaces_do_not() {
         assert!(overlaps_too_much(&fan(30_000)));
-        assert!(overlaps_too_much(&fan(2_000)));
+        assert!(overlaps_too_much(&fan(5_000)));
+        // A fan inside a large scene: the scene's extent no longer hides it (it did for a test
+        // of the whole scene's overlap, and PLOC took minutes on such a fuzz input).
+        let mut scene = grid(300);
+        scene.extend(fan(20_000).into_iter().map(|b| Aabb::new(b.min * 3.0, b.max * 3.0)));
+        assert!(overlaps_too_much(&scene));
+        // Shuffled, it is still found (Morton order, not the input's).
+        let mut shuffled = fan(20_000);
+        let n = shuffled.len();
+        for i in 0..n {
+            shuffled.swap(i, (i * 7919 + 13) % n);
+        }
+        assert!(overlaps_too_much(&shuffled));
         assert!(overlaps_too_much(&vec![Aabb::new(Vec3A::ONE, Vec3A::ONE); 5_000]));
         assert!(!overlaps_too_much(&grid(300)));
         assert!(!overlaps_too_much(&grid(10)), "small inputs always go to PLOC");
