@@ -22,15 +22,15 @@ use rayon::prelude::*;
 pub const MAX_BINARY_DEPTH: usize = 64;
 
 /// Boxes per window of the overlap test ([`overlaps_too_much`]).
-const WINDOW: usize = 64;
+pub const WINDOW: usize = 64;
 /// A window whose boxes' summed half areas exceed this many times its union's is degenerate: a
 /// tessellated surface's windows tile it (about 1–4), a fan's boxes all share a corner (about
 /// the window's size).
-const MAX_WINDOW_OVERLAP: f64 = 16.0;
+pub const MAX_WINDOW_OVERLAP: f64 = 16.0;
 /// This many degenerate windows in a row (1,024 boxes) make PLOC's cost matter: a cluster of
 /// m such boxes costs it about m² box unions. Shorter runs (a sphere's pole, a cylinder's cap)
 /// are left to it.
-const MAX_DEGENERATE_RUN: usize = 16;
+pub const MAX_DEGENERATE_RUN: usize = 16;
 
 /// Whether PLOC would degenerate on `boxes`: whether, in Morton order of their centroids, a run
 /// of [`MAX_DEGENERATE_RUN`] consecutive windows of [`WINDOW`] boxes each overlap as a fan's
