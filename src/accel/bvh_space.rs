@@ -1,0 +1,40 @@
+//! BVH space: the world scaled by a power of two so that the scene is about 256 units across,
+//! and the triangle boxes padded in those units (see the module documentation of [`super`]).
+
+use glam::{Vec3, Vec3A};
+
+/// Padding added to every triangle's box, in BVH units (the scene is ~256 of them across).
+///
+/// obvhs's slab test rounds, and a triangle's vertex is a corner of its box: a ray through a
+/// shared vertex or edge (exactly what the watertight test catches) can be culled at the box of
+/// the one triangle that claims it, and escape a closed mesh, as `pointshade stability` found
+/// with rays aimed at vertices and edges before this padding. The slab
+/// test's position error is a few ulps of the largest coordinate involved (≤ ~512 in BVH space
+/// for rays starting inside the scene: 4·6e-8·512 ≈ 1.2e-4); 2^-12 ≈ 2.4e-4 covers it and costs
+/// nothing measurable (boxes grow by 1e-6 of the scene).
+const LEAF_PADDING: f32 = 1.0 / 4096.0;
+
+/// The triangle's bounding box padded by [`LEAF_PADDING`], as the BVH build sees it. (obvhs's
+/// triangle-specific builder, which would pre-split large triangles for the `slow` preset, cannot
+/// take padded boxes; the generic builder, given boxes, ignores `pre_split`.)
+pub(super) fn padded_box(triangle: &[Vec3A; 3]) -> obvhs::aabb::Aabb {
+    let [a, b, c] = *triangle;
+    let pad = Vec3A::splat(LEAF_PADDING);
+    obvhs::aabb::Aabb::new(a.min(b).min(c) - pad, a.max(b).max(c) + pad)
+}
+
+/// 2^e such that the scene's bounding-box diagonal times it is in [128, 256), limited so that no
+/// coordinate overflows or loses its normal range.
+pub(super) fn world_to_bvh_scale(bounds: Option<(Vec3, Vec3)>) -> f32 {
+    let Some((lo, hi)) = bounds else { return 1.0 };
+    let diagonal = (hi - lo).length();
+    let largest = lo.abs().max(hi.abs()).max_element();
+    if !(diagonal > 0.0) || !diagonal.is_finite() {
+        return 1.0;
+    }
+    let mut e = (256.0 / diagonal).log2().floor() as i32;
+    // Keep |coordinates| ≤ 2^100 after scaling, and do not scale up if already huge.
+    let max_e = 100 - largest.max(f32::MIN_POSITIVE).log2().ceil() as i32;
+    e = e.clamp(-100, max_e.max(-100));
+    2f32.powi(e)
+}
