@@ -27,7 +27,9 @@ pub(super) fn padded_box(triangle: &[Vec3A; 3]) -> obvhs::aabb::Aabb {
 /// coordinate overflows or loses its normal range.
 pub(super) fn world_to_bvh_scale(bounds: Option<(Vec3, Vec3)>) -> f32 {
     let Some((lo, hi)) = bounds else { return 1.0 };
-    let diagonal = (hi - lo).length();
+    // In f64: the f32 length of a diagonal longer than ~1.8e19 overflows, and a scene left at
+    // scale 1 there has boxes of infinite area, on which PLOC degenerates to quadratic time.
+    let diagonal = (hi.as_dvec3() - lo.as_dvec3()).length();
     let largest = lo.abs().max(hi.abs()).max_element();
     if !(diagonal > 0.0) || !diagonal.is_finite() {
         return 1.0;
@@ -37,4 +39,35 @@ pub(super) fn world_to_bvh_scale(bounds: Option<(Vec3, Vec3)>) -> f32 {
     let max_e = 100 - largest.max(f32::MIN_POSITIVE).log2().ceil() as i32;
     e = e.clamp(-100, max_e.max(-100));
     2f32.powi(e)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn diagonal_in_bvh_space(lo: Vec3, hi: Vec3) -> f64 {
+        let s = world_to_bvh_scale(Some((lo, hi))) as f64;
+        (hi.as_dvec3() - lo.as_dvec3()).length() * s
+    }
+
+    #[test]
+    fn every_finite_scene_is_scaled_to_about_256_units() {
+        for r in [1e-30f32, 1e-3, 1.0, 1e6, 1e19, 5.7e27, 1e30] {
+            let d = diagonal_in_bvh_space(Vec3::splat(-r), Vec3::splat(r));
+            assert!((128.0..256.0).contains(&d), "radius {r:e}: diagonal {d} in BVH space");
+        }
+        // Beyond 2^100 the scale stops at 2^-100 (coordinates near the origin keep their normal
+        // range); box areas stay far from overflowing all the same.
+        for r in [1e38f32, f32::MAX] {
+            let d = diagonal_in_bvh_space(Vec3::splat(-r), Vec3::splat(r));
+            assert!(d <= 2e9 && ((d * d) as f32).is_finite(), "radius {r:e}: diagonal {d}");
+        }
+    }
+
+    #[test]
+    fn a_small_object_far_from_the_origin_is_not_scaled_past_2_to_the_100() {
+        let (lo, hi) = (Vec3::splat(1e30), Vec3::splat(1e30) + 1e25);
+        let s = world_to_bvh_scale(Some((lo, hi)));
+        assert!(hi.max_element() * s <= 2f32.powi(100));
+    }
 }

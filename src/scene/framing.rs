@@ -11,6 +11,7 @@ use crate::film::FilmSettings;
 use crate::light::{Falloff, Light, LightKind};
 use crate::material::Material;
 use crate::scene::camera::{Camera, CameraSpec, FovAxis, Projection};
+use crate::scene::extent;
 use crate::scene::obj::{load_obj, NO_MATERIAL};
 use crate::scene::tangents::complete_tangents;
 use crate::scene::textures::decode_used_images;
@@ -169,13 +170,16 @@ impl Aim {
                 _ => return Err("the camera is orthographic: it has no field of view".into()),
             }
         }
-        // The checks every camera passes (a frame, a field of view), as a scene file's does.
+        // The checks every camera passes (within reach, a frame, a field of view), as a scene
+        // file's does.
+        extent::check_camera(scene)?;
         Camera::new(scene.camera, 1, 1)?;
         let c = &scene.camera;
         if scene.default_lights {
             if let Some((lo, hi)) = bounds {
                 scene.lights = default_lights(lo, hi, &scene.camera);
             }
+            extent::check_lights(scene)?;
         }
         scene.notes.push(format!(
             "camera: aimed from the command line at ({}, {}, {}) from ({}, {}, {})",

@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use crate::error::{InputError, InputResult};
-use crate::scene::{extension, file, framing, gltf, Scene};
+use crate::scene::{extension, extent, file, framing, gltf, Scene};
 
 /// Choices the command line makes about loading.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -28,7 +28,7 @@ pub fn load_with(path: &Path, options: LoadOptions) -> InputResult<Scene> {
             "only glTF files (.gltf, .glb) have cameras to choose from",
         ));
     }
-    match ext.as_deref() {
+    let scene = match ext.as_deref() {
         Some("toml") => file::load_scene_file(path),
         Some("obj") => framing::scene_for_bare_mesh(path),
         Some("gltf" | "glb") => gltf::scene_for_gltf(path, options.camera),
@@ -36,5 +36,7 @@ pub fn load_with(path: &Path, options: LoadOptions) -> InputResult<Scene> {
             path,
             "unsupported scene type (expected a .toml scene file, an .obj mesh or a .gltf/.glb file)",
         )),
-    }
+    }?;
+    extent::check(&scene).map_err(|e| InputError::new(path, e))?;
+    Ok(scene)
 }

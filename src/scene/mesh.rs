@@ -4,6 +4,8 @@ use std::ops::Range;
 
 use glam::{DVec3, Mat3, Mat4, Vec2, Vec3, Vec4};
 
+use crate::scene::unit_vector::{power_of_two_scale, triangle_normal, unit_or_zero};
+
 /// Triangles in world space with per-vertex shading normals and a material per triangle.
 ///
 /// All objects of a scene are merged into one `TriangleMesh` so the BVH is built once over every
@@ -47,7 +49,7 @@ impl TriangleMesh {
     pub fn normals_bend(&self) -> bool {
         self.triangles.iter().any(|&[a, b, c]| {
             let [pa, pb, pc] = [a, b, c].map(|i| self.positions[i as usize]);
-            let ng = (pb - pa).cross(pc - pa).normalize_or_zero();
+            let ng = triangle_normal(pa, pb, pc);
             ng != Vec3::ZERO && [a, b, c].iter().any(|&i| self.normals[i as usize].dot(ng) < 0.9999)
         })
     }
@@ -91,16 +93,15 @@ impl TriangleMesh {
     /// right-handed frame into a left-handed one).
     pub fn transform(&mut self, m: Mat4) {
         let linear = Mat3::from_mat4(m);
-        let normal_matrix = linear.inverse().transpose();
-        let mirrored = linear.determinant() < 0.0;
+        let (normal_matrix, mirrored) = normal_matrix(linear);
         for p in &mut self.positions {
             *p = m.transform_point3(*p);
         }
         for n in &mut self.normals {
-            *n = (normal_matrix * *n).normalize_or_zero();
+            *n = unit_or_zero(normal_matrix * *n);
         }
         for t in self.tangents.iter_mut().flatten() {
-            let xyz = (linear * t.truncate()).normalize_or_zero();
+            let xyz = unit_or_zero(linear * t.truncate());
             let w = if mirrored { -t.w } else { t.w };
             *t = if xyz == Vec3::ZERO { Vec4::ZERO } else { xyz.extend(w) };
         }
@@ -110,6 +111,30 @@ impl TriangleMesh {
             }
         }
     }
+}
+
+/// The matrix that carries normals as `linear` carries positions (its inverse transpose, up to a
+/// positive factor), and whether `linear` mirrors. Where the inverse overflows or underflows
+/// (scales beyond about 1e±12, whose determinant leaves f32's normal range) it is the cofactor
+/// matrix of `linear` scaled by a power of two, which has the same directions; elsewhere exactly
+/// the inverse transpose.
+fn normal_matrix(linear: Mat3) -> (Mat3, bool) {
+    let det = linear.determinant();
+    let inverse_transpose = linear.inverse().transpose();
+    if det.is_normal() && inverse_transpose.is_finite() {
+        return (inverse_transpose, det < 0.0);
+    }
+    let columns = [linear.x_axis, linear.y_axis, linear.z_axis];
+    let largest = columns.iter().fold(Vec3::ZERO, |m, c| m.max(c.abs()));
+    let s = power_of_two_scale(largest);
+    let [c0, c1, c2] = columns.map(|c| c * s);
+    let cofactor = Mat3::from_cols(c1.cross(c2), c2.cross(c0), c0.cross(c1));
+    // (M⁻¹)ᵀ = cofactor / det: with det's sign, a mirror turns normals as the inverse does.
+    let scaled_det = c0.dot(c1.cross(c2));
+    if !(scaled_det != 0.0 && scaled_det.is_finite()) {
+        return (Mat3::ZERO, false);
+    }
+    (cofactor * scaled_det.signum(), scaled_det < 0.0)
 }
 
 /// How many times its own size a mesh's centre may lie from the origin before its float32
@@ -218,7 +243,7 @@ pub fn angle_weighted_normals(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec
         .with_min_len(4096)
         .map(|tri| {
             let p = tri.map(|i| positions[i as usize]);
-            let face = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+            let face = triangle_normal(p[0], p[1], p[2]);
             if face == Vec3::ZERO {
                 return [Vec3::ZERO; 3];
             }

@@ -5,6 +5,7 @@
 //! stage that reads user files, so every [`InputError`](crate::error::InputError) comes from here (the normal-map mode reads its images and scene files in [`crate::normal_map`]).
 
 pub mod camera;
+pub mod extent;
 pub mod file;
 pub mod framing;
 pub mod gltf;
@@ -16,6 +17,7 @@ pub mod procedural;
 pub mod shadows;
 pub mod tangents;
 pub mod textures;
+pub mod unit_vector;
 pub mod uri;
 
 use std::path::{Path, PathBuf};

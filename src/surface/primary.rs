@@ -20,6 +20,7 @@ use glam::{Vec2, Vec3};
 
 use crate::accel::Hit;
 use crate::scene::mesh::TriangleMesh;
+use crate::scene::unit_vector::triangle_normal;
 use crate::surface::SurfacePoint;
 
 /// What [`surface_point`] computes beyond the position and the normals (the plan decides).
@@ -48,7 +49,7 @@ pub fn surface_point(mesh: &TriangleMesh, hit: &Hit, direction: Vec3, options: P
     // A triangle the ray hit has a non-zero area in f32 (the watertight test rejects det = 0),
     // but the cross product can still underflow for microscopic slivers: fall back to facing
     // the viewer.
-    let mut geometric_normal = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+    let mut geometric_normal = triangle_normal(p0, p1, p2);
     if geometric_normal == Vec3::ZERO {
         geometric_normal = to_viewer;
     }

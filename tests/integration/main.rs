@@ -14,6 +14,7 @@ mod crop_merge;
 mod cutouts;
 mod end_to_end;
 mod examples;
+mod far_coordinates;
 mod gltf;
 mod gltf_mutations;
 mod gltf_shared;

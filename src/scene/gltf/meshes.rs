@@ -227,7 +227,7 @@ fn read_primitive(
         mesh.normals = vec![Vec3::ZERO; mesh.positions.len()];
         for t in &mesh.triangles {
             let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
-            let face = (b - a).cross(c - a).normalize_or_zero();
+            let face = crate::scene::unit_vector::triangle_normal(a, b, c);
             for &i in t {
                 mesh.normals[i as usize] = face;
             }
