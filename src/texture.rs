@@ -16,6 +16,53 @@ use std::sync::OnceLock;
 
 use glam::{Vec2, Vec4};
 
+/// For a palette PNG, that every pixel's index names an entry of its palette, or what it holds
+/// that does not (other PNGs pass; so does one the caller's decoder will refuse anyway). The
+/// decoders turn an index past the palette's end into black without a word.
+pub fn check_palette_indices(bytes: &[u8]) -> Result<(), String> {
+    let decoder = |bytes| {
+        let mut d = png::Decoder::new(std::io::Cursor::new(bytes));
+        d.set_transformations(png::Transformations::IDENTITY);
+        d.read_info().ok()
+    };
+    let Some(mut reader) = decoder(bytes) else {
+        return Ok(());
+    };
+    let info = reader.info();
+    if info.color_type != png::ColorType::Indexed {
+        return Ok(());
+    }
+    let entries = info.palette.as_ref().map_or(0, |p| p.len() / 3);
+    let (bits, width) = (info.bit_depth as usize, info.width as usize);
+    let Some(mut buffer) = reader.output_buffer_size().map(|n| vec![0; n]) else {
+        return Ok(());
+    };
+    let Ok(frame) = reader.next_frame(&mut buffer) else {
+        return Ok(());
+    };
+    // Indices of 1, 2, 4 or 8 bits, packed from the high bits of each byte.
+    let per_byte = 8 / bits;
+    let mask = (1u32 << bits) - 1;
+    let largest = buffer
+        .chunks_exact(frame.line_size)
+        .take(frame.height as usize)
+        .flat_map(|row| {
+            (0..width).map(move |x| {
+                let shift = 8 - bits * (x % per_byte + 1);
+                (u32::from(row[x / per_byte]) >> shift) & mask
+            })
+        })
+        .max()
+        .unwrap_or(0);
+    if (largest as usize) < entries {
+        Ok(())
+    } else {
+        Err(format!(
+            "palette index {largest} used by a pixel, but the palette has {entries} entries"
+        ))
+    }
+}
+
 /// A decoded image: `width × height` RGBA texels, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TextureImage {

@@ -255,6 +255,7 @@ impl NormalImage {
         limits.max_image_height = Some(65536);
         reader.limits(limits);
         let img = reader.decode().map_err(|e| err(format!("cannot decode PNG: {e}")))?;
+        crate::texture::check_palette_indices(bytes).map_err(err)?;
         let (width, height) = (img.width(), img.height());
         let image = |samples, has_alpha| Self::from_samples(source, width, height, samples, has_alpha);
         match img {

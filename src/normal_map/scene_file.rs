@@ -22,7 +22,7 @@ use crate::error::InputResult;
 use crate::light::{Falloff, Light, LightKind};
 use crate::material::{BlinnPhong, CookTorrance, Material};
 use crate::normal_map::pixels::{PixelPositions, Viewer};
-use crate::scene::file::values::{resolve, vec3};
+use crate::scene::file::values::{resolve, three, three_opt, vec3};
 pub use crate::scene::file::ModelName;
 use crate::scene::file::{light, material, LightSection, MaterialDefaults, MaterialSection, TomlSource};
 use crate::shading::convention::ShadingConvention;
@@ -332,7 +332,9 @@ struct NormalMapSection {
 struct ViewerSection {
     #[serde(rename = "type", default)]
     kind: ViewerType,
+    #[serde(deserialize_with = "three")]
     position: [f32; 3],
+    #[serde(default, deserialize_with = "three_opt")]
     look_at: Option<[f32; 3]>,
 }
 

@@ -251,7 +251,8 @@ pub fn scene_for_bare_mesh(path: &Path) -> InputResult<Scene> {
         "camera: framed automatically on the bounding box".into(),
         "lights: default key + fill lights".into(),
     ];
-    scene.warnings = obj.material_warnings;
+    scene.warnings = obj.warnings;
+    scene.warnings.extend(obj.material_warnings);
     Ok(scene)
 }
 

@@ -97,6 +97,7 @@ fn decode(p: &PendingImage) -> InputResult<TextureImage> {
         }
     };
     let image = image::load_from_memory(bytes).map_err(|e| err(format!("cannot decode: {e}")))?;
+    crate::texture::check_palette_indices(bytes).map_err(err)?;
     let rgba = image.to_rgba8();
     let (width, height) = rgba.dimensions();
     if width == 0 || height == 0 {

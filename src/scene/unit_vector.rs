@@ -20,7 +20,15 @@ pub fn power_of_two_scale(v: Vec3) -> f32 {
 /// `v` normalised, or zero when `v` is zero or not finite; unlike `Vec3::normalize_or_zero`,
 /// whatever its length.
 pub fn unit_or_zero(v: Vec3) -> Vec3 {
-    (v * power_of_two_scale(v)).normalize_or_zero()
+    normalized_if_normal(v).unwrap_or_else(|| (v * power_of_two_scale(v)).normalize_or_zero())
+}
+
+/// `v.normalize_or_zero()`, bit for bit, when the squared length is a normal f32 (then neither
+/// it overflowed nor underflowed): the common case, without the scaling's extra work.
+#[inline]
+fn normalized_if_normal(v: Vec3) -> Option<Vec3> {
+    let squared = v.dot(v);
+    squared.is_normal().then(|| v * squared.sqrt().recip())
 }
 
 /// The unit normal of the triangle `(a, b, c)`, counter-clockwise front: normalize((b − a) ×
@@ -29,6 +37,9 @@ pub fn unit_or_zero(v: Vec3) -> Vec3 {
 /// are finite.
 pub fn triangle_normal(a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
     let (e1, e2) = (b - a, c - a);
+    if let Some(n) = normalized_if_normal(e1.cross(e2)) {
+        return n;
+    }
     let s = power_of_two_scale(e1.abs().max(e2.abs()));
     unit_or_zero((e1 * s).cross(e2 * s))
 }

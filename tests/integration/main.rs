@@ -24,5 +24,6 @@ mod mtl;
 mod normalmap;
 mod shadow_terminator;
 mod shared_data;
+mod silent_nonsense;
 mod time_budget;
 mod validation;

@@ -4,7 +4,7 @@
 use glam::{DVec3, Vec3};
 use serde::Deserialize;
 
-use super::values::{point3, vec3};
+use super::values::{point3, three, three_opt, vec3};
 use crate::light::{Falloff, Light, LightKind};
 
 #[derive(Deserialize)]
@@ -12,9 +12,11 @@ use crate::light::{Falloff, Light, LightKind};
 pub(crate) struct LightSection {
     #[serde(rename = "type")]
     kind: LightType,
+    #[serde(default, deserialize_with = "three_opt")]
     position: Option<[f64; 3]>,
+    #[serde(default, deserialize_with = "three_opt")]
     direction: Option<[f32; 3]>,
-    #[serde(default = "white")]
+    #[serde(default = "white", deserialize_with = "three")]
     color: [f32; 3],
     #[serde(default = "one")]
     intensity: f32,

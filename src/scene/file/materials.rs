@@ -7,17 +7,21 @@ use toml::Spanned;
 use crate::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
 use crate::material::{BlinnPhong, BrdfModel, CookTorrance, Material, MaterialTextures};
 
+use super::values::three_opt;
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct MaterialSection {
     #[serde(default)]
     model: ModelName,
+    #[serde(default, deserialize_with = "three_opt")]
     albedo: Option<[f32; 3]>,
     kd: Option<f32>,
     two_sided: Option<bool>,
     // Blinn-Phong
     ks: Option<f32>,
     shininess: Option<f32>,
+    #[serde(default, deserialize_with = "three_opt")]
     specular_color: Option<[f32; 3]>,
     // Cook-Torrance
     roughness: Option<f32>,
@@ -26,7 +30,9 @@ pub(crate) struct MaterialSection {
     d: Option<Spanned<String>>,
     g: Option<Spanned<String>>,
     fresnel: Option<Spanned<String>>,
+    #[serde(default, deserialize_with = "three_opt")]
     eta: Option<[f32; 3]>,
+    #[serde(default, deserialize_with = "three_opt")]
     k: Option<[f32; 3]>,
 }
 

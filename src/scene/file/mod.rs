@@ -29,7 +29,7 @@ use crate::scene::{extension, Scene, SceneObject};
 
 mod lights;
 mod materials;
-use values::{point3, resolve, vec3};
+use values::{point3, resolve, three, vec3};
 pub(crate) mod values;
 
 use crate::scene::tangents::complete_tangents;
@@ -78,9 +78,11 @@ enum FilterName {
 struct CameraSection {
     #[serde(rename = "type", default)]
     kind: CameraType,
+    #[serde(deserialize_with = "three")]
     position: [f64; 3],
+    #[serde(deserialize_with = "three")]
     look_at: [f64; 3],
-    #[serde(default = "y_up")]
+    #[serde(default = "y_up", deserialize_with = "three")]
     up: [f32; 3],
     fov: Option<f32>,
     #[serde(default)]
@@ -130,9 +132,9 @@ struct ObjectSection {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct TransformSection {
-    #[serde(default)]
+    #[serde(default, deserialize_with = "three")]
     translate: [f64; 3],
-    #[serde(default)]
+    #[serde(default, deserialize_with = "three")]
     rotate: [f32; 3],
     scale: Option<ScaleValue>,
 }
@@ -141,7 +143,7 @@ struct TransformSection {
 #[serde(untagged)]
 enum ScaleValue {
     Uniform(f32),
-    PerAxis([f32; 3]),
+    PerAxis(#[serde(deserialize_with = "three")] [f32; 3]),
 }
 
 /// Meshes given as arrays, by the name an `[[object]]`'s `mesh` key gives them; looked up before
@@ -347,7 +349,7 @@ impl ObjectContents {
             materials: c.materials,
             images: c.images,
             material_warnings: c.material_warnings,
-            warnings: Vec::new(),
+            warnings: c.warnings,
             notes: Vec::new(),
         }
     }

@@ -75,7 +75,20 @@ pub fn camera_at(d: &GltfDocument, camera: &::gltf::Camera, world: Mat4) -> Inpu
     Ok(GltfCamera { index, spec, aspect })
 }
 
-/// Image size for a camera of aspect ratio `aspect`: the given height, the width that matches.
-pub fn film_width(height: u32, aspect: f32) -> u32 {
-    ((height as f32 * aspect).round() as u32).clamp(1, 65536)
+/// The widest and the tallest aspect ratio a camera may set the film to: 100:1 and 1:100.
+pub const ASPECT_LIMIT: f32 = 100.0;
+
+/// Image width for a camera of aspect ratio `aspect` at the given height, or, for an aspect
+/// beyond [`ASPECT_LIMIT`] either way (`aspectRatio` 1e9 would make a film of 4.8e11 × 480
+/// pixels), a warning that it is not used.
+pub fn film_width(height: u32, aspect: f32, camera: usize) -> Result<u32, String> {
+    if (1.0 / ASPECT_LIMIT..=ASPECT_LIMIT).contains(&aspect) {
+        Ok(((height as f32 * aspect).round() as u32).max(1))
+    } else {
+        Err(format!(
+            "camera {camera}: its aspect ratio {aspect:e} (aspectRatio, or xmag/ymag) is beyond \
+             {ASPECT_LIMIT}:1 either way and is not used: the film keeps its default size \
+             (--width and --height set it)"
+        ))
+    }
 }

@@ -63,6 +63,7 @@ pub fn read_document(path: &Path) -> InputResult<GltfDocument> {
             unsupported.join(", ")
         )));
     }
+    check_asset_version(&json.asset).map_err(err)?;
     check_position_accessors(&json).map_err(err)?;
     let doc = ::gltf::Document::from_json(json).map_err(|e| err(describe(e)))?;
     let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
@@ -79,6 +80,29 @@ pub fn read_document(path: &Path) -> InputResult<GltfDocument> {
         path: path.to_path_buf(),
         node_transforms,
     })
+}
+
+/// `asset.version` (and `asset.minVersion`, if given) of the form 2.MINOR: the glTF 2.0
+/// specification asks loaders to refuse an asset of another major version, whose meaning they
+/// cannot know.
+fn check_asset_version(asset: &::gltf::json::Asset) -> Result<(), String> {
+    // The minor version of "2.MINOR", if `v` has that form.
+    let minor_of_two = |v: &str| v.strip_prefix("2.").and_then(|m| m.parse::<u32>().ok());
+    let shown = |v: &str| v.chars().take(20).collect::<String>();
+    let Some(minor) = minor_of_two(&asset.version) else {
+        return Err(format!(
+            "asset.version is \"{}\": pointshade reads glTF 2.x",
+            shown(&asset.version)
+        ));
+    };
+    match &asset.min_version {
+        Some(min) if minor_of_two(min).is_none_or(|m| m > minor) => Err(format!(
+            "asset.minVersion is \"{}\" (version \"{}\"): pointshade reads glTF 2.x",
+            shown(min),
+            shown(&asset.version)
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// The JSON text of a glTF file: the whole file, or a GLB's first chunk (the header was checked).

@@ -121,6 +121,7 @@ pub fn load_gltf(path: &Path) -> InputResult<GltfContents> {
 /// lights.
 pub fn scene_for_gltf(path: &Path, camera: Option<usize>) -> InputResult<Scene> {
     let contents = load_gltf(path)?;
+    let mut warnings = contents.warnings;
     let mut materials = contents.materials;
     let mesh = contents.mesh;
     let (lo, hi) = mesh
@@ -139,7 +140,10 @@ pub fn scene_for_gltf(path: &Path, camera: Option<usize>) -> InputResult<Scene> 
                 c.index, contents.camera_count
             ));
             if let Some(aspect) = c.aspect {
-                film.width = cameras::film_width(film.height, aspect);
+                match cameras::film_width(film.height, aspect, c.index) {
+                    Ok(width) => film.width = width,
+                    Err(warning) => warnings.push(format!("{}: {warning}", path.display())),
+                }
             }
             c.spec
         }
@@ -164,7 +168,7 @@ pub fn scene_for_gltf(path: &Path, camera: Option<usize>) -> InputResult<Scene> 
     scene.origin = contents.origin;
     scene.default_lights = automatic_lights;
     scene.notes = notes;
-    scene.warnings = contents.warnings;
+    scene.warnings = warnings;
     Ok(scene)
 }
 

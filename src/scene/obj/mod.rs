@@ -39,6 +39,8 @@ pub struct ObjContents {
     /// why its material library could not be loaded, if it names one that failed, and one per
     /// MTL statement that pointshade does not use, naming the statement and the materials.
     pub material_warnings: Vec<String>,
+    /// Warnings about its geometry: faces that repeat a vertex (drawn as nothing).
+    pub warnings: Vec<String>,
 }
 
 /// Material index meaning "no material assigned in the file".
@@ -60,7 +62,7 @@ pub fn load_obj_underived(path: &Path) -> InputResult<(ObjContents, Vec<DerivedN
     let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let (models, materials) =
         parse_with_tobj_semantics(&bytes, &dir).map_err(|e| InputError::new(path, format!("malformed OBJ: {e}")))?;
-    contents_of_models(path, &dir, &models, materials)
+    contents_of_models(path, &bytes, &dir, &models, materials)
 }
 
 /// A mesh given as arrays rather than a file (the Python module's `Scene.add_mesh`): what an OBJ
@@ -136,13 +138,14 @@ pub fn load_mesh_arrays(name: &Path, arrays: &MeshArrays) -> InputResult<(ObjCon
         ..Default::default()
     };
     let models = [tobj::Model::new(mesh, "arrays".into())];
-    contents_of_models(name, Path::new("."), &models, Ok(Vec::new()))
+    contents_of_models(name, &[], Path::new("."), &models, Ok(Vec::new()))
 }
 
 /// The meshes and materials of parsed OBJ `models` (from `path`, whose textures are found in
 /// `dir`): positions relative to the local origin, every check, normals left to derive.
 fn contents_of_models(
     path: &Path,
+    bytes: &[u8],
     dir: &Path,
     models: &[tobj::Model],
     materials: Result<Vec<tobj::Material>, tobj::LoadError>,
@@ -249,6 +252,9 @@ fn contents_of_models(
     if mesh.triangles.is_empty() {
         return Err(InputError::new(path, "no faces: nothing to render"));
     }
+    let warnings = repeated_vertex_warning(path, bytes, &mesh.triangles)?
+        .into_iter()
+        .collect();
     mesh.uvs = (all_have_uvs && uvs.len() == mesh.positions.len()).then_some(uvs);
 
     let mtl = mtl::convert(&materials, dir, path, mesh.uvs.is_some())?;
@@ -260,9 +266,52 @@ fn contents_of_models(
             materials: mtl.materials,
             images: mtl.images,
             material_warnings,
+            warnings,
         },
         derived,
     ))
+}
+
+/// A warning when some of `triangles` repeat a vertex (tobj makes `f 1 2` the triangle 1 2 2 and
+/// `f 1` the triangle 1 1 1): they have no area and are drawn as nothing. The warning names how
+/// many and the first face line that repeats a vertex; an error when no triangle is left.
+fn repeated_vertex_warning(path: &Path, bytes: &[u8], triangles: &[[u32; 3]]) -> InputResult<Option<String>> {
+    let repeated = triangles
+        .iter()
+        .filter(|&&[a, b, c]| a == b || b == c || a == c)
+        .count();
+    if repeated == 0 {
+        return Ok(None);
+    }
+    let first = first_face_repeating_a_vertex(bytes)
+        .map(|(line, text)| format!(" (the first such face: line {line}, `{text}`)"))
+        .unwrap_or_default();
+    if repeated == triangles.len() {
+        return Err(InputError::new(
+            path,
+            format!("every triangle repeats a vertex{first}: nothing to render"),
+        ));
+    }
+    Ok(Some(format!(
+        "{}: {repeated} of its {} triangles repeat a vertex{first} and are not drawn",
+        path.display(),
+        triangles.len()
+    )))
+}
+
+/// The first `f` line (1-based number, up to 40 characters of it) that names one vertex twice,
+/// or has fewer than three vertices.
+fn first_face_repeating_a_vertex(bytes: &[u8]) -> Option<(usize, String)> {
+    let text = String::from_utf8_lossy(bytes);
+    text.lines().enumerate().find_map(|(k, line)| {
+        let mut tokens = line.split_whitespace();
+        if tokens.next() != Some("f") {
+            return None;
+        }
+        let vertices: Vec<&str> = tokens.map(|t| t.split('/').next().unwrap_or(t)).collect();
+        let repeats = (1..vertices.len()).any(|i| vertices[..i].contains(&vertices[i]));
+        (vertices.len() < 3 || repeats).then(|| (k + 1, line.trim().chars().take(40).collect()))
+    })
 }
 
 /// tobj's models and materials for an OBJ file's `bytes`, whose MTL files are looked up in `dir`.
