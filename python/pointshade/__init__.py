@@ -61,6 +61,7 @@ def render(
     look_at=None,
     fov=None,
     aovs=(),
+    confine=None,
 ):
     """Render ``scene`` and return its images as float32 (H, W, 3) arrays.
 
@@ -73,6 +74,9 @@ def render(
     mitsuba), ``shadow_terminator`` (smooth or flat), ``view`` ``(azimuth, elevation[,
     distance])`` in degrees around the automatic framing, ``look_from``/``look_at`` (points) and
     ``fov`` (degrees), and ``aovs``, a subset of normal, position, depth, albedo, samples.
+    With ``confine`` (a folder), every file the scene refers to must lie inside it, after links
+    and ``..`` are resolved (for files from others: a glTF rendered on a server); a file
+    outside is a ValueError, as ``pointshade render --confine DIR`` refuses it.
 
     Returns a dict: ``color`` (linear radiance), one array per requested AOV, and ``stats``
     (stage times in seconds, ray counts, samples per pixel, the region and frame, the triangle
@@ -98,6 +102,7 @@ def render(
         look_at=None if look_at is None else [float(v) for v in look_at],
         fov=fov,
         aovs=list(aovs) if aovs else None,
+        confine=None if confine is None else _path(confine, "confine"),
     )
     if isinstance(scene, Scene):
         out = _native.render(scene.name, text=scene.to_toml(), dir=scene.base_dir, meshes=scene.meshes, **options)
@@ -128,7 +133,16 @@ def _normal_map_toml(image, preset, brdf, material, lights, camera):
 
 
 def shade_normal_image(
-    normals, *, preset="physical", brdf=None, material=None, lights=None, camera=None, threads=None, return_8bit=False
+    normals,
+    *,
+    preset="physical",
+    brdf=None,
+    material=None,
+    lights=None,
+    camera=None,
+    threads=None,
+    return_8bit=False,
+    confine=None,
 ):
     """Shade a normal image as ``pointshade normalmap`` does; return L_o as float32 (H, W, 3).
 
@@ -141,13 +155,17 @@ def shade_normal_image(
     ``lights`` (a list of dicts of ``[[light]]`` keys) and ``camera`` (a dict of the normal-map
     ``[camera]`` keys) replace the preset's. With ``return_8bit=True`` (tp preset) the result is
     a tuple ``(L_o, image)``, ``image`` the uint8 (H, W, 3) PNG ``normalmap --preset tp`` writes.
+    With ``confine`` (a folder), a PNG path must lie inside it (links and ``..`` resolved).
     """
     if isinstance(normals, (str, _os.PathLike)):
         image, array = _os.path.abspath(_os.fspath(normals)), None
     else:
         image, array = "normals", normals
     text = _normal_map_toml(image, preset, brdf, material, lights, camera)
-    lo, eight = _native.shade_normal_image(text, normals=array, threads=threads, eight_bit=return_8bit)
+    confine = None if confine is None else _path(confine, "confine")
+    lo, eight = _native.shade_normal_image(
+        text, normals=array, threads=threads, eight_bit=return_8bit, confine=confine
+    )
     return (lo, eight) if return_8bit else lo
 
 

@@ -35,6 +35,7 @@ def render(
     look_at: Optional[Vec3] = ...,
     fov: Optional[float] = ...,
     aovs: Union[AovName, Sequence[AovName]] = ...,
+    confine: Optional[PathLike] = ...,
 ) -> dict[str, Any]:
     """Render a scene file, mesh, glTF file or Scene; float32 (H, W, 3) arrays and stats."""
 
@@ -49,6 +50,7 @@ def shade_normal_image(
     camera: Optional[Mapping[str, Any]] = ...,
     threads: Optional[int] = ...,
     return_8bit: Literal[False] = ...,
+    confine: Optional[PathLike] = ...,
 ) -> npt.NDArray[np.float32]: ...
 @overload
 def shade_normal_image(
@@ -61,6 +63,7 @@ def shade_normal_image(
     camera: Optional[Mapping[str, Any]] = ...,
     threads: Optional[int] = ...,
     return_8bit: Literal[True],
+    confine: Optional[PathLike] = ...,
 ) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.uint8]]: ...
 def eval_brdf(
     material: Mapping[str, Any],

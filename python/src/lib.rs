@@ -24,6 +24,7 @@ use pyo3::types::{PyDict, PyList};
 use pointshade::brdf::LocalDots;
 use pointshade::error::InputError as LibError;
 use pointshade::film::{Image, PixelRect};
+use pointshade::input_files::Confinement;
 use pointshade::material::{BrdfModel, Material};
 use pointshade::normal_map::formats::min_max_8bit;
 use pointshade::normal_map::image::NormalImage;
@@ -126,6 +127,14 @@ enum SceneInput {
     },
 }
 
+/// The confinement of a call's `confine=` folder (every file the call reads must lie in it).
+fn confinement(dir: Option<PathBuf>) -> PyResult<Confinement> {
+    Confinement::to_optional(dir.as_deref()).map_err(|e| {
+        let shown = dir.as_deref().unwrap_or(Path::new("")).display().to_string();
+        value_error("confine", format!("{shown}: {e}"))
+    })
+}
+
 /// Renders a scene; see `pointshade.render` for the keywords. Returns a dict: `color`, one
 /// entry per AOV, and `stats`.
 #[pyfunction]
@@ -133,7 +142,7 @@ enum SceneInput {
     path, *, text=None, dir=None, meshes=None, width=None, height=None, spp=None, sampler=None,
     adaptive_threshold=None, time_budget=None, seed=None, threads=None, crop=None, camera=None,
     shadow_offset=None, shadow_terminator=None, view=None, look_from=None, look_at=None, fov=None,
-    aovs=None
+    aovs=None, confine=None
 ))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
@@ -159,7 +168,9 @@ fn render<'py>(
     look_at: Option<[f64; 3]>,
     fov: Option<f32>,
     aovs: Option<Vec<String>>,
+    confine: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let confinement = confinement(confine)?;
     let count = |name: &str, v: Option<i64>| -> PyResult<Option<u32>> {
         v.map(|v| u32::try_from(v).map_err(|_| value_error(name, format!("must be an integer ≥ 0, got {v}"))))
             .transpose()
@@ -240,17 +251,17 @@ fn render<'py>(
 
     let t_load = Instant::now();
     let outcome = run_interruptible(py, &pool, |stop| -> Result<_, LibError> {
-        let mut scene = match &input {
+        let mut scene = confinement.run(|| match &input {
             SceneInput::File { path, camera } => {
-                pointshade::scene::load_with(path, pointshade::scene::LoadOptions { camera: *camera })?
+                pointshade::scene::load_with(path, pointshade::scene::LoadOptions { camera: *camera })
             }
             SceneInput::Text {
                 name,
                 text,
                 dir,
                 meshes,
-            } => load_scene_text(name, text.clone(), dir, meshes)?,
-        };
+            } => load_scene_text(name, text.clone(), dir, meshes),
+        })?;
         overrides.apply(&mut scene, &|key| key.to_string())?;
         let load_time = t_load.elapsed();
         let plan = RenderPlan::new(&scene, &aovs);
@@ -299,7 +310,7 @@ type Shaded<'py> = (Bound<'py, PyArrayDyn<f32>>, Option<Bound<'py, PyArrayDyn<u8
 /// `[normal_map]` image is read unless `normals` gives the samples). Returns L_o as float32
 /// (H, W, 3), and the tp preset's 8-bit image when `eight_bit` is set.
 #[pyfunction]
-#[pyo3(signature = (text, *, normals=None, dir=None, threads=None, eight_bit=false))]
+#[pyo3(signature = (text, *, normals=None, dir=None, threads=None, eight_bit=false, confine=None))]
 fn shade_normal_image<'py>(
     py: Python<'py>,
     text: String,
@@ -307,7 +318,9 @@ fn shade_normal_image<'py>(
     dir: Option<PathBuf>,
     threads: Option<usize>,
     eight_bit: bool,
+    confine: Option<PathBuf>,
 ) -> PyResult<Shaded<'py>> {
+    let confinement = confinement(confine)?;
     let source = Path::new("shade_normal_image");
     let dir = dir.unwrap_or_else(|| PathBuf::from("."));
     let samples = normals.map(|a| arrays::normal_samples(&a)).transpose()?;
@@ -315,13 +328,16 @@ fn shade_normal_image<'py>(
     // Milliseconds of work: without the GIL, but not worth a thread that watches for Ctrl-C.
     let outcome = py.detach(|| {
         pool.install(|| -> Result<_, LibError> {
-            let scene = NormalMapScene::from_text(source, text.clone(), &dir, None)?;
-            let image = match &samples {
-                Some((w, h, samples, alpha)) => {
-                    NormalImage::from_samples(Path::new("normals"), *w, *h, samples.clone(), *alpha)?
-                }
-                None => NormalImage::load(&scene.image)?,
-            };
+            let (scene, image) = confinement.run(|| -> Result<_, LibError> {
+                let scene = NormalMapScene::from_text(source, text.clone(), &dir, None)?;
+                let image = match &samples {
+                    Some((w, h, samples, alpha)) => {
+                        NormalImage::from_samples(Path::new("normals"), *w, *h, samples.clone(), *alpha)?
+                    }
+                    None => NormalImage::load(&scene.image)?,
+                };
+                Ok((scene, image))
+            })?;
             let surface = image_surface(&scene, &image).map_err(|e| LibError::new(&image.source, e))?;
             let plan = normal_map_plan::plan(&scene, &image, "numpy array of L_o");
             let (shaded, _) = shade_image(&scene, &plan, &image, &surface);
@@ -533,7 +549,9 @@ fn compare<'py>(
 /// A linear image file (EXR, or PNG decoded to linear) as a float32 (H, W, 3) array.
 #[pyfunction]
 fn read_image<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
-    let image = py.detach(|| pointshade::output::read_linear(&path)).map_err(py_err)?;
+    let image = py
+        .detach(|| Confinement::NONE.run(|| pointshade::output::read_linear(&path)))
+        .map_err(py_err)?;
     Ok(rgb_array(py, image))
 }
 
@@ -562,10 +580,10 @@ fn export_mitsuba<'py>(
         plugin_everywhere: false,
     };
     py.detach(|| -> Result<Vec<String>, LibError> {
-        let scene = match text {
-            Some(text) => load_scene_text(&path, text, &dir.unwrap_or_else(|| PathBuf::from(".")), &table)?,
-            None => pointshade::scene::load(&path)?,
-        };
+        let scene = Confinement::NONE.run(|| match text {
+            Some(text) => load_scene_text(&path, text, &dir.unwrap_or_else(|| PathBuf::from(".")), &table),
+            None => pointshade::scene::load(&path),
+        })?;
         let (files, lines) = export_files(scene, &output, &options, &|key| key.to_string())?;
         pointshade::output::write_all_or_nothing(&files)?;
         Ok(lines)

@@ -125,3 +125,24 @@ def test_compare_gives_the_cli_metrics_and_a_per_pixel_error():
         pointshade.compare(ours, ref[:3])
     with pytest.raises(ValueError, match="tol"):
         pointshade.compare(ours, ref, tol=float("nan"))
+
+
+def test_confine_refuses_files_outside_the_folder(tmp_path):
+    inside, outside = tmp_path / "inside", tmp_path / "outside"
+    inside.mkdir()
+    outside.mkdir()
+    triangle = "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n"
+    (outside / "tri.obj").write_text(triangle)
+    (inside / "tri.obj").write_text(triangle)
+    (inside / "up.toml").write_text('[[object]]\nmesh = "../outside/tri.obj"\n')
+    (inside / "own.toml").write_text('[[object]]\nmesh = "tri.obj"\n')
+    small = {"width": 8, "height": 6, "spp": 1}
+    assert pointshade.render(inside / "own.toml", confine=inside, **small)["color"].shape == (6, 8, 3)
+    with pytest.raises(pointshade.InputError, match=r"outside/tri\.obj: lies outside .*the folder reads are confined to"):
+        pointshade.render(inside / "up.toml", confine=inside, **small)
+    # Without the confinement the same scene renders.
+    assert pointshade.render(inside / "up.toml", **small)["color"].shape == (6, 8, 3)
+    with pytest.raises(ValueError, match=r"^confine: .*folder not found"):
+        pointshade.render(inside / "own.toml", confine=inside / "nowhere", **small)
+    with pytest.raises(pointshade.InputError, match="confined to"):
+        pointshade.shade_normal_image(outside / "n.png", brdf="lambert", confine=inside)

@@ -26,6 +26,11 @@ use crate::error::InputError;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Read no file outside DIR (links and `..` resolved): scene files, meshes, MTL files,
+    /// textures, glTF buffers and images, normal images, EXR inputs. For input from others,
+    /// such as a glTF file rendered on a server.
+    #[arg(long, global = true, value_name = "DIR")]
+    confine: Option<std::path::PathBuf>,
 }
 
 #[derive(Subcommand)]
@@ -58,7 +63,17 @@ pub fn main() -> ExitCode {
     remove_temporaries_on_signals();
     // Every file read is recorded, so that no command writes over one of its inputs.
     crate::input_files::record_reads();
-    let result = match cli.command {
+    let confinement = match crate::input_files::Confinement::to_optional(cli.confine.as_deref()) {
+        Ok(c) => c,
+        Err(e) => {
+            let dir = cli.confine.unwrap_or_default();
+            return finish(Err(options::option_error(
+                "--confine",
+                format!("{}: {e}", dir.display()),
+            )));
+        }
+    };
+    let result = confinement.run(|| match cli.command {
         Command::Render(args) => render::run(args).map(|()| ExitCode::SUCCESS),
         Command::Normalmap(args) => normalmap::run(args).map(|()| ExitCode::SUCCESS),
         Command::Bake(args) => bake::run(args).map(|()| ExitCode::SUCCESS),
@@ -68,7 +83,7 @@ pub fn main() -> ExitCode {
         Command::Merge(args) => merge::run(args).map(|()| ExitCode::SUCCESS),
         Command::Validate(args) => validate::run(args).map(|()| ExitCode::SUCCESS),
         Command::Stability(args) => stability::run(args),
-    };
+    });
     finish(result)
 }
 

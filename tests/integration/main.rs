@@ -9,6 +9,7 @@ mod aim;
 mod bad_input;
 mod brdf_properties;
 mod compare_cli;
+mod confine;
 mod convergence;
 mod crop_merge;
 mod cutouts;

@@ -12,7 +12,7 @@
 mod mtl;
 mod plain;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::{DVec3, Vec2, Vec3};
 
@@ -60,8 +60,14 @@ pub fn load_obj(path: &Path) -> InputResult<ObjContents> {
 pub fn load_obj_underived(path: &Path) -> InputResult<(ObjContents, Vec<DerivedNormals>)> {
     let bytes = crate::input_files::read(path).map_err(|e| InputError::new(path, e))?;
     let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
-    let (models, materials) =
-        parse_with_tobj_semantics(&bytes, &dir).map_err(|e| InputError::new(path, format!("malformed OBJ: {e}")))?;
+    let refused = std::cell::RefCell::new(None);
+    let parsed = parse_with_tobj_semantics(&bytes, &dir, &refused);
+    // A material library outside the folder reads are confined to is an error, not the
+    // warning an unreadable library is: the confinement is a promise about every file.
+    if let Some((mtl, problem)) = refused.into_inner() {
+        return Err(InputError::new(path, format!("mtllib '{}': {problem}", mtl.display())));
+    }
+    let (models, materials) = parsed.map_err(|e| InputError::new(path, format!("malformed OBJ: {e}")))?;
     contents_of_models(path, &bytes, &dir, &models, materials)
 }
 
@@ -316,9 +322,21 @@ fn first_face_repeating_a_vertex(bytes: &[u8]) -> Option<(usize, String)> {
 
 /// tobj's models and materials for an OBJ file's `bytes`, whose MTL files are looked up in `dir`.
 /// A plain file (positions and faces only) goes to the parallel [`plain`] parser, which gives the
-/// same models; any other file, and every error, to tobj itself.
-fn parse_with_tobj_semantics(bytes: &[u8], dir: &Path) -> tobj::LoadResult {
-    let load_mtl = |mtl: &Path| load_mtl(&dir.join(mtl));
+/// same models; any other file, and every error, to tobj itself. A library outside the current
+/// confinement is not read, and `refused` says which and why.
+fn parse_with_tobj_semantics(
+    bytes: &[u8],
+    dir: &Path,
+    refused: &std::cell::RefCell<Option<(PathBuf, String)>>,
+) -> tobj::LoadResult {
+    let load_mtl = |mtl: &Path| {
+        let path = dir.join(mtl);
+        if let Err(problem) = crate::input_files::check_confinement(&path) {
+            refused.borrow_mut().get_or_insert((mtl.to_path_buf(), problem));
+            return Err(tobj::LoadError::OpenFileFailed);
+        }
+        load_mtl(&path)
+    };
     let options = |single_index| tobj::LoadOptions {
         triangulate: true,
         single_index,
@@ -516,7 +534,7 @@ mod tests {
                 plain::parse(text.as_bytes()).is_some(),
                 "{text:?} takes the plain parser"
             );
-            let (models, got) = parse_with_tobj_semantics(text.as_bytes(), &dir).unwrap();
+            let (models, got) = parse_with_tobj_semantics(text.as_bytes(), &dir, &Default::default()).unwrap();
             let options = tobj::LoadOptions {
                 triangulate: true,
                 ..Default::default()

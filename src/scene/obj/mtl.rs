@@ -144,10 +144,14 @@ pub(super) fn convert(
     out.warnings = unused
         .into_iter()
         .map(|(statement, names)| {
+            let what = match statement.as_str() {
+                NOT_STATEMENTS => "lines of its material library that are not MTL statements are".to_string(),
+                _ => format!("MTL statement {statement} is"),
+            };
             format!(
-                "{}: MTL statement {statement} is not used by pointshade (material(s) {})",
+                "{}: {what} not used by pointshade (material(s) {})",
                 obj.display(),
-                names.join(", ")
+                quoted_names(&names)
             )
         })
         .collect();
@@ -236,14 +240,43 @@ fn unused_statements<'a>(m: &'a tobj::Material, material: &Material) -> Vec<&'a 
     unless(m.ambient_texture.is_some(), false, "map_Ka");
     unless(m.dissolve_texture.is_some(), false, "map_d");
     for key in m.unknown_param.keys() {
+        // A file that is not an MTL (`mtllib /etc/passwd`) has lines whose first word tobj
+        // takes for a statement: those are counted, never quoted.
+        let statement = if plausible_statement(key) {
+            key.as_str()
+        } else {
+            NOT_STATEMENTS
+        };
         unless(
             true,
             matches!(key.as_str(), "Pr" | "Pm" | "map_Pr" | "map_Pm" | "norm"),
-            key,
+            statement,
         );
     }
     out.sort_unstable();
+    out.dedup();
     out
+}
+
+/// Material names for a warning: each up to 32 characters, at most eight of them (a file that
+/// is not an MTL can name thousands).
+fn quoted_names(names: &[String]) -> String {
+    let mut shown: Vec<String> = names.iter().take(8).map(|n| n.chars().take(32).collect()).collect();
+    if names.len() > 8 {
+        shown.push(format!("and {} more", names.len() - 8));
+    }
+    shown.join(", ")
+}
+
+/// What a warning says for the lines whose first word is not a plausible MTL statement.
+const NOT_STATEMENTS: &str = "(not a statement)";
+
+/// Whether `word` may be quoted as an MTL statement: a letter, then up to 15 letters, digits
+/// or underscores (every statement of the format and its extensions has that form).
+fn plausible_statement(word: &str) -> bool {
+    word.len() <= 16
+        && word.starts_with(|c: char| c.is_ascii_alphabetic())
+        && word.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_')
 }
 
 /// Whether `material` is Blinn-Phong, and its Cook-Torrance lobe if it has one.
