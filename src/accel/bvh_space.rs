@@ -35,9 +35,11 @@ pub(super) fn world_to_bvh_scale(bounds: Option<(Vec3, Vec3)>) -> f32 {
         return 1.0;
     }
     let mut e = (256.0 / diagonal).log2().floor() as i32;
-    // Keep |coordinates| ≤ 2^100 after scaling, and do not scale up if already huge.
+    // Keep |coordinates| ≤ 2^100 after scaling, and do not scale up if already huge; and the
+    // scale itself a finite f32: a scene of subnormal coordinates asked for 2^133, which is
+    // infinite (the geometry fuzz target's third finding: obvhs then indexed with −1).
     let max_e = 100 - largest.max(f32::MIN_POSITIVE).log2().ceil() as i32;
-    e = e.clamp(-100, max_e.max(-100));
+    e = e.clamp(-100, max_e.clamp(-100, 126));
     2f32.powi(e)
 }
 
@@ -61,6 +63,14 @@ mod tests {
         for r in [1e38f32, f32::MAX] {
             let d = diagonal_in_bvh_space(Vec3::splat(-r), Vec3::splat(r));
             assert!(d <= 2e9 && ((d * d) as f32).is_finite(), "radius {r:e}: diagonal {d}");
+        }
+    }
+
+    #[test]
+    fn scenes_of_subnormal_size_get_a_finite_scale() {
+        for r in [1e-38f32, 1.1755033e-38, 1e-42, f32::from_bits(1)] {
+            let s = world_to_bvh_scale(Some((Vec3::splat(-r), Vec3::splat(r))));
+            assert_eq!(s, 2f32.powi(126), "radius {r:e}");
         }
     }
 

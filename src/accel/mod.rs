@@ -465,6 +465,14 @@ mod tests {
         }
     }
 
+    #[test]
+    fn a_fan_of_subnormal_size_builds() {
+        // The geometry fuzz target's third finding: a scale of 2^133 was infinite, and obvhs's
+        // PLOC indexed with −1 on the boxes it made.
+        let bvh = Bvh::build(&fan(160, Vec3::ZERO, 1.1755033e-38), BvhPreset::DEFAULT);
+        assert!(bvh.depth() <= 64 && bvh.scene_unit().is_finite());
+    }
+
     fn quad(y: f32, half: f32, offset: Vec3) -> TriangleMesh {
         let p = [
             Vec3::new(-half, y, -half),
