@@ -135,7 +135,11 @@ pub fn reads() -> Vec<PathBuf> {
 /// missing, not a regular file, or too large. The message is the problem alone (callers name
 /// the file).
 pub fn check(path: &Path) -> Result<(), String> {
-    let path = &*confined_path(path)?;
+    check_resolved(&confined_path(path)?)
+}
+
+/// [`check`] for a path [`confined_path`] has already let through.
+fn check_resolved(path: &Path) -> Result<(), String> {
     let meta = std::fs::metadata(path).map_err(|e| match e.kind() {
         std::io::ErrorKind::NotFound => "file not found".to_string(),
         _ => format!("cannot read: {e}"),
@@ -157,7 +161,7 @@ pub fn read(path: &Path) -> Result<Vec<u8>, String> {
     use std::io::Read;
     let original = path;
     let path = confined_path(original)?;
-    check(&path)?;
+    check_resolved(&path)?;
     let file = std::fs::File::open(&path).map_err(|e| format!("cannot read: {e}"))?;
     let mut bytes = Vec::new();
     // One byte past the limit tells a file that grew after the check.
