@@ -11,7 +11,6 @@
 
 pub mod accel;
 pub mod brdf;
-pub mod cli;
 pub mod error;
 pub mod film;
 pub mod input_files;

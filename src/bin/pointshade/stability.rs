@@ -6,10 +6,10 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use crate::cli::options::option_error;
-use crate::error::InputError;
-use crate::output::write_all_or_nothing;
-use crate::reports::stability::{self, table, Options};
+use crate::options::option_error;
+use pointshade::error::InputError;
+use pointshade::output::write_all_or_nothing;
+use pointshade::reports::stability::{self, table, Options};
 
 /// Arguments of `pointshade stability`.
 #[derive(clap::Args)]

@@ -3,16 +3,16 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::cli::options::{comma_list, option_error, worker_pool};
-use crate::cli::progress::Progress;
-use crate::error::InputError;
-use crate::film::{Image, PixelRect};
-use crate::output::exr::encode_exr;
-use crate::output::{aov_path, encode, write_all_or_nothing, Format};
-use crate::plan::{Aov, RenderPlan};
-use crate::scene::framing::{Aim, View};
-use crate::scene::overrides::Overrides;
-use crate::{render, scene};
+use crate::options::{comma_list, option_error, worker_pool};
+use crate::progress::Progress;
+use pointshade::error::InputError;
+use pointshade::film::{Image, PixelRect};
+use pointshade::output::exr::encode_exr;
+use pointshade::output::{aov_path, encode, write_all_or_nothing, Format};
+use pointshade::plan::{Aov, RenderPlan};
+use pointshade::scene::framing::{Aim, View};
+use pointshade::scene::overrides::Overrides;
+use pointshade::{render, scene};
 
 /// Arguments of `pointshade render`.
 #[derive(clap::Args)]

@@ -2,10 +2,10 @@
 
 use std::path::PathBuf;
 
-use crate::error::InputError;
-use crate::output::write_all_or_nothing;
-use crate::scene;
-use crate::validation::export::{export_files, ExportOptions};
+use pointshade::error::InputError;
+use pointshade::output::write_all_or_nothing;
+use pointshade::scene;
+use pointshade::validation::export::{export_files, ExportOptions};
 
 /// Arguments of `pointshade export-mitsuba`.
 #[derive(clap::Args)]

@@ -1,6 +1,6 @@
 //! What every subcommand shares: errors naming an option, the worker pool, comma lists.
 
-use crate::error::InputError;
+use pointshade::error::InputError;
 
 /// An error about a command-line option rather than a file.
 pub(crate) fn option_error(option: &str, problem: impl std::fmt::Display) -> InputError {
@@ -11,7 +11,7 @@ pub(crate) fn option_error(option: &str, problem: impl std::fmt::Display) -> Inp
 /// loading included, runs inside it, so the option bounds the whole command.
 pub(crate) fn worker_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, InputError> {
     let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
-    crate::render::worker_pool(threads.unwrap_or(cpus)).map_err(|e| option_error("--threads", e))
+    pointshade::render::worker_pool(threads.unwrap_or(cpus)).map_err(|e| option_error("--threads", e))
 }
 
 /// The comma-separated values of `option` (`text`), each read by `parse`; an error naming the

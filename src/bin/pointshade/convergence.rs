@@ -2,13 +2,13 @@
 
 use std::path::PathBuf;
 
-use crate::cli::options::{comma_list, option_error};
-use crate::error::InputError;
-use crate::film::SamplerKind;
-use crate::output::read_linear;
-use crate::reports::convergence::{check, own_reference, run, write_outputs, ErrorMetric, Reference, Sweep};
-use crate::scene::shadows::ShadowOffset;
-use crate::validation::run::MitsubaRunner;
+use crate::options::{comma_list, option_error};
+use pointshade::error::InputError;
+use pointshade::film::SamplerKind;
+use pointshade::output::read_linear;
+use pointshade::reports::convergence::{check, own_reference, run, write_outputs, ErrorMetric, Reference, Sweep};
+use pointshade::scene::shadows::ShadowOffset;
+use pointshade::validation::run::MitsubaRunner;
 
 /// Arguments of `pointshade convergence`.
 #[derive(clap::Args)]
@@ -63,7 +63,7 @@ pub fn run_command(args: ConvergenceArgs) -> Result<(), InputError> {
     let spp = comma_list("--spp", &args.spp, "sample counts like 1,4,16,64", |s| {
         s.parse::<u32>()
             .ok()
-            .filter(|&n| (1..=crate::film::MAX_SPP).contains(&n))
+            .filter(|&n| (1..=pointshade::film::MAX_SPP).contains(&n))
     })?;
     // The range is the film's to check (with the scene named), as for a threshold in the scene.
     let adaptive_thresholds = match &args.adaptive_threshold {

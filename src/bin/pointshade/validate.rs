@@ -2,13 +2,13 @@
 
 use std::path::PathBuf;
 
-use crate::cli::options::option_error;
-use crate::error::InputError;
-use crate::film::Image;
-use crate::output::{read_linear, write_all_or_nothing};
-use crate::validation::report::{html, markdown};
-use crate::validation::run::{validate_scene, MitsubaRunner};
-use crate::validation::staleness::{check_reference, ReferenceCheck};
+use crate::options::option_error;
+use pointshade::error::InputError;
+use pointshade::film::Image;
+use pointshade::output::{read_linear, write_all_or_nothing};
+use pointshade::validation::report::{html, markdown};
+use pointshade::validation::run::{validate_scene, MitsubaRunner};
+use pointshade::validation::staleness::{check_reference, ReferenceCheck};
 
 /// Arguments of `pointshade validate`.
 #[derive(clap::Args)]
@@ -73,8 +73,8 @@ pub fn run(args: ValidateArgs) -> Result<(), InputError> {
         eprintln!(
             "{:<28} {:>9} within {:.0e}, mean rel. error {:.1e}{}",
             r.name,
-            crate::validation::report::within(&run.ours[0].comparison),
-            crate::validation::run::TOLERANCE,
+            pointshade::validation::report::within(&run.ours[0].comparison),
+            pointshade::validation::run::TOLERANCE,
             run.ours[0].comparison.mean_relative_error,
             if r.is_exact() {
                 if r.passes() {
@@ -95,7 +95,7 @@ pub fn run(args: ValidateArgs) -> Result<(), InputError> {
     ])?;
     eprintln!(
         "Mitsuba variant: {}",
-        crate::validation::report::mitsuba_variants(&results)
+        pointshade::validation::report::mitsuba_variants(&results)
     );
     eprintln!("report: {}", index.display());
     let failing: Vec<_> = results

@@ -2,9 +2,9 @@
 
 use std::path::PathBuf;
 
-use crate::error::InputError;
-use crate::output::exr::{check_tiling, merge, read_crop, read_crop_placement};
-use crate::output::{encode, write_all_or_nothing, Format};
+use pointshade::error::InputError;
+use pointshade::output::exr::{check_tiling, merge, read_crop, read_crop_placement};
+use pointshade::output::{encode, write_all_or_nothing, Format};
 
 /// Arguments of `pointshade merge`.
 #[derive(clap::Args)]
@@ -25,7 +25,7 @@ pub struct MergeArgs {
 pub fn run(args: MergeArgs) -> Result<(), InputError> {
     let format = Format::of_output(&args.output)?;
     if !(args.exposure.is_finite() && args.exposure.abs() <= 64.0) {
-        return Err(crate::cli::options::option_error(
+        return Err(crate::options::option_error(
             "--exposure",
             format!("must be in [-64, 64], got {}", args.exposure),
         ));

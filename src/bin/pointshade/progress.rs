@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use crate::scene;
+use pointshade::scene;
 
 /// A progress bar on stderr that appears only for renders longer than about a second, only on a
 /// terminal, and never with --quiet.

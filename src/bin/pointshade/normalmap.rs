@@ -4,16 +4,16 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::cli::options::{option_error, worker_pool};
-use crate::error::InputError;
-use crate::film::overflow_error;
-use crate::normal_map::formats::encode_min_max_png;
-use crate::normal_map::image::NormalImage;
-use crate::normal_map::likeness::NormalLikeness;
-use crate::normal_map::scene_file::{ModelName, NormalMapScene, Preset};
-use crate::normal_map::{image_surface, plan, shade_image};
-use crate::output::{encode, write_all_or_nothing, Format};
-use crate::scene::extension;
+use crate::options::{option_error, worker_pool};
+use pointshade::error::InputError;
+use pointshade::film::overflow_error;
+use pointshade::normal_map::formats::encode_min_max_png;
+use pointshade::normal_map::image::NormalImage;
+use pointshade::normal_map::likeness::NormalLikeness;
+use pointshade::normal_map::scene_file::{ModelName, NormalMapScene, Preset};
+use pointshade::normal_map::{image_surface, plan, shade_image};
+use pointshade::output::{encode, write_all_or_nothing, Format};
+use pointshade::scene::extension;
 
 /// Arguments of `pointshade normalmap`.
 #[derive(clap::Args)]

@@ -19,7 +19,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use crate::error::InputError;
+use pointshade::error::InputError;
 
 #[derive(Parser)]
 #[command(name = "pointshade", version, about = "Shade surface points with analytic BRDFs")]
@@ -62,8 +62,8 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     remove_temporaries_on_signals();
     // Every file read is recorded, so that no command writes over one of its inputs.
-    crate::input_files::record_reads();
-    let confinement = match crate::input_files::Confinement::to_optional(cli.confine.as_deref()) {
+    pointshade::input_files::record_reads();
+    let confinement = match pointshade::input_files::Confinement::to_optional(cli.confine.as_deref()) {
         Ok(c) => c,
         Err(e) => {
             let dir = cli.confine.unwrap_or_default();
@@ -108,7 +108,7 @@ fn remove_temporaries_on_signals() {
         let mut signal = 0;
         // SAFETY: `set` is an initialised signal set, `signal` a valid place for the result.
         if unsafe { libc::sigwait(&set, &mut signal) } == 0 {
-            crate::output::atomic::remove_pending();
+            pointshade::output::atomic::remove_pending();
             std::process::exit(128 + signal);
         }
     });

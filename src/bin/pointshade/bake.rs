@@ -1,16 +1,16 @@
 //! `pointshade bake`: a mesh scene → BVH → one camera ray per pixel centre → its camera-space
-//! normals as an RGBA PNG in the NPM3D assignment's format (see [`crate::normal_map::bake`]).
+//! normals as an RGBA PNG in the NPM3D assignment's format (see [`pointshade::normal_map::bake`]).
 
 use std::path::PathBuf;
 use std::time::Instant;
 
-use crate::accel::Bvh;
-use crate::cli::options::worker_pool;
-use crate::error::InputError;
-use crate::normal_map::bake::bake_normals;
-use crate::normal_map::formats::encode_normal_png;
-use crate::output::{write_all_or_nothing, Format};
-use crate::scene;
+use pointshade::accel::Bvh;
+use crate::options::worker_pool;
+use pointshade::error::InputError;
+use pointshade::normal_map::bake::bake_normals;
+use pointshade::normal_map::formats::encode_normal_png;
+use pointshade::output::{write_all_or_nothing, Format};
+use pointshade::scene;
 
 /// Arguments of `pointshade bake`.
 #[derive(clap::Args)]

@@ -1,5 +1,0 @@
-//! The `pointshade` binary: see [`pointshade::cli`].
-
-fn main() -> std::process::ExitCode {
-    pointshade::cli::main()
-}
