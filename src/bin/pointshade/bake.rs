@@ -4,8 +4,8 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use pointshade::accel::Bvh;
 use crate::options::worker_pool;
+use pointshade::accel::Bvh;
 use pointshade::error::InputError;
 use pointshade::normal_map::bake::bake_normals;
 use pointshade::normal_map::formats::encode_normal_png;
