@@ -211,11 +211,10 @@ fn main() {
     }
     let image = NormalImage::load(&path).expect("normal.png decodes");
     let scene = NormalMapScene::from_preset(&path, Preset::Tp, ModelName::CookTorrance);
-    let plan = pointshade::normal_map::plan::plan(&scene, &image, "benchmark");
     // What numpy's shade() does too: the tp scaling's global min and max, then every pixel.
     let shade_with = |instructions: LaneInstructions, precision: TpPrecision| {
         let surface = image_surface(&scene, &image).expect("normal.png has a range");
-        shade_image_with(&scene, &plan, &image, &surface, instructions, precision)
+        shade_image_with(&scene, &image, &surface, instructions, precision)
     };
     let best = LaneInstructions::detect();
 

@@ -54,7 +54,7 @@ fn main() {
         let (mut surface, mut shading, mut wall) = (Vec::new(), Vec::new(), Vec::new());
         for _ in 0..runs {
             let t = Instant::now();
-            let r = render(&scene, &plan, Some(&bvh), &|_| {}).expect("renders");
+            let r = render(&scene, &plan, Some(&bvh), &pointshade::render::progress::Silent).expect("renders");
             wall.push(t.elapsed().as_secs_f64() * 1e3);
             surface.push(r.stats.surface_time.as_secs_f64() * 1e3);
             shading.push(r.stats.shading_time.as_secs_f64() * 1e3);

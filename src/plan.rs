@@ -9,7 +9,6 @@ use std::path::Path;
 use crate::material::{BrdfModel, Material};
 use crate::scene::shadows::{ShadowOffset, ShadowTerminator};
 use crate::scene::Scene;
-use crate::shading::convention::ShadingConvention;
 use crate::surface::primary::PointOptions;
 
 /// An extra image written beside the render.
@@ -32,6 +31,8 @@ pub enum Aov {
 impl Aov {
     /// Every AOV.
     pub const ALL: [Aov; 5] = [Aov::Normal, Aov::Position, Aov::Depth, Aov::Albedo, Aov::Samples];
+    /// Their names, in the same order.
+    pub const NAMES: &'static [&'static str] = &["normal", "position", "depth", "albedo", "samples"];
 
     /// Whether the AOV is a mean over the pixel's samples (summed sample by sample in the
     /// surface stage); `samples` is a property of the pixel, written from its count.
@@ -109,8 +110,6 @@ pub struct RenderPlan {
     pub smooth_shadow_origins: bool,
     /// Upper bound on shadow rays (one per primary hit and light in front of the surface).
     pub max_shadow_rays: u64,
-    /// How the shader forms its dot products.
-    pub convention: ShadingConvention,
 }
 
 impl RenderPlan {
@@ -280,7 +279,6 @@ impl RenderPlan {
             adaptive: scene.film.sampler.is_adaptive(),
             smooth_shadow_origins,
             max_shadow_rays,
-            convention: ShadingConvention::Physical,
         }
     }
 
@@ -300,31 +298,38 @@ impl RenderPlan {
     }
 
     /// The plan as text: `source`, the film described as `film`, the scene's notes, then the
-    /// stages (shared with the normal-map mode's plan).
+    /// stages and the rays.
     pub fn explain_with(&self, source: &Path, film: &str, notes: &[String]) -> String {
-        let mut s = String::new();
-        let _ = writeln!(s, "plan for {}", source.display());
-        let _ = writeln!(s, "  film: {film}");
-        for note in notes {
-            let _ = writeln!(s, "  note: {note}");
-        }
-        for d in &self.stages {
-            let _ = writeln!(
-                s,
-                "  [{}] {:<29} {}",
-                if d.kept { "run " } else { "skip" },
-                d.stage,
-                d.why
-            );
-        }
         let bound = if self.adaptive { "at most " } else { "" };
-        let _ = writeln!(
-            s,
-            "  rays: {bound}{} primary, at most {} shadow",
+        let rays = format!(
+            "{bound}{} primary, at most {} shadow",
             self.primary_rays, self.max_shadow_rays
         );
-        s
+        explain_stages(source, film, notes, &self.stages, &rays)
     }
+}
+
+/// A plan as `--explain` prints it: `source`, the film described as `film`, the scene's notes,
+/// every stage kept or skipped with the reason, and the rays (mesh renders and the normal-map
+/// mode alike).
+pub fn explain_stages(source: &Path, film: &str, notes: &[String], stages: &[StageDecision], rays: &str) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "plan for {}", source.display());
+    let _ = writeln!(s, "  film: {film}");
+    for note in notes {
+        let _ = writeln!(s, "  note: {note}");
+    }
+    for d in stages {
+        let _ = writeln!(
+            s,
+            "  [{}] {:<29} {}",
+            if d.kept { "run " } else { "skip" },
+            d.stage,
+            d.why
+        );
+    }
+    let _ = writeln!(s, "  rays: {rays}");
+    s
 }
 
 /// Whether the shader looks up a texture of `m` (albedo, base colour, metallic-roughness,

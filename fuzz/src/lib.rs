@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use pointshade::plan::{Aov, RenderPlan};
-use pointshade::scene::overrides::Overrides;
+use pointshade::render::options::{RenderOptions, Spelling};
 use pointshade::scene::Scene;
 
 /// This process's scratch folder (in memory where /dev/shm exists), made once.
@@ -43,18 +43,18 @@ pub fn split<'a>(data: &'a [u8], sep: &[u8]) -> (&'a [u8], &'a [u8]) {
 /// Renders `scene` at 4×3 pixels, one sample, with every AOV: an error is fine (a film the
 /// scene cannot have), a panic or a non-finite pixel is a finding.
 pub fn tiny_render(mut scene: Scene) {
-    let overrides = Overrides {
+    let options = RenderOptions {
         width: Some(4),
         height: Some(3),
         spp: Some(1),
-        ..Overrides::default()
+        ..RenderOptions::default()
     };
-    if overrides.apply(&mut scene, &|key| key.to_string()).is_err() {
+    if options.apply(&mut scene, Spelling::Keyword).is_err() {
         return;
     }
     scene.film.time_budget = None;
     let plan = RenderPlan::new(&scene, &Aov::ALL);
-    if let Ok(rendered) = pointshade::render::render_scene(&scene, &plan, &|_| {}) {
+    if let Ok(rendered) = pointshade::render::render_scene(&scene, &plan, &pointshade::render::progress::Silent) {
         assert_finite(&rendered.image, "image");
         for (aov, image) in &rendered.aovs {
             assert_finite(image, aov.name());

@@ -15,6 +15,7 @@ pointshade works, and Ctrl-C stops a render within about a tile per thread.
 
 import copy as _copy
 import os as _os
+import textwrap as _textwrap
 import warnings as _warnings
 
 import numpy as _np
@@ -41,76 +42,41 @@ def _path(value, what):
     raise TypeError(f"{what}: expected a path (str or os.PathLike), got {type(value).__name__}")
 
 
-def render(
-    scene,
-    *,
-    width=None,
-    height=None,
-    spp=None,
-    sampler=None,
-    adaptive_threshold=None,
-    time_budget=None,
-    seed=None,
-    threads=None,
-    crop=None,
-    camera=None,
-    shadow_offset=None,
-    shadow_terminator=None,
-    view=None,
-    look_from=None,
-    look_at=None,
-    fov=None,
-    aovs=(),
-    confine=None,
-):
+def render(scene, *, confine=None, **options):
     """Render ``scene`` and return its images as float32 (H, W, 3) arrays.
 
     ``scene`` is a path (``.toml`` scene file, ``.obj``, ``.gltf``, ``.glb``) or a :class:`Scene`.
     The keywords replace the scene's settings, as ``pointshade render``'s options of the same
-    names do: ``width``, ``height``, ``spp``, ``sampler`` (grid, sobol, independent, adaptive,
-    cells), ``adaptive_threshold``, ``time_budget`` (seconds), ``seed``, ``threads``, ``crop``
-    ``(x0, y0, x1, y1)`` (pixels of the frame, x1 and y1 excluded; the images then have the
-    crop's size), ``camera`` (a glTF file's camera index), ``shadow_offset`` (error-bound or
-    mitsuba), ``shadow_terminator`` (smooth or flat), ``view`` ``(azimuth, elevation[,
-    distance])`` in degrees around the automatic framing, ``look_from``/``look_at`` (points) and
-    ``fov`` (degrees), and ``aovs``, a subset of normal, position, depth, albedo, samples.
-    With ``confine`` (a folder), every file the scene refers to must lie inside it, after links
-    and ``..`` are resolved (for files from others: a glTF rendered on a server); a file
-    outside is a ValueError, as ``pointshade render --confine DIR`` refuses it.
+    names do (``shadow_offset=`` is ``--shadow-offset``); they are listed below. With ``confine``
+    (a folder), every file the scene refers to must lie inside it, after links and ``..`` are
+    resolved (for files from others: a glTF rendered on a server); a file outside is a
+    ValueError, as ``pointshade render --confine DIR`` refuses it.
 
     Returns a dict: ``color`` (linear radiance), one array per requested AOV, and ``stats``
     (stage times in seconds, ray counts, samples per pixel, the region and frame, the triangle
     count and the scene's warnings, which are also issued as Python warnings).
+
+    A value of the wrong type is a TypeError naming the keyword, one out of range a
+    :class:`InputError` (a ValueError) saying what it takes.
+
+    Keywords:
     """
-    if isinstance(aovs, str):
-        aovs = [aovs]
-    options = dict(
-        width=width,
-        height=height,
-        spp=spp,
-        sampler=sampler,
-        adaptive_threshold=adaptive_threshold,
-        time_budget=time_budget,
-        seed=seed,
-        threads=threads,
-        crop=None if crop is None else tuple(int(c) for c in crop),
-        camera=camera,
-        shadow_offset=shadow_offset,
-        shadow_terminator=shadow_terminator,
-        view=None if view is None else [float(v) for v in view],
-        look_from=None if look_from is None else [float(v) for v in look_from],
-        look_at=None if look_at is None else [float(v) for v in look_at],
-        fov=fov,
-        aovs=list(aovs) if aovs else None,
-        confine=None if confine is None else _path(confine, "confine"),
-    )
+    confine = None if confine is None else _path(confine, "confine")
     if isinstance(scene, Scene):
-        out = _native.render(scene.name, text=scene.to_toml(), dir=scene.base_dir, meshes=scene.meshes, **options)
+        out = _native.render(
+            scene.name, text=scene.to_toml(), dir=scene.base_dir, meshes=scene.meshes, confine=confine, options=options
+        )
     else:
-        out = _native.render(_path(scene, "scene"), **options)
+        out = _native.render(_path(scene, "scene"), confine=confine, options=options)
     for w in out["stats"]["warnings"]:
         _warnings.warn(w, stacklevel=2)
     return out
+
+
+render.__doc__ += "".join(
+    f"\n    ``{name}`` ({placeholder})\n" + _textwrap.fill(help, 96, initial_indent=" " * 8, subsequent_indent=" " * 8) + "\n"
+    for name, placeholder, help in _native.render_option_table()
+)
 
 
 def _normal_map_toml(image, preset, brdf, material, lights, camera):
@@ -163,9 +129,11 @@ def shade_normal_image(
         image, array = "normals", normals
     text = _normal_map_toml(image, preset, brdf, material, lights, camera)
     confine = None if confine is None else _path(confine, "confine")
-    lo, eight = _native.shade_normal_image(
+    lo, eight, warnings = _native.shade_normal_image(
         text, normals=array, threads=threads, eight_bit=return_8bit, confine=confine
     )
+    for w in warnings:
+        _warnings.warn(w, stacklevel=2)
     return (lo, eight) if return_8bit else lo
 
 

@@ -18,6 +18,7 @@ class InputError(ValueError):
 def render(
     scene: Union[PathLike, "Scene"],
     *,
+    confine: Optional[PathLike] = ...,
     width: Optional[int] = ...,
     height: Optional[int] = ...,
     spp: Optional[int] = ...,
@@ -25,17 +26,17 @@ def render(
     adaptive_threshold: Optional[float] = ...,
     time_budget: Optional[float] = ...,
     seed: Optional[int] = ...,
-    threads: Optional[int] = ...,
     crop: Optional[Tuple[int, int, int, int]] = ...,
-    camera: Optional[int] = ...,
+    exposure: Optional[float] = ...,
     shadow_offset: Optional[Literal["error-bound", "mitsuba"]] = ...,
     shadow_terminator: Optional[Literal["smooth", "flat"]] = ...,
     view: Optional[Sequence[float]] = ...,
     look_from: Optional[Vec3] = ...,
     look_at: Optional[Vec3] = ...,
     fov: Optional[float] = ...,
-    aovs: Union[AovName, Sequence[AovName]] = ...,
-    confine: Optional[PathLike] = ...,
+    aovs: Optional[Union[AovName, Sequence[AovName]]] = ...,
+    threads: Optional[int] = ...,
+    camera: Optional[int] = ...,
 ) -> dict[str, Any]:
     """Render a scene file, mesh, glTF file or Scene; float32 (H, W, 3) arrays and stats."""
 

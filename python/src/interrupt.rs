@@ -1,7 +1,7 @@
 //! Long work without the GIL, stoppable by Ctrl-C.
 //!
-//! The work runs on a scoped thread inside the caller's worker pool while the calling thread,
-//! without the GIL, wakes every [`POLL`] to let Python run its signal handlers. When a handler
+//! The work runs on a scoped thread while the calling thread, without the GIL, wakes every
+//! [`POLL`] to let Python run its signal handlers. When a handler
 //! raises (KeyboardInterrupt), the stop flag the work was given is set; a render looks at it
 //! before each batch of samples (`pointshade::render::render_scene_until`), so it ends within a
 //! batch per thread, and the exception is raised instead of returning anything. Signals reach
@@ -16,14 +16,10 @@ use pyo3::prelude::*;
 /// How often the waiting thread lets Python check for signals.
 const POLL: Duration = Duration::from_millis(50);
 
-/// Runs `work` in `pool` without the GIL and returns its result, or the exception a signal
+/// Runs `work` without the GIL and returns its result, or the exception a signal
 /// handler raised (KeyboardInterrupt) if the user interrupted it; `work` is given the flag that
 /// asks it to stop.
-pub fn run_interruptible<T: Send>(
-    py: Python<'_>,
-    pool: &crate::Workers,
-    work: impl FnOnce(&AtomicBool) -> T + Send,
-) -> PyResult<T> {
+pub fn run_interruptible<T: Send>(py: Python<'_>, work: impl FnOnce(&AtomicBool) -> T + Send) -> PyResult<T> {
     let stop = AtomicBool::new(false);
     let mut raised = None;
     let outcome = py.detach(|| {
@@ -32,7 +28,7 @@ pub fn run_interruptible<T: Send>(
             let stop = &stop;
             s.spawn(move || {
                 // A send fails only once the waiter is gone, and it waits for this thread.
-                let _ = done.send(pool.install(|| work(stop)));
+                let _ = done.send(work(stop));
             });
             loop {
                 match result.recv_timeout(POLL) {

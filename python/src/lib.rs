@@ -10,10 +10,10 @@
 
 mod arrays;
 mod interrupt;
+mod options;
 mod toml_values;
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use numpy::ndarray::{Array2, Array3};
 use numpy::{IntoPyArray, PyArrayDyn};
@@ -21,20 +21,20 @@ use pyo3::exceptions::{PyFileNotFoundError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use pointshade::brdf::LocalDots;
 use pointshade::error::InputError as LibError;
-use pointshade::film::{Image, PixelRect};
+use pointshade::film::Image;
 use pointshade::input_files::Confinement;
 use pointshade::material::{BrdfModel, Material};
+use pointshade::normal_map;
 use pointshade::normal_map::formats::min_max_8bit;
 use pointshade::normal_map::image::NormalImage;
 use pointshade::normal_map::scene_file::{NormalMapScene, Preset};
-use pointshade::normal_map::{image_surface, plan as normal_map_plan, shade_image};
-use pointshade::plan::{Aov, RenderPlan};
-use pointshade::scene::file::{load_scene_text, material_from_toml, MaterialDefaults, MeshTable};
-use pointshade::scene::framing::{Aim, View};
-use pointshade::scene::overrides::Overrides;
-use pointshade::shading::shader::brdf_value;
+use pointshade::render::options::Spelling;
+use pointshade::render::progress::Silent;
+use pointshade::render::request::RenderRequest;
+use pointshade::scene::file::{material_from_toml, MaterialDefaults};
+use pointshade::scene::{LoadOptions, SceneSource};
+use pointshade::shading::shader::{brdf_value, shading_dots};
 use pointshade::validation::compare::{compare_checked, Side};
 use pointshade::validation::export::{export_files, ExportOptions};
 
@@ -63,33 +63,6 @@ pub(crate) fn value_error(name: &str, problem: impl std::fmt::Display) -> PyErr 
     PyValueError::new_err(format!("{name}: {problem}"))
 }
 
-/// The worker pool of a call: rayon's global one (all cores, started once) when `threads` is
-/// `None`, else a pool of that many threads. Starting threads costs more than shading a small
-/// normal image, so the common case reuses them.
-enum Workers {
-    Global,
-    Own(rayon::ThreadPool),
-}
-
-impl Workers {
-    fn new(threads: Option<usize>) -> PyResult<Self> {
-        match threads {
-            None => Ok(Workers::Global),
-            Some(n) => pointshade::render::worker_pool(n)
-                .map(Workers::Own)
-                .map_err(|e| value_error("threads", e)),
-        }
-    }
-
-    /// Runs `work` on these workers.
-    fn install<T: Send>(&self, work: impl FnOnce() -> T + Send) -> T {
-        match self {
-            Workers::Global => work(),
-            Workers::Own(pool) => pool.install(work),
-        }
-    }
-}
-
 /// An image's pixels as a float32 (H, W, 3) array, taking over the pixel buffer: an
 /// (H, W, 3) float32 array is exactly `Vec<Vec3>`'s memory, and copying 12 bytes a pixel took a
 /// noticeable share of a normal image's call (docs/python.md, "Benchmarks").
@@ -113,20 +86,6 @@ fn vec3_floats(pixels: Vec<glam::Vec3>) -> Vec<f32> {
     unsafe { Vec::from_raw_parts(ptr.cast::<f32>(), 3 * len, 3 * capacity) }
 }
 
-/// The scene a `render` call names: a file, or a scene file's text with meshes given as arrays.
-enum SceneInput {
-    File {
-        path: PathBuf,
-        camera: Option<usize>,
-    },
-    Text {
-        name: PathBuf,
-        text: String,
-        dir: PathBuf,
-        meshes: MeshTable,
-    },
-}
-
 /// The confinement of a call's `confine=` folder (every file the call reads must lie in it).
 fn confinement(dir: Option<PathBuf>) -> PyResult<Confinement> {
     Confinement::to_optional(dir.as_deref()).map_err(|e| {
@@ -135,141 +94,50 @@ fn confinement(dir: Option<PathBuf>) -> PyResult<Confinement> {
     })
 }
 
-/// Renders a scene; see `pointshade.render` for the keywords. Returns a dict: `color`, one
-/// entry per AOV, and `stats`.
+/// The scene a call names: a file at `path`, or a scene file's `text` (named `path` in
+/// messages) whose relative paths start at `dir` and whose meshes `meshes` may give as arrays.
+fn scene_source(
+    path: PathBuf,
+    text: Option<String>,
+    dir: Option<PathBuf>,
+    meshes: Option<&Bound<'_, PyDict>>,
+) -> PyResult<SceneSource> {
+    Ok(match text {
+        Some(text) => SceneSource::Text {
+            name: path,
+            text,
+            dir: dir.unwrap_or_else(|| PathBuf::from(".")),
+            meshes: meshes.map(arrays::mesh_table).transpose()?.unwrap_or_default(),
+        },
+        None => SceneSource::File(path),
+    })
+}
+
+/// Renders a scene; `options` holds `pointshade.render`'s keywords (`RENDER_OPTIONS`). Returns
+/// a dict: `color`, one entry per AOV, and `stats`.
 #[pyfunction]
-#[pyo3(signature = (
-    path, *, text=None, dir=None, meshes=None, width=None, height=None, spp=None, sampler=None,
-    adaptive_threshold=None, time_budget=None, seed=None, threads=None, crop=None, camera=None,
-    shadow_offset=None, shadow_terminator=None, view=None, look_from=None, look_at=None, fov=None,
-    aovs=None, confine=None
-))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (path, *, text=None, dir=None, meshes=None, confine=None, options=None))]
 fn render<'py>(
     py: Python<'py>,
     path: PathBuf,
     text: Option<String>,
     dir: Option<PathBuf>,
     meshes: Option<Bound<'py, PyDict>>,
-    width: Option<i64>,
-    height: Option<i64>,
-    spp: Option<i64>,
-    sampler: Option<String>,
-    adaptive_threshold: Option<f32>,
-    time_budget: Option<f32>,
-    seed: Option<i64>,
-    threads: Option<i64>,
-    crop: Option<(i64, i64, i64, i64)>,
-    camera: Option<i64>,
-    shadow_offset: Option<String>,
-    shadow_terminator: Option<String>,
-    view: Option<Vec<f64>>,
-    look_from: Option<[f64; 3]>,
-    look_at: Option<[f64; 3]>,
-    fov: Option<f32>,
-    aovs: Option<Vec<String>>,
     confine: Option<PathBuf>,
+    options: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let confinement = confinement(confine)?;
-    let count = |name: &str, v: Option<i64>| -> PyResult<Option<u32>> {
-        v.map(|v| u32::try_from(v).map_err(|_| value_error(name, format!("must be an integer ≥ 0, got {v}"))))
-            .transpose()
+    let request = RenderRequest {
+        source: scene_source(path, text, dir, meshes.as_ref())?,
+        options: options::render_options("render", options.as_ref())?,
     };
-    let crop = match crop {
-        Some((x0, y0, x1, y1)) => {
-            let c =
-                |v: i64| u32::try_from(v).map_err(|_| value_error("crop", format!("coordinates must be ≥ 0, got {v}")));
-            Some(PixelRect {
-                x0: c(x0)?,
-                y0: c(y0)?,
-                x1: c(x1)?,
-                y1: c(y1)?,
-            })
-        }
-        None => None,
-    };
-    let view = match view {
-        Some(v) => Some(
-            View::parse(&v.iter().map(f64::to_string).collect::<Vec<_>>().join(","))
-                .map_err(|e| value_error("view", e))?,
-        ),
-        None => None,
-    };
-    let overrides = Overrides {
-        width: count("width", width)?,
-        height: count("height", height)?,
-        spp: count("spp", spp)?,
-        sampler,
-        adaptive_threshold,
-        time_budget,
-        seed: seed
-            .map(|s| u64::try_from(s).map_err(|_| value_error("seed", format!("must be ≥ 0, got {s}"))))
-            .transpose()?,
-        crop,
-        exposure: None,
-        shadow_offset,
-        shadow_terminator,
-        aim: Aim {
-            view,
-            look_from: look_from.map(glam::DVec3::from_array),
-            look_at: look_at.map(glam::DVec3::from_array),
-            fov,
-        },
-    };
-    let aovs = match aovs {
-        Some(names) => Aov::parse_list(&names.join(",")).map_err(|e| value_error("aovs", e))?,
-        None => Vec::new(),
-    };
-    let threads = threads
-        .map(|t| usize::try_from(t).map_err(|_| value_error("threads", format!("must be at least 1, got {t}"))))
-        .transpose()?;
-    let camera = camera
-        .map(|c| usize::try_from(c).map_err(|_| value_error("camera", format!("must be ≥ 0, got {c}"))))
-        .transpose()?;
-    let input = match text {
-        Some(text) => {
-            if camera.is_some() {
-                return Err(value_error(
-                    "camera",
-                    "selects a glTF file's camera: give the glTF file's path",
-                ));
-            }
-            let table = match &meshes {
-                Some(m) => arrays::mesh_table(m)?,
-                None => MeshTable::new(),
-            };
-            SceneInput::Text {
-                name: path,
-                text,
-                dir: dir.unwrap_or_else(|| PathBuf::from(".")),
-                meshes: table,
-            }
-        }
-        None => SceneInput::File { path, camera },
-    };
-    let pool = Workers::new(threads)?;
-
-    let t_load = Instant::now();
-    let outcome = run_interruptible(py, &pool, |stop| -> Result<_, LibError> {
-        let mut scene = confinement.run(|| match &input {
-            SceneInput::File { path, camera } => {
-                pointshade::scene::load_with(path, pointshade::scene::LoadOptions { camera: *camera })
-            }
-            SceneInput::Text {
-                name,
-                text,
-                dir,
-                meshes,
-            } => load_scene_text(name, text.clone(), dir, meshes),
-        })?;
-        overrides.apply(&mut scene, &|key| key.to_string())?;
-        let load_time = t_load.elapsed();
-        let plan = RenderPlan::new(&scene, &aovs);
-        let rendered = pointshade::render::render_scene_until(&scene, &plan, &|_| {}, Some(stop))
-            .map_err(|e| LibError::new(&scene.source, e))?;
-        Ok((scene, rendered, load_time))
+    let outcome = run_interruptible(py, |stop| -> Result<_, LibError> {
+        let prepared = confinement.run(|| request.prepare(Spelling::Keyword))?;
+        let rendered = prepared.render(&Silent, Some(stop))?;
+        Ok((prepared, rendered))
     })?;
-    let (scene, rendered, load_time) = outcome.map_err(py_err)?;
+    let (prepared, rendered) = outcome.map_err(py_err)?;
+    let (scene, load_time) = (prepared.scene, prepared.load_time);
 
     let out = PyDict::new(py);
     let (s, region, spp, threshold) = (
@@ -297,18 +165,24 @@ fn render<'py>(
     let r = region;
     stats.set_item("region", (r.x0, r.y0, r.x1, r.y1))?;
     stats.set_item("frame", (scene.film.width, scene.film.height))?;
+    stats.set_item("exposure", scene.film.exposure)?;
     stats.set_item("triangles", scene.mesh.triangle_count())?;
     stats.set_item("warnings", PyList::new(py, &scene.warnings)?)?;
     out.set_item("stats", stats)?;
     Ok(out)
 }
 
-/// L_o of a normal image, and the tp preset's 8-bit image when asked for.
-type Shaded<'py> = (Bound<'py, PyArrayDyn<f32>>, Option<Bound<'py, PyArrayDyn<u8>>>);
+/// L_o of a normal image, the tp preset's 8-bit image when asked for, and the warnings.
+type Shaded<'py> = (
+    Bound<'py, PyArrayDyn<f32>>,
+    Option<Bound<'py, PyArrayDyn<u8>>>,
+    Vec<String>,
+);
 
-/// Shades a normal image as `pointshade normalmap` does. `text` is a normal-map scene file (its
-/// `[normal_map]` image is read unless `normals` gives the samples). Returns L_o as float32
-/// (H, W, 3), and the tp preset's 8-bit image when `eight_bit` is set.
+/// Shades a normal image as `pointshade normalmap` does (`pointshade::normal_map::shade`).
+/// `text` is a normal-map scene file (its `[normal_map]` image is read unless `normals` gives
+/// the samples). Returns L_o as float32 (H, W, 3), the tp preset's 8-bit image when `eight_bit`
+/// is set, and the warnings.
 #[pyfunction]
 #[pyo3(signature = (text, *, normals=None, dir=None, threads=None, eight_bit=false, confine=None))]
 fn shade_normal_image<'py>(
@@ -316,7 +190,7 @@ fn shade_normal_image<'py>(
     text: String,
     normals: Option<Bound<'py, PyAny>>,
     dir: Option<PathBuf>,
-    threads: Option<usize>,
+    threads: Option<Bound<'py, PyAny>>,
     eight_bit: bool,
     confine: Option<PathBuf>,
 ) -> PyResult<Shaded<'py>> {
@@ -324,10 +198,10 @@ fn shade_normal_image<'py>(
     let source = Path::new("shade_normal_image");
     let dir = dir.unwrap_or_else(|| PathBuf::from("."));
     let samples = normals.map(|a| arrays::normal_samples(&a)).transpose()?;
-    let pool = Workers::new(threads)?;
+    let workers = options::workers(threads.as_ref())?;
     // Milliseconds of work: without the GIL, but not worth a thread that watches for Ctrl-C.
     let outcome = py.detach(|| {
-        pool.install(|| -> Result<_, LibError> {
+        workers.install(|| -> Result<_, LibError> {
             let (scene, image) = confinement.run(|| -> Result<_, LibError> {
                 let scene = NormalMapScene::from_text(source, text.clone(), &dir, None)?;
                 let image = match &samples {
@@ -338,13 +212,14 @@ fn shade_normal_image<'py>(
                 };
                 Ok((scene, image))
             })?;
-            let surface = image_surface(&scene, &image).map_err(|e| LibError::new(&image.source, e))?;
-            let plan = normal_map_plan::plan(&scene, &image, "numpy array of L_o");
-            let (shaded, _) = shade_image(&scene, &plan, &image, &surface);
-            if let Some((x, y, p)) = shaded.first_non_finite() {
-                return Err(LibError::new(&image.source, pointshade::film::overflow_error(x, y, p)));
-            }
-            let tp_bytes = (eight_bit && scene.preset == Preset::Tp).then(|| min_max_8bit(&shaded).0);
+            let mut shaded = normal_map::shade(&scene, &image, "numpy array of L_o")?;
+            let tp_bytes = (eight_bit && scene.preset == Preset::Tp).then(|| {
+                let (bytes, range) = min_max_8bit(&shaded.radiance);
+                if let Some(warning) = range.warning() {
+                    shaded.warnings.push(format!("{}: {warning}", image.source.display()));
+                }
+                bytes
+            });
             Ok((shaded, tp_bytes, scene.preset))
         })
     });
@@ -355,13 +230,14 @@ fn shade_normal_image<'py>(
             "the 8-bit image is the tp preset's (min-max normalised); use preset=\"tp\"",
         ));
     }
+    let image = shaded.radiance;
     let eight = bytes.map(|b| {
-        Array3::from_shape_vec((shaded.height as usize, shaded.width as usize, 3), b)
+        Array3::from_shape_vec((image.height as usize, image.width as usize, 3), b)
             .expect("three bytes a pixel")
             .into_dyn()
             .into_pyarray(py)
     });
-    Ok((rgb_array(py, shaded), eight))
+    Ok((rgb_array(py, image), eight, shaded.warnings))
 }
 
 /// A material from a `[material.NAME]` section's text, with the scene files' defaults or the
@@ -460,25 +336,25 @@ fn eval_terms<'py>(
         Vec::with_capacity(3 * count),
         Vec::with_capacity(3 * count),
     );
+    let alpha = ct.alpha as f64;
     for i in 0..count {
-        let (mut ni, wii, woi) = (n.row::<f64>(i), wi.row::<f64>(i), wo.row::<f64>(i));
-        if material.two_sided && pointshade::lanes::dot3(ni, woi) < 0.0 {
-            ni = ni.map(|c| -c);
-        }
-        let alpha = ct.alpha as f64;
-        match LocalDots::from_unit_vectors(ni, wii, woi) {
+        let (ni, wii, woi) = (n.row::<f64>(i), wi.row::<f64>(i), wo.row::<f64>(i));
+        // The frame and the side test of f_r itself: where f_r is 0 because a direction is
+        // below the surface, so are D, G and F.
+        match shading_dots(&material, ni, wii, woi) {
             Some(dots) => {
                 d.push(ct.d.eval(dots.n_dot_h, dots.sin2_h, alpha));
                 g.push(ct.g.g(dots.n_dot_i, dots.n_dot_o, alpha));
                 f.extend(ct.fresnel(dots.i_dot_h));
+                fr.extend(material.eval(&dots));
             }
             None => {
                 d.push(0.0);
                 g.push(0.0);
                 f.extend([0.0; 3]);
+                fr.extend([0.0; 3]);
             }
         }
-        fr.extend(brdf_value::<f64>(&material, ni, wii, woi));
     }
     let out = PyDict::new(py);
     out.set_item("D", d.into_pyarray(py))?;
@@ -572,7 +448,7 @@ fn export_mitsuba<'py>(
     sampler: Option<String>,
     per_light: bool,
 ) -> PyResult<Vec<String>> {
-    let table = meshes.map(|m| arrays::mesh_table(&m)).transpose()?.unwrap_or_default();
+    let source = scene_source(path, text, dir, meshes.as_ref())?;
     let options = ExportOptions {
         spp,
         sampler,
@@ -580,10 +456,7 @@ fn export_mitsuba<'py>(
         plugin_everywhere: false,
     };
     py.detach(|| -> Result<Vec<String>, LibError> {
-        let scene = Confinement::NONE.run(|| match text {
-            Some(text) => load_scene_text(&path, text, &dir.unwrap_or_else(|| PathBuf::from(".")), &table),
-            None => pointshade::scene::load(&path),
-        })?;
+        let scene = Confinement::NONE.run(|| source.load(LoadOptions::default()))?;
         let (files, lines) = export_files(scene, &output, &options, &|key| key.to_string())?;
         pointshade::output::write_all_or_nothing(&files)?;
         Ok(lines)
@@ -619,5 +492,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(export_mitsuba, m)?)?;
     m.add_function(wrap_pyfunction!(to_toml, m)?)?;
     m.add_function(wrap_pyfunction!(parse_toml, m)?)?;
+    m.add_function(wrap_pyfunction!(options::render_option_table, m)?)?;
     Ok(())
 }

@@ -25,18 +25,40 @@ def test_a_malformed_scene_file_is_an_input_error_naming_file_and_line(tmp_path)
 def test_bad_keywords_are_value_errors_naming_them():
     cornell = REPO / "scenes" / "cornell-box.toml"
     for kwargs, pattern in [
-        ({"sampler": "bogus"}, "^sampler: unknown sampler"),
-        ({"width": -3}, "^width: must be an integer"),
-        ({"spp": 0}, "spp must be at least 1"),
+        ({"sampler": "bogus"}, "^sampler: expected grid, sobol, independent, adaptive or cells, got 'bogus'$"),
+        ({"width": -3}, "^width: must be a whole number from 1 to 65536, got -3$"),
+        ({"width": 2**40}, "^width: must be a whole number from 1 to 65536, got 1099511627776$"),
+        ({"threads": -1}, "^threads: must be a whole number from 1 to "),
+        ({"adaptive_threshold": float("nan")}, r"^adaptive_threshold: must be a number in \(0, 1\), got NaN$"),
+        ({"spp": 0}, "^spp: must be a whole number from 1 to 65536, got 0$"),
         ({"fov": float("nan")}, "^fov: "),
         ({"crop": (0, 0, 9999, 10)}, "crop"),
         ({"aovs": ["colour"]}, "^aovs: "),
-        ({"threads": 0}, "^threads: must be at least 1"),
+        ({"threads": 0}, "^threads: must be a whole number from 1 to"),
+        ({"threads": 10**6}, "^threads: 1000000 is more than"),
         ({"view": (1.0,)}, "^view: "),
         ({"camera": 3}, "camera"),
     ]:
         with pytest.raises(ValueError, match=pattern):
             pointshade.render(cornell, **{"width": 16, "height": 12, "spp": 1, **kwargs})
+
+
+def test_keywords_of_the_wrong_type_are_type_errors_naming_them():
+    cornell = REPO / "scenes" / "cornell-box.toml"
+    for kwargs, pattern in [
+        ({"width": 3.5}, "^width: expected an int, got float 3.5$"),
+        ({"width": True}, "^width: expected an int, got bool True$"),
+        ({"spp": "4"}, "^spp: expected an int, got str '4'$"),
+        ({"sampler": 3}, "^sampler: expected a str, got int 3$"),
+        ({"look_at": "0,0,0"}, "^look_at: expected a sequence of numbers, got str"),
+        ({"crop": (0, 0, 4.5, 4)}, "^crop: expected a sequence of ints"),
+        ({"fov": "wide"}, "^fov: expected a number, got str 'wide'$"),
+        ({"aovs": [1]}, "^aovs: expected a str or a list of str"),
+    ]:
+        with pytest.raises(TypeError, match=pattern):
+            pointshade.render(cornell, **{"width": 16, "height": 12, "spp": 1, **kwargs})
+    with pytest.raises(TypeError, match="^render\\(\\) got an unexpected keyword argument 'widht'$"):
+        pointshade.render(cornell, widht=16)
 
 
 def square():

@@ -120,3 +120,19 @@ def test_eval_terms_multiply_to_f_r():
     t = pointshade.eval_terms(m, n, w[0], w[1])
     expected = (t["D"] * t["G"] / (4 * w[0][:, 2] * w[1][:, 2]))[:, None] * t["F"]
     assert np.allclose(t["f_r"], expected, rtol=1e-12)
+
+
+def test_eval_terms_are_zero_where_f_r_is():
+    # ω_i below the surface: f_r is 0, and so are the terms (G was once −79 here).
+    n = np.array([[0.0, 0.0, 1.0]])
+    wi = np.array([[0.6, 0.0, -0.8]])
+    wo = np.array([[0.0, 0.0, 1.0]])
+    t = pointshade.eval_terms({"model": "cook-torrance", "roughness": 0.3, "two_sided": False}, n, wi, wo)
+    assert t["D"][0] == 0 and t["G"][0] == 0 and np.all(t["F"][0] == 0) and np.all(t["f_r"][0] == 0)
+    # Two-sided: n turns towards ω_o first, as f_r's does, so the terms are those of the mirrored frame.
+    above = wi * [1, 1, -1]
+    flipped = pointshade.eval_terms({"model": "cook-torrance", "roughness": 0.3}, -n, above, wo)
+    plain = pointshade.eval_terms({"model": "cook-torrance", "roughness": 0.3}, n, above, wo)
+    assert plain["G"][0] > 0
+    for k in ("D", "G", "F", "f_r"):
+        assert np.array_equal(flipped[k], plain[k])

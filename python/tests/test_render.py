@@ -166,3 +166,15 @@ def test_scene_warnings_are_python_warnings(tmp_path):
     with pytest.warns(UserWarning, match="no \\[\\[object\\]\\]"):
         out = pointshade.render(scene, width=8, height=8, spp=1)
     assert out["color"].max() == 0.0
+
+
+def test_the_stub_lists_every_render_keyword_of_the_library():
+    import ast
+
+    stub = ast.parse((REPO / "python" / "pointshade" / "__init__.pyi").read_text())
+    render = next(f for f in stub.body if isinstance(f, ast.FunctionDef) and f.name == "render")
+    keywords = [a.arg for a in render.args.kwonlyargs]
+    table = [name for name, _, _ in pointshade._native.render_option_table()]
+    assert keywords == ["confine", *table]
+    for name in table:
+        assert f"``{name}``" in pointshade.render.__doc__

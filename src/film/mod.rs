@@ -14,6 +14,8 @@ pub use sampler::SamplerKind;
 
 /// Largest image a render accepts (width × height), a guard against absurd sizes.
 pub const MAX_PIXELS: u64 = 1 << 28;
+/// Largest image side accepted, in pixels.
+pub const MAX_SIDE: u32 = 65536;
 /// Largest samples-per-pixel count accepted.
 pub const MAX_SPP: u32 = 1 << 16;
 
@@ -134,9 +136,9 @@ impl FilmSettings {
             ));
         }
         let pixels = self.width as u64 * self.height as u64;
-        if pixels > MAX_PIXELS || self.width > 65536 || self.height > 65536 {
+        if pixels > MAX_PIXELS || self.width > MAX_SIDE || self.height > MAX_SIDE {
             return Err(format!(
-                "image size {}×{} is too large (at most 65536 per side and {} pixels)",
+                "image size {}×{} is too large (at most {MAX_SIDE} per side and {} pixels)",
                 self.width, self.height, MAX_PIXELS
             ));
         }

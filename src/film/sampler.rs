@@ -42,6 +42,11 @@ pub enum Sequence {
 }
 
 impl SamplerKind {
+    /// Every sampler, in the order of [`SamplerKind::NAMES`].
+    pub const ALL: [SamplerKind; 5] = [Self::Grid, Self::Sobol, Self::Independent, Self::Adaptive, Self::Cells];
+    /// Their names.
+    pub const NAMES: &'static [&'static str] = &["grid", "sobol", "independent", "adaptive", "cells"];
+
     /// Name as written in scene files and on the command line.
     pub fn name(self) -> &'static str {
         match self {
@@ -55,16 +60,10 @@ impl SamplerKind {
 
     /// Parses a name; the error lists the valid ones.
     pub fn parse(name: &str) -> Result<Self, String> {
-        match name {
-            "grid" => Ok(Self::Grid),
-            "sobol" => Ok(Self::Sobol),
-            "independent" => Ok(Self::Independent),
-            "adaptive" => Ok(Self::Adaptive),
-            "cells" => Ok(Self::Cells),
-            other => Err(format!(
-                "unknown sampler '{other}' (expected grid, sobol, independent, adaptive or cells)"
-            )),
-        }
+        Self::ALL
+            .into_iter()
+            .find(|k| k.name() == name)
+            .ok_or_else(|| format!("unknown sampler '{name}' (expected grid, sobol, independent, adaptive or cells)"))
     }
 
     /// The sequence a fixed sampler draws every pixel's samples from; `None` for the adaptive
@@ -268,6 +267,12 @@ mod tests {
         let mut v = vec![Vec2::ZERO; spp];
         pixel_offsets(sequence, 7, x, y, 0, &mut v);
         v
+    }
+
+    #[test]
+    fn names_are_the_variants_names() {
+        let names: Vec<&str> = SamplerKind::ALL.iter().map(|k| k.name()).collect();
+        assert_eq!(names, SamplerKind::NAMES);
     }
 
     #[test]

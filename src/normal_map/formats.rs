@@ -23,6 +23,14 @@ pub struct Range {
     pub max: f32,
 }
 
+impl Range {
+    /// What to tell the user when the range is empty (every pixel shades to one value), so
+    /// that the min-max output is all 0.
+    pub fn warning(&self) -> Option<String> {
+        (!(self.max > self.min)).then(|| format!("every pixel shades to {}: the min-max output is all 0", self.min))
+    }
+}
+
 /// The report's 8-bit output of `image`: ⌊(L − min)/(max − min) · 255⌋ per channel, with one
 /// global min and max. Computed in f64 so the only rounding is the truncation itself.
 ///

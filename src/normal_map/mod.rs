@@ -20,12 +20,14 @@ use glam::{DVec3, Vec3};
 
 use crate::accel::shadow::NoOcclusion;
 use crate::accel::shadow::SceneExtent;
-use crate::film::Image;
+use crate::error::{InputError, InputResult};
+use crate::film::{overflow_error, Image};
 use crate::lanes::{LaneInstructions, Lanes, Scalar, LANES};
 use crate::normal_map::image::NormalImage;
+use crate::normal_map::likeness::NormalLikeness;
 use crate::normal_map::pixels::{ImageSurface, NormalDecoding, PixelPositions, TpScaling};
+use crate::normal_map::plan::NormalMapPlan;
 use crate::normal_map::scene_file::{NormalMapScene, Preset};
-use crate::plan::RenderPlan;
 use crate::shading::convention::ShadingConvention;
 use crate::shading::shader::Shader;
 use crate::surface::SurfaceLanes;
@@ -41,6 +43,40 @@ pub struct NormalMapStats {
     pub shading_time: Duration,
     /// Wall-clock time of surface points + shading.
     pub wall_time: Duration,
+}
+
+/// A normal image shaded: what both front ends make of it.
+pub struct ShadedNormalImage {
+    /// Linear L_o per pixel (background 0).
+    pub radiance: Image,
+    /// Counters and times.
+    pub stats: NormalMapStats,
+    /// What the user should hear about (an image that does not look like a normal image).
+    pub warnings: Vec<String>,
+    /// What was done, and why (`--explain`).
+    pub plan: NormalMapPlan,
+}
+
+/// Shades `image` as `scene` says: the normal-map mode's one call, which the CLI
+/// (`pointshade normalmap`) and the Python module (`shade_normal_image`) make. `output`
+/// describes what the caller makes of L_o, for the plan. An error names the image (a `tp`
+/// image whose values are all equal) or says where a pixel overflowed.
+pub fn shade(scene: &NormalMapScene, image: &NormalImage, output: &str) -> InputResult<ShadedNormalImage> {
+    let mut warnings = Vec::new();
+    if let Some(warning) = NormalLikeness::of(image).warning() {
+        warnings.push(format!("{}: {warning}", image.source.display()));
+    }
+    let surface = image_surface(scene, image).map_err(|e| InputError::new(&image.source, e))?;
+    let (radiance, stats) = shade_image(scene, image, &surface);
+    if let Some((x, y, p)) = radiance.first_non_finite() {
+        return Err(InputError::new(&image.source, overflow_error(x, y, p)));
+    }
+    Ok(ShadedNormalImage {
+        radiance,
+        stats,
+        warnings,
+        plan: plan::plan(scene, image, output),
+    })
 }
 
 /// How `scene` turns the pixels of `image` into surface points. For the `tp` preset this reads
@@ -75,26 +111,14 @@ pub fn shader<'a>(scene: &'a NormalMapScene, convention: ShadingConvention) -> S
     }
 }
 
-/// Shades every pixel of `image` (linear L_o; background pixels 0) following `plan`.
+/// Shades every pixel of `image` (linear L_o; background pixels 0).
 ///
 /// A row's foreground pixels become [`SurfaceLanes`] straight from the image — eight in f32
 /// lanes for the `physical` preset, four in float64 lanes for `tp` (the assignment's numpy code
 /// is float64) — and go through the shader's lane path. The decoding and the BRDF are the same
 /// functions [`ImageSurface::point`], [`shade_tp_pixel`] and [`Shader::shade`] run for one pixel.
-pub fn shade_image(
-    scene: &NormalMapScene,
-    plan: &RenderPlan,
-    image: &NormalImage,
-    surface: &ImageSurface,
-) -> (Image, NormalMapStats) {
-    shade_image_with(
-        scene,
-        plan,
-        image,
-        surface,
-        LaneInstructions::detect(),
-        TpPrecision::Float64,
-    )
+pub fn shade_image(scene: &NormalMapScene, image: &NormalImage, surface: &ImageSurface) -> (Image, NormalMapStats) {
+    shade_image_with(scene, image, surface, LaneInstructions::detect(), TpPrecision::Float64)
 }
 
 /// [`shade_image`] with the lane path compiled for `instructions` (which must be available on
@@ -103,7 +127,6 @@ pub fn shade_image(
 /// for bit: the benchmark compares their speed, a test their results.
 pub fn shade_image_with(
     scene: &NormalMapScene,
-    plan: &RenderPlan,
     image: &NormalImage,
     surface: &ImageSurface,
     instructions: LaneInstructions,
@@ -111,12 +134,12 @@ pub fn shade_image_with(
 ) -> (Image, NormalMapStats) {
     match (surface.decoding, precision) {
         (NormalDecoding::MinMax(s), TpPrecision::Float64) => {
-            shade_rows::<TpLanes<f64, 4>>(scene, plan, image, surface, &s, instructions)
+            shade_rows::<TpLanes<f64, 4>>(scene, image, surface, &s, instructions)
         }
         (NormalDecoding::MinMax(s), TpPrecision::Float32) => {
-            shade_rows::<TpLanes<f32, LANES>>(scene, plan, image, surface, &s, instructions)
+            shade_rows::<TpLanes<f32, LANES>>(scene, image, surface, &s, instructions)
         }
-        (NormalDecoding::Signed, _) => shade_rows::<PhysicalLanes>(scene, plan, image, surface, &(), instructions),
+        (NormalDecoding::Signed, _) => shade_rows::<PhysicalLanes>(scene, image, surface, &(), instructions),
     }
 }
 
@@ -136,7 +159,6 @@ pub enum TpPrecision {
 /// [`shade_image_with`] for one kind of lane group.
 fn shade_rows<G: LaneGroup>(
     scene: &NormalMapScene,
-    plan: &RenderPlan,
     image: &NormalImage,
     surface: &ImageSurface,
     decoding: &G::Decoding,
@@ -144,7 +166,7 @@ fn shade_rows<G: LaneGroup>(
 ) -> (Image, NormalMapStats) {
     let instructions = instructions.min(LaneInstructions::detect());
     let start = Instant::now();
-    let shader = shader(scene, plan.convention);
+    let shader = shader(scene, scene.preset.convention());
     debug_assert!(shader.has_lanes());
     let (surface_ns, shading_ns, points) = (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
     let out = Image::par_from_rows(

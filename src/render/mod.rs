@@ -12,11 +12,16 @@
 mod adaptive;
 mod budget;
 pub use budget::threshold_ladder;
+pub mod options;
+pub mod progress;
 mod refine;
+pub mod request;
 mod rounds;
 mod sample_cache;
 mod subdivision;
 pub mod tile;
+mod workers;
+pub use workers::{check_thread_count, Workers, MAX_THREADS_PER_CPU};
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
@@ -29,6 +34,7 @@ use crate::film::sampler::Sequence;
 use crate::film::{overflow_error, Image, PixelRect};
 use crate::plan::{Aov, RenderPlan};
 use crate::scene::Scene;
+use progress::{Advance, Progress, ProgressUnit};
 use tile::{assemble, par_tiles, tile_samples, Context, PixelSums};
 pub use tile::{tiles, TILE};
 
@@ -71,32 +77,8 @@ pub struct Rendered {
 /// The pipeline after loading: builds the BVH the plan asks for (default preset) and renders.
 /// A film's time budget counts from here: BVH build and render.
 #[inline(never)] // a stage boundary that benches/instructions.sh counts
-pub fn render_scene(scene: &Scene, plan: &RenderPlan, on_tile: &(dyn Fn(u64) + Sync)) -> Result<Rendered, String> {
-    render_scene_until(scene, plan, on_tile, None)
-}
-
-/// Worker threads allowed per logical CPU: more only adds switching, and a thread count
-/// typed with extra zeros (`--threads 100000`) would spawn threads until the process is killed.
-pub const MAX_THREADS_PER_CPU: usize = 8;
-
-/// A pool of `threads` worker threads (1 ≤ threads ≤ [`MAX_THREADS_PER_CPU`] × the logical
-/// CPUs); the message says which bound a refused count breaks. Both front ends build their
-/// pools with it.
-pub fn worker_pool(threads: usize) -> Result<rayon::ThreadPool, String> {
-    let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let most = MAX_THREADS_PER_CPU * cpus;
-    if threads == 0 {
-        return Err("must be at least 1".into());
-    }
-    if threads > most {
-        return Err(format!(
-            "{threads} is more than {most} ({MAX_THREADS_PER_CPU} per logical CPU, {cpus} here)"
-        ));
-    }
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| format!("cannot start {threads} threads: {e}"))
+pub fn render_scene(scene: &Scene, plan: &RenderPlan, progress: &dyn Progress) -> Result<Rendered, String> {
+    render_scene_until(scene, plan, progress, None)
 }
 
 /// Refuses a film whose peak memory is more than the process can have
@@ -116,7 +98,7 @@ pub const INTERRUPTED: &str = "interrupted";
 pub fn render_scene_until(
     scene: &Scene,
     plan: &RenderPlan,
-    on_tile: &(dyn Fn(u64) + Sync),
+    progress: &dyn Progress,
     stop: Option<&AtomicBool>,
 ) -> Result<Rendered, String> {
     let start = Instant::now();
@@ -124,21 +106,20 @@ pub fn render_scene_until(
     // The plan's cut-out stage and `Bvh::for_scene`'s mask look at the same materials.
     let bvh = plan.trace_rays.then(|| Bvh::for_scene(scene));
     debug_assert!(bvh.as_ref().is_none_or(|b| b.has_alpha_mask() == plan.cutouts));
-    let mut rendered = render_from(start, scene, plan, bvh.as_ref(), on_tile, stop)?;
+    let mut rendered = render_from(start, scene, plan, bvh.as_ref(), progress, stop)?;
     rendered.stats.bvh_time = bvh.map_or(Duration::ZERO, |b| b.build_time);
     Ok(rendered)
 }
 
 /// Renders `scene` following `plan`. `bvh` must be present when `plan.trace_rays` is set.
-/// `on_tile` is called after each finished tile with the number of tiles (for progress bars).
-/// A film's time budget counts from this call.
+/// `progress` hears of each finished tile. A film's time budget counts from this call.
 pub fn render(
     scene: &Scene,
     plan: &RenderPlan,
     bvh: Option<&Bvh>,
-    on_tile: &(dyn Fn(u64) + Sync),
+    progress: &dyn Progress,
 ) -> Result<Rendered, String> {
-    render_from(Instant::now(), scene, plan, bvh, on_tile, None)
+    render_from(Instant::now(), scene, plan, bvh, progress, None)
 }
 
 /// [`render`], with a time budget counted from `budget_start`.
@@ -147,7 +128,7 @@ fn render_from(
     scene: &Scene,
     plan: &RenderPlan,
     bvh: Option<&Bvh>,
-    on_tile: &(dyn Fn(u64) + Sync),
+    progress: &dyn Progress,
     stop: Option<&AtomicBool>,
 ) -> Result<Rendered, String> {
     let start = Instant::now();
@@ -156,6 +137,27 @@ fn render_from(
     check_film_memory(region, plan)?;
     let ctx = Context::new(scene, plan, bvh, stop)?;
     let deadline = film.time_budget.map(|b| budget_start + Duration::from_secs_f32(b));
+    let tile_count = tiles(region).len() as u64;
+    // With a time budget tiles are rendered in passes, so the budget's share spent is the measure.
+    let on_tile = |done: u64| {
+        progress.advance(match film.time_budget {
+            Some(budget) => {
+                let total = (budget as f64 * 1e3) as u64;
+                let spent = budget_start.elapsed().as_millis() as u64;
+                Advance {
+                    done: spent.min(total),
+                    total,
+                    unit: ProgressUnit::BudgetMilliseconds,
+                }
+            }
+            None => Advance {
+                done: done.min(tile_count),
+                total: tile_count,
+                unit: ProgressUnit::Tiles,
+            },
+        })
+    };
+    let on_tile = &on_tile;
     let (sums, counts, spp, threshold) = match (film.sampler.fixed_sequence(), deadline) {
         (None, Some(deadline)) => {
             let (sums, counts, threshold) = budget::render_adaptive(&ctx, region, deadline, on_tile);

@@ -19,6 +19,7 @@ use crate::film::{sampler::pixel_offsets, PixelRect};
 use crate::plan::{Aov, RenderPlan};
 use crate::scene::camera::Camera;
 use crate::scene::Scene;
+use crate::shading::convention::ShadingConvention;
 use crate::shading::shader::Shader;
 use crate::surface::normal_texture::apply_normal_texture;
 use crate::surface::primary::surface_point;
@@ -162,7 +163,7 @@ impl<'a> Context<'a> {
                 lights: &scene.lights,
                 occluder: if plan.shadows { bvh } else { None },
                 extent: bvh.map_or(SceneExtent::UNIT, |b| SceneExtent::new(b.scene_unit(), b.bounds())),
-                convention: plan.convention,
+                convention: ShadingConvention::Physical,
                 textures: plan.textures.then_some(scene.textures.as_slice()),
                 emission: plan.emission,
                 shadow_offset: scene.shadow_offset,

@@ -83,43 +83,25 @@ pub struct View {
 }
 
 impl View {
-    /// Parses `azimuth,elevation[,distance]`; the error says what is wrong.
-    pub fn parse(text: &str) -> Result<View, String> {
-        let values: Vec<f32> = text
-            .split(',')
-            .map(|v| v.trim().parse::<f32>())
-            .collect::<Result<_, _>>()
-            .map_err(|_| format!("expected azimuth,elevation[,distance] in degrees, got '{text}'"))?;
-        let view = match values[..] {
-            [azimuth, elevation] => View {
-                azimuth,
-                elevation,
-                distance: 1.0,
-            },
-            [azimuth, elevation, distance] => View {
-                azimuth,
-                elevation,
-                distance,
-            },
-            _ => {
-                return Err(format!(
-                    "expected azimuth,elevation[,distance] in degrees, got '{text}'"
-                ))
-            }
-        };
-        if !view.azimuth.is_finite() {
-            return Err(format!("azimuth must be finite, got {}", view.azimuth));
+    /// The view `azimuth` and `elevation` degrees around the framing, `distance` times as far;
+    /// the error says which value is out of range.
+    pub fn new(azimuth: f32, elevation: f32, distance: f32) -> Result<View, String> {
+        if !azimuth.is_finite() {
+            return Err(format!("azimuth must be finite, got {azimuth}"));
         }
-        if !(view.elevation.abs() < 90.0) {
+        if !(elevation.abs() < 90.0) {
             return Err(format!(
-                "elevation must be strictly between -90 and 90 degrees (the camera keeps +Y up), got {}",
-                view.elevation
+                "elevation must be strictly between -90 and 90 degrees (the camera keeps +Y up), got {elevation}"
             ));
         }
-        if !(view.distance > 0.0 && view.distance.is_finite()) {
-            return Err(format!("distance must be a finite multiple > 0, got {}", view.distance));
+        if !(distance > 0.0 && distance.is_finite()) {
+            return Err(format!("distance must be a finite multiple > 0, got {distance}"));
         }
-        Ok(view)
+        Ok(View {
+            azimuth,
+            elevation,
+            distance,
+        })
     }
 
     /// The unit direction from the centre towards the camera.
@@ -300,10 +282,19 @@ mod tests {
             "{view:?}"
         );
         assert!((view.back() - VIEW_FROM.normalize()).length() < 1e-6);
-        assert_eq!(View::parse("90, 0").unwrap().back().round(), Vec3::X);
-        assert_eq!(View::parse("-30,10,2.5").unwrap().distance, 2.5);
-        for bad in ["", "1", "1,2,3,4", "x,1", "1,-90", "1,nan", "inf,0", "0,0,-1", "0,0,0"] {
-            assert!(View::parse(bad).is_err(), "{bad}");
+        assert_eq!(View::new(90.0, 0.0, 1.0).unwrap().back().round(), Vec3::X);
+        let bad = [
+            (1.0, -90.0, 1.0),
+            (1.0, f32::NAN, 1.0),
+            (f32::INFINITY, 0.0, 1.0),
+            (0.0, 0.0, -1.0),
+            (0.0, 0.0, 0.0),
+        ];
+        for (azimuth, elevation, distance) in bad {
+            assert!(
+                View::new(azimuth, elevation, distance).is_err(),
+                "{azimuth},{elevation},{distance}"
+            );
         }
     }
 

@@ -12,7 +12,6 @@ pub mod gltf;
 mod load;
 pub mod mesh;
 pub mod obj;
-pub mod overrides;
 pub mod procedural;
 pub mod shadows;
 pub mod tangents;
@@ -28,7 +27,7 @@ use crate::material::Material;
 use crate::scene::camera::CameraSpec;
 use crate::scene::shadows::{ShadowOffset, ShadowTerminator};
 use crate::texture::TextureImage;
-pub use load::{load, load_with, LoadOptions};
+pub use load::{load, load_with, LoadOptions, SceneSource};
 pub use mesh::TriangleMesh;
 
 /// A validated scene, ready to plan and render.

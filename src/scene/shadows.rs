@@ -15,6 +15,9 @@ pub enum ShadowOffset {
 }
 
 impl ShadowOffset {
+    /// Every name [`ShadowOffset::parse`] knows.
+    pub const NAMES: &'static [&'static str] = &["error-bound", "mitsuba"];
+
     /// Name in scene files and on the command line.
     pub fn name(self) -> &'static str {
         match self {
@@ -49,6 +52,9 @@ pub enum ShadowTerminator {
 }
 
 impl ShadowTerminator {
+    /// Every name [`ShadowTerminator::parse`] knows.
+    pub const NAMES: &'static [&'static str] = &["smooth", "flat"];
+
     /// Name in scene files and on the command line.
     pub fn name(self) -> &'static str {
         match self {
@@ -76,6 +82,9 @@ mod tests {
         for o in [ShadowOffset::ErrorBound, ShadowOffset::Mitsuba] {
             assert_eq!(ShadowOffset::parse(o.name()), Ok(o));
         }
+        let names = |n: &[&str]| n.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        assert_eq!(names(ShadowOffset::NAMES), ["error-bound", "mitsuba"]);
+        assert_eq!(names(ShadowTerminator::NAMES), ["smooth", "flat"]);
         assert!(ShadowOffset::parse("fixed").is_err());
         for t in [ShadowTerminator::Smooth, ShadowTerminator::Flat] {
             assert_eq!(ShadowTerminator::parse(t.name()), Ok(t));

@@ -274,7 +274,8 @@ pub fn render_ours(scene: &Scene, offset: ShadowOffset) -> InputResult<(Rendered
     scene.shadow_offset = offset;
     let start = Instant::now();
     let plan = RenderPlan::new(&scene, &[]);
-    let rendered = render_scene(&scene, &plan, &|_| {}).map_err(|e| InputError::new(&scene.source, e))?;
+    let rendered =
+        render_scene(&scene, &plan, &crate::render::progress::Silent).map_err(|e| InputError::new(&scene.source, e))?;
     Ok((rendered, start.elapsed()))
 }
 

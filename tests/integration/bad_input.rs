@@ -155,14 +155,19 @@ fn absurd_sizes_and_bad_options() {
     let huge = c.scene(&format!("{CAMERA}[film]\nwidth = 1000000\nheight = 1000000\n"));
     c.fails(&huge, &[], &["scene.toml", "too large"]);
     let tri = c.dir.join("tri.obj");
-    c.fails(&tri, &["--width", "0"], &["image size"]);
+    c.fails(&tri, &["--width", "0"], &["--width", "from 1 to 65536"]);
+    c.fails(
+        &tri,
+        &["--width", "65536", "--height", "65536"],
+        &["image size", "too large"],
+    );
     c.fails(&tri, &["--spp", "10000000"], &["spp"]);
     c.fails(&tri, &["--sampler", "grid", "--spp", "8"], &["square"]);
     c.fails(&tri, &["--sampler", "halton"], &["--sampler", "halton"]);
     c.fails(&tri, &["--aov", "normals"], &["--aov"]);
     c.fails(&tri, &["--shadow-terminator", "soft"], &["--shadow-terminator", "soft"]);
-    c.fails(&tri, &["--time-budget", "nan"], &["time_budget", "NaN"]);
-    c.fails(&tri, &["--time-budget", "0"], &["time_budget"]);
+    c.fails(&tri, &["--time-budget", "nan"], &["--time-budget", "got 'nan'"]);
+    c.fails(&tri, &["--time-budget", "0"], &["--time-budget", "(0, 604800]"]);
     c.fails(
         &tri,
         &["--time-budget", "1", "--sampler", "grid"],
@@ -379,7 +384,11 @@ fn gltf_missing_files_unsupported_extensions_and_bad_camera_choice() {
     let (b, rest) = gltf_square();
     let path = b.write_gltf(&c.dir, "nocamera", rest);
     c.fails(&path, &["--camera", "0"], &["--camera", "no camera"]);
-    c.fails(&c.dir.join("tri.obj"), &["--camera", "0"], &["--camera", "only glTF"]);
+    c.fails(
+        &c.dir.join("tri.obj"),
+        &["--camera", "0"],
+        &["--camera", "only .gltf and .glb files"],
+    );
     let toml = c.scene("[[object]]\nmesh = \"missing.glb\"\n");
     c.fails(&toml, &[], &["missing.glb", "not found"]);
 }

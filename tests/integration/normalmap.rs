@@ -263,10 +263,9 @@ fn assert_image_path_is_the_single_pixel_function(image: &pointshade::normal_map
             let mut scene = NormalMapScene::from_preset(&image.source, preset, brdf);
             scene.material.two_sided = two_sided;
             let surface = image_surface(&scene, image).unwrap();
-            let plan = pointshade::normal_map::plan::plan(&scene, image, "test");
             let one = shader(&scene, preset.convention());
             for &set in &sets {
-                let (shaded, _) = shade_image_with(&scene, &plan, image, &surface, set, TpPrecision::Float64);
+                let (shaded, _) = shade_image_with(&scene, image, &surface, set, TpPrecision::Float64);
                 for row in 0..image.height {
                     for col in 0..image.width {
                         let index = (row * image.width + col) as usize;

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use crate::options::worker_pool;
+use crate::options::workers;
 use pointshade::accel::Bvh;
 use pointshade::error::InputError;
 use pointshade::normal_map::bake::bake_normals;
@@ -43,7 +43,7 @@ pub fn run(args: BakeArgs) -> Result<(), InputError> {
             "a baked normal image is written as PNG (the assignment's format)",
         ));
     }
-    let pool = worker_pool(args.threads)?;
+    let pool = workers(args.threads)?;
     let mut scene = pool.install(|| scene::load(&args.scene))?;
     let f = &mut scene.film;
     f.width = args.width.unwrap_or(f.width);

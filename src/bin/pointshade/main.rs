@@ -13,6 +13,7 @@ mod options;
 mod progress;
 mod render;
 mod stability;
+mod table;
 mod validate;
 
 use std::process::ExitCode;

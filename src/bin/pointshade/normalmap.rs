@@ -4,14 +4,12 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::options::{option_error, worker_pool};
+use crate::options::{option_error, workers};
 use pointshade::error::InputError;
-use pointshade::film::overflow_error;
+use pointshade::normal_map;
 use pointshade::normal_map::formats::encode_min_max_png;
 use pointshade::normal_map::image::NormalImage;
-use pointshade::normal_map::likeness::NormalLikeness;
 use pointshade::normal_map::scene_file::{ModelName, NormalMapScene, Preset};
-use pointshade::normal_map::{image_surface, plan, shade_image};
 use pointshade::output::{encode, write_all_or_nothing, Format};
 use pointshade::scene::extension;
 
@@ -95,14 +93,9 @@ pub fn run(args: NormalMapArgs) -> Result<(), InputError> {
         .clone()
         .unwrap_or_else(|| default_output(&args.input, &scene, is_scene));
     let format = Format::of_output(&output)?;
-    let pool = worker_pool(args.threads)?;
+    let pool = workers(args.threads)?;
     let image = NormalImage::load(&scene.image)?;
-    if let Some(warning) = NormalLikeness::of(&image).warning() {
-        eprintln!("warning: {}: {warning}", scene.image.display());
-    }
-    let surface = image_surface(&scene, &image).map_err(|e| InputError::new(&scene.image, e))?;
     let load_time = t_load.elapsed();
-
     let description = match (scene.preset, format) {
         (Preset::Tp, Format::Png) => {
             "RGB PNG: L_o min-max normalised over all pixels and channels, ×255 truncated".into()
@@ -110,29 +103,26 @@ pub fn run(args: NormalMapArgs) -> Result<(), InputError> {
         (Preset::Physical, Format::Png) => format!("sRGB PNG, exposure {} stops", scene.exposure),
         (_, Format::Exr) => "linear float32 EXR of L_o".into(),
     };
-    let plan = plan::plan(&scene, &image, &description);
+    let shaded = pool.install(|| normal_map::shade(&scene, &image, &description));
+    let shaded = shaded?;
+    for warning in &shaded.warnings {
+        eprintln!("warning: {warning}");
+    }
     if args.explain {
-        print!("{}", plan::explain(&plan, &scene, &image));
+        print!("{}", shaded.plan.explain(&scene, &image));
     }
-    let (shaded, stats) = pool.install(|| shade_image(&scene, &plan, &image, &surface));
-    if let Some((x, y, p)) = shaded.first_non_finite() {
-        return Err(InputError::new(&args.input, overflow_error(x, y, p)));
-    }
+    let stats = shaded.stats;
 
     let t_out = Instant::now();
     let bytes = match (scene.preset, format) {
         (Preset::Tp, Format::Png) => {
-            let (bytes, range) = encode_min_max_png(&shaded).map_err(|e| InputError::new(&output, e))?;
-            if !(range.max > range.min) {
-                eprintln!(
-                    "warning: {}: every pixel shades to {}: the min-max output is all 0",
-                    scene.image.display(),
-                    range.min
-                );
+            let (bytes, range) = encode_min_max_png(&shaded.radiance).map_err(|e| InputError::new(&output, e))?;
+            if let Some(warning) = range.warning() {
+                eprintln!("warning: {}: {warning}", scene.image.display());
             }
             bytes
         }
-        _ => encode(&shaded, format, scene.exposure).map_err(|e| InputError::new(&output, e))?,
+        _ => encode(&shaded.radiance, format, scene.exposure).map_err(|e| InputError::new(&output, e))?,
     };
     write_all_or_nothing(&[(output.clone(), bytes)])?;
     let output_time = t_out.elapsed();

@@ -1,4 +1,4 @@
-//! What every subcommand shares: errors naming an option, the worker pool, comma lists.
+//! What every subcommand shares: errors naming an option, the workers, comma lists.
 
 use pointshade::error::InputError;
 
@@ -7,11 +7,10 @@ pub(crate) fn option_error(option: &str, problem: impl std::fmt::Display) -> Inp
     InputError::new(option, problem)
 }
 
-/// The worker threads of a command's `--threads` (all cores when absent). Everything parallel,
-/// loading included, runs inside it, so the option bounds the whole command.
-pub(crate) fn worker_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, InputError> {
-    let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
-    pointshade::render::worker_pool(threads.unwrap_or(cpus)).map_err(|e| option_error("--threads", e))
+/// The workers of a command's `--threads` (rayon's global pool of all cores when absent).
+/// Everything parallel, loading included, runs inside them, so the option bounds the whole command.
+pub(crate) fn workers(threads: Option<usize>) -> Result<pointshade::render::Workers, InputError> {
+    pointshade::render::Workers::new(threads).map_err(|e| option_error("--threads", e))
 }
 
 /// The comma-separated values of `option` (`text`), each read by `parse`; an error naming the

@@ -103,7 +103,7 @@ pub fn contact_scene(scale: f32, offset: f32) -> Scene {
 pub fn render(scene: &Scene) -> Image {
     let plan = RenderPlan::new(scene, &[]);
     let bvh = Bvh::for_scene(scene);
-    crate::render::render(scene, &plan, Some(&bvh), &|_| {})
+    crate::render::render(scene, &plan, Some(&bvh), &crate::render::progress::Silent)
         .expect("the stability scene is valid")
         .image
 }

@@ -312,26 +312,31 @@ fn clamped_term<R: Real>(
     reflected_radiance(f, irradiance, a.dots.n_dot_i)
 }
 
-/// f_r(ω_i, ω_o) as the physical shader forms it for an untextured `material` at a point whose
-/// shading normal is `n` (any length), towards unit directions `wi` (to the light) and `wo` (to
-/// the viewer): a two-sided material first turns `n` to the viewer's side; where ω_o or ω_i is
-/// not in front of it, or there is no shading frame, the light adds nothing and f_r is 0; else
-/// [`Material::eval`] of the same dot products `Shader::shade` gives it, so that a light of
-/// irradiance E adds f_r · E · cos θ_i there. (The Python module's `eval_brdf`.)
-pub fn brdf_value<R: Scalar>(material: &Material, n: [R; 3], wi: [R; 3], wo: [R; 3]) -> [R; 3] {
+/// The dot products the physical shader evaluates an untextured `material`'s f_r of, at a
+/// point whose shading normal is `n` (any length), towards unit directions `wi` (to the light)
+/// and `wo` (to the viewer): a two-sided material first turns `n` to the viewer's side; where
+/// ω_o or ω_i is not in front of it, or there is no shading frame, the light adds nothing and
+/// there are none. (The Python module's `eval_terms` evaluates D, G and F of them.)
+pub fn shading_dots<R: Scalar>(material: &Material, n: [R; 3], wi: [R; 3], wo: [R; 3]) -> Option<LocalDots<R>> {
     let n = match material.two_sided && dot3(n, wo) < R::zero() {
         true => n.map(|c| -c),
         false => n,
     };
     let (cos_i, cos_o) = (dot3(n, wi), dot3(n, wo));
     if !(cos_i > R::zero() && cos_o > R::zero()) {
-        return [R::zero(); 3];
+        return None;
     }
-    let dots = match material.has_specular() {
+    match material.has_specular() {
         true => LocalDots::from_unit_vectors(n, wi, wo),
         false => Some(LocalDots::from_cosines(cos_i, cos_o, R::zero(), R::zero())),
-    };
-    dots.map_or([R::zero(); 3], |d| material.eval(&d))
+    }
+}
+
+/// f_r(ω_i, ω_o) as the physical shader forms it: [`Material::eval`] of the [`shading_dots`]
+/// `Shader::shade` gives it, 0 where there are none, so that a light of irradiance E adds
+/// f_r · E · cos θ_i there. (The Python module's `eval_brdf`.)
+pub fn brdf_value<R: Scalar>(material: &Material, n: [R; 3], wi: [R; 3], wo: [R; 3]) -> [R; 3] {
+    shading_dots(material, n, wi, wo).map_or([R::zero(); 3], |d| material.eval(&d))
 }
 
 /// What one light adds: L = f_r(ω_i, ω_o) · E · cos θ_i per channel, E the light's irradiance
