@@ -21,7 +21,7 @@ use pointshade::film::Image;
 use pointshade::lanes::LaneInstructions;
 use pointshade::normal_map::image::NormalImage;
 use pointshade::normal_map::scene_file::{ModelName, NormalMapScene, Preset};
-use pointshade::normal_map::{image_surface, shade_image_with, TpPrecision};
+use pointshade::normal_map::{image_surface, shade_image_with, MinMaxPrecision};
 use pointshade::shading::convention::clamped_dots;
 use pointshade::surface::SurfacePoint;
 
@@ -212,13 +212,13 @@ fn main() {
     let image = NormalImage::load(&path).expect("normal.png decodes");
     let scene = NormalMapScene::from_preset(&path, Preset::Tp, ModelName::CookTorrance);
     // What numpy's shade() does too: the tp scaling's global min and max, then every pixel.
-    let shade_with = |instructions: LaneInstructions, precision: TpPrecision| {
+    let shade_with = |instructions: LaneInstructions, precision: MinMaxPrecision| {
         let surface = image_surface(&scene, &image).expect("normal.png has a range");
         shade_image_with(&scene, &image, &surface, instructions, precision)
     };
     let best = LaneInstructions::detect();
 
-    let time_shading = |threads: usize, instructions: LaneInstructions, precision: TpPrecision| {
+    let time_shading = |threads: usize, instructions: LaneInstructions, precision: MinMaxPrecision| {
         let shade = || shade_with(instructions, precision);
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| {
@@ -241,7 +241,7 @@ fn main() {
         })
     };
     let all = rayon::current_num_threads();
-    let (f64_, f32_) = (TpPrecision::Float64, TpPrecision::Float32);
+    let (f64_, f32_) = (MinMaxPrecision::Float64, MinMaxPrecision::Float32);
     let one_thread = [f64_, f32_].map(|p| time_shading(1, best, p));
     let all_threads = [f64_, f32_].map(|p| time_shading(all, best, p));
     let portable = (best != LaneInstructions::Portable).then(|| time_shading(all, LaneInstructions::Portable, f64_));

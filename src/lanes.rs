@@ -311,8 +311,8 @@ pub type F32x8 = Lanes<f32, LANES>;
 /// Four f32 lanes (one SSE register): the three colour channels of one point, and a spare.
 pub type F32x4 = Lanes<f32, 4>;
 
-/// Four f64 lanes (one AVX register): the `tp` preset's points, shaded in float64 as the
-/// assignment's numpy code is.
+/// Four f64 lanes (one AVX register): the points of the normal-map `tp` preset, which shades
+/// in float64.
 pub type F64x4 = Lanes<f64, 4>;
 
 /// A per-lane condition of `Lanes`: all bits set for true, clear for false (the layout SIMD

@@ -8,7 +8,8 @@
 //! - spot: a point light times the KHR_lights_punctual cone falloff
 //!   `saturate(cos θ·s + o)²`, s = 1/max(0.001, cos θ_inner − cos θ_outer), o = −cos θ_outer·s.
 //!
-//! `Falloff::None` drops the 1/d² (the assignment's convention, L_i = color × intensity);
+//! `Falloff::None` drops the 1/d² (L_i = color × intensity at any distance, as the normal-map
+//! `tp` preset's lights are);
 //! `Falloff::InverseSquareWithin` is KHR_lights_punctual's range window.
 
 use glam::Vec3;
@@ -22,7 +23,7 @@ use crate::lanes::{dot3 as dot, map3, normalize_or_zero, Mask, Real};
 pub enum Falloff {
     /// Physical: E = I/d².
     InverseSquare,
-    /// None: E = I (the assignment's convention).
+    /// None: E = I at any distance.
     None,
     /// KHR_lights_punctual's `range`: E = I·clamp(1 − (d/range)⁴, 0, 1)/d², the inverse square
     /// smoothly windowed to reach 0 at d = range (`range` > 0, finite).

@@ -6,7 +6,7 @@ use crate::lanes::{map3, F32x4, Lanes, Real};
 /// Which Fresnel term a Cook-Torrance material uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FresnelTerm {
-    /// Schlick's approximation (the assignment).
+    /// Schlick's approximation (Schlick 1994).
     Schlick,
     /// Schlick with Karis' spherical-gaussian exponent.
     SchlickSg,
@@ -24,7 +24,8 @@ named_terms!(
     Constant => "constant",
 );
 
-/// Normal-incidence reflectance of a dielectric of index `ior` in air: F0 = ((n − 1)/(n + 1))².
+/// Normal-incidence reflectance of a dielectric of index `ior` in air: F0 = ((n − 1)/(n + 1))²
+/// (the Fresnel equations at θ = 0).
 /// Symmetric in n ↔ 1/n; 0 at n = 1. `ior` > 0 is validated with the material, so n + 1 > 1.
 #[inline(always)]
 pub fn schlick_f0_dielectric<R: Real>(ior: R) -> R {
@@ -32,8 +33,11 @@ pub fn schlick_f0_dielectric<R: Real>(ior: R) -> R {
     r * r
 }
 
-/// Schlick: F = F0 + (1 − F0)(1 − c)⁵, c = ω_i·ω_h clamped to [0, 1] (the assignment's
-/// max(0, ·), and ≤ 1 against rounding so (1 − c)⁵ stays in [0, 1]).
+/// Schlick: F = F0 + (1 − F0)(1 − c)⁵, c = ω_i·ω_h clamped to [0, 1] (≥ 0 where the half vector
+/// is behind the microfacet, ≤ 1 against rounding, so (1 − c)⁵ stays in [0, 1]).
+///
+/// Source: C. Schlick, "An Inexpensive BRDF Model for Physically-based Rendering", Computer
+/// Graphics Forum 13(3), 1994, eq. 24.
 #[inline(always)]
 pub fn fresnel_schlick<R: Real>(f0: R, i_dot_h: R) -> R {
     let m = R::one() - i_dot_h.max(R::zero()).min(R::one());
@@ -41,8 +45,10 @@ pub fn fresnel_schlick<R: Real>(f0: R, i_dot_h: R) -> R {
     f0 + (R::one() - f0) * m2 * m2 * m
 }
 
-/// Schlick with Karis' spherical-gaussian exponent (SIGGRAPH 2013 course notes):
+/// Schlick with a spherical-gaussian exponent:
 /// F = F0 + (1 − F0)·2^((−5.55473 c − 6.98316) c), c = ω_i·ω_h clamped to [0, 1].
+///
+/// Source: B. Karis, "Real Shading in Unreal Engine 4", SIGGRAPH 2013 course notes.
 #[inline(always)]
 pub fn fresnel_schlick_sg<R: Real>(f0: R, i_dot_h: R) -> R {
     let c = i_dot_h.max(R::zero()).min(R::one());
@@ -59,6 +65,10 @@ pub const MAX_CONDUCTOR_INDEX: f64 = 1e8;
 /// s² = 1 − c², t1 = η² − κ² − s², A = √(t1² + 4η²κ²), a = √((A + t1)/2),
 /// Rs = (A + c² − 2ca)/(A + c² + 2ca), Rp = Rs (A c² + s⁴ − 2ca s²)/(A c² + s⁴ + 2ca s²),
 /// F = (Rs + Rp)/2.
+///
+/// Source: the Fresnel equations for an absorbing medium (M. Born, E. Wolf, *Principles of
+/// Optics*, the chapter on the optics of metals), in the form Mitsuba 3's `fresnel_conductor`
+/// evaluates.
 ///
 /// Evaluated without cancellation. With w = √(m² − s²) = a + ib: A = a² + b² and ab = ηκ, so
 /// - the larger of a² = (A + t1)/2 and b² = (A − t1)/2 is computed from its formula (a sum of
@@ -133,14 +143,14 @@ mod tests {
 
     #[test]
     fn schlick_matches_hand_computed_values() {
-        // The assignment's dielectric with n = 5: F0 = (4/6)² = 4/9.
+        // A dielectric with n = 5: F0 = (4/6)² = 4/9.
         let f0 = schlick_f0_dielectric(5.0f64);
         assert!((f0 - 4.0 / 9.0).abs() < 1e-15);
         assert_eq!(fresnel_schlick(f0, 1.0), f0);
         assert_eq!(fresnel_schlick(f0, 0.0), 1.0);
         let c = 0.6f64;
         assert!((fresnel_schlick(0.04, c) - (0.04 + 0.96 * 0.4f64.powi(5))).abs() < 1e-15);
-        // Negative ω_i·ω_h is clamped to 0 (the assignment's max(0, ·)).
+        // Negative ω_i·ω_h is clamped to 0.
         assert_eq!(fresnel_schlick(0.04f64, -0.3), 1.0);
         assert_eq!(schlick_f0_dielectric(1.0f64), 0.0);
         assert!((schlick_f0_dielectric(1.0 / 1.5f64) - schlick_f0_dielectric(1.5f64)).abs() < 1e-15);

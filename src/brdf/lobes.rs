@@ -3,14 +3,21 @@
 use crate::lanes::Real;
 
 /// Lambert: f_d = k_d · albedo / π (per channel). Constant in the directions.
+///
+/// Source: J. H. Lambert, *Photometria*, 1760; the 1/π that makes a white surface reflect all
+/// it receives, as in every physically based renderer (pbrt-v4's `DiffuseBxDF`).
 #[inline(always)]
 pub fn lambert<R: Real>(kd: R, albedo: R) -> R {
     kd * albedo * R::FRAC_1_PI()
 }
 
-/// Blinn-Phong as the assignment defines it: f_s = k_s (n·ω_h)^s, with n·ω_h clamped to
-/// [0, 1] so the power is real and bounded; 0^0 = 1 (the s = 0 limit is the constant k_s).
-/// Not energy-normalised: that is the assignment's model, kept as is.
+/// The unnormalised Blinn-Phong lobe: f_s = k_s (n·ω_h)^s, with n·ω_h clamped to [0, 1] so the
+/// power is real and bounded; 0^0 = 1 (the s = 0 limit is the constant k_s). Not
+/// energy-normalised (no (s + 2)/2π factor): the lobe as Blinn wrote it, which the normal-map
+/// `tp` preset needs as it is.
+///
+/// Source: J. F. Blinn, "Models of Light Reflection for Computer Synthesized Pictures",
+/// SIGGRAPH 1977 (the half-vector form of Phong's cosine power).
 ///
 /// Near the peak (cos²θ_h > 1/2) the power is evaluated as exp(s/2 · ln(1 − sin²θ_h)) with
 /// ln_1p, from the sin²θ_h of [`LocalDots`]: with s = 1e6 the lobe is 1e-3 rad wide, where

@@ -11,7 +11,7 @@ pub const MIN_ALPHA: f64 = 1e-4;
 /// Which microfacet distribution a Cook-Torrance material uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MicrofacetDistribution {
-    /// Trowbridge–Reitz / GGX, α used directly (the assignment).
+    /// Trowbridge–Reitz / GGX, α used directly (Walter et al. 2007).
     Ggx,
     /// Beckmann–Spizzichino.
     Beckmann,
@@ -58,6 +58,9 @@ fn alpha_squared<R: Real>(alpha: R) -> R {
 /// exceeds mathematically, so inconsistent inputs (sin²θ_h = 0 with a tiny cos θ_h) cannot
 /// divide by zero either.
 ///
+/// Source: B. Walter, S. Marschner, H. Li, K. Torrance, "Microfacet Models for Refraction
+/// through Rough Surfaces", EGSR 2007, eq. 33 (Trowbridge & Reitz 1975's distribution).
+///
 /// [`LocalDots`]: super::LocalDots
 #[inline(always)]
 pub fn ggx_d<R: Real>(n_dot_h: R, sin2_h: R, alpha: R) -> R {
@@ -75,6 +78,9 @@ pub fn ggx_d<R: Real>(n_dot_h: R, sin2_h: R, alpha: R) -> R {
 /// Zero for c ≤ 0 (the limit: the exponential vanishes faster than cos⁴ does), where cos²θ_h
 /// underflows, and where the exponential underflows. When it does not, tan²θ_h < 104 α² ≤ 104,
 /// so the factor (1 + tan²)² is below 1.1e4: no overflow and no 0/0 anywhere.
+///
+/// Source: P. Beckmann, A. Spizzichino, *The Scattering of Electromagnetic Waves from Rough
+/// Surfaces*, 1963; in this form, Walter et al. 2007, eq. 25.
 #[inline(always)]
 pub fn beckmann_d<R: Real>(n_dot_h: R, sin2_h: R, alpha: R) -> R {
     let c = n_dot_h.min(R::one());
@@ -108,7 +114,7 @@ mod tests {
         assert!((ggx_d(1.0f64, sin2(1.0f64), 0.5) - 1.0 / (PI * 0.25)).abs() < 1e-12);
         // α = 1 is uniform: 1/π everywhere.
         assert!((ggx_d(0.3f64, sin2(0.3f64), 1.0) - 1.0 / PI).abs() < 1e-12);
-        // The assignment's α = 0.7 at c = 0.9.
+        // α = 0.7 at c = 0.9.
         let a2 = 0.49;
         let expect = a2 / (PI * (1.0f64 + (a2 - 1.0) * 0.81).powi(2));
         assert!((ggx_d(0.9f64, sin2(0.9f64), 0.7) - expect).abs() < 1e-12);

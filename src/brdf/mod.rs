@@ -25,7 +25,7 @@ pub use fresnel::{
 };
 pub use lobes::{blinn_phong, lambert};
 pub use masking::{
-    g1_schlick, g1_smith_ggx, schlick_k_beckmann, schlick_k_karis, smith_ggx_correlated, MaskingShadowing,
+    schlick_k_beckmann, schlick_k_karis, v_schlick, v_smith_ggx, v_smith_ggx_correlated, MaskingShadowing,
 };
 pub use microfacet::{beckmann_d, ggx_d, MicrofacetDistribution, MIN_ALPHA};
 

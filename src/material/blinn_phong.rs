@@ -7,6 +7,6 @@ pub struct BlinnPhong {
     pub ks: f32,
     /// Exponent s.
     pub shininess: f32,
-    /// Specular tint (white in the assignment).
+    /// Specular tint (white by default).
     pub color: [f32; 3],
 }

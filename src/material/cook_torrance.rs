@@ -30,25 +30,27 @@ pub struct CookTorrance {
 }
 
 impl CookTorrance {
-    /// The `tp` preset's model and parameters, the assignment's: GGX, Schlick–Smith, Schlick; α = 0.7, metallic,
-    /// specular colour [0.98, 0.82, 0.76], n = 5. η and κ default to Mitsuba's "none" (F ≡ 1).
-    pub const TP_PRESET: CookTorrance = CookTorrance {
-        alpha: 0.7,
+    /// The scene files' Cook-Torrance (docs/scene-format.md, "Materials"): Mitsuba 3's
+    /// `roughconductor` terms (GGX, separable Smith) at its default roughness α = 0.1, with an
+    /// untinted specular colour over a dielectric of index 1.5 (Schlick's F0 = 0.04). η and κ are
+    /// Mitsuba's "none" (F ≡ 1) until a scene makes the material a conductor.
+    pub const DEFAULT: CookTorrance = CookTorrance {
+        alpha: 0.1,
         d: MicrofacetDistribution::Ggx,
-        g: MaskingShadowing::SchlickSmith,
+        g: MaskingShadowing::SmithGgx,
         f: FresnelTerm::Schlick,
-        metallic: true,
-        specular_color: [0.98, 0.82, 0.76],
-        ior: 5.0,
+        metallic: false,
+        specular_color: [1.0; 3],
+        ior: 1.5,
         eta: [0.0; 3],
         k: [1.0; 3],
     };
 }
 
 impl Default for CookTorrance {
-    /// [`CookTorrance::TP_PRESET`].
+    /// [`CookTorrance::DEFAULT`].
     fn default() -> Self {
-        Self::TP_PRESET
+        Self::DEFAULT
     }
 }
 
@@ -78,7 +80,7 @@ impl CookTorrance {
     }
 
     /// f_s = D·F·V with V = G/(4 (n·ω_i)(n·ω_o)) (see `MaskingShadowing::visibility`); 0 when
-    /// n·ω_i ≤ 0 or n·ω_o ≤ 0, which is where the assignment's guarded denominator gives 0 too.
+    /// n·ω_i ≤ 0 or n·ω_o ≤ 0, where G is 0 (a denominator guarded against 0 gives 0 there too).
     #[inline(always)]
     pub fn eval<R: Real>(&self, dots: &LocalDots<R>) -> [R; 3] {
         let alpha = R::of(self.alpha);

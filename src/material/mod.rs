@@ -1,7 +1,7 @@
 //! Materials: a Lambert diffuse part plus an optional specular lobe, composed from the BRDF
 //! module's terms.
 //!
-//! f_r(ω_i, ω_o) = k_d·albedo/π + f_s(ω_i, ω_o), as in the assignment; `kd = 0` gives a purely
+//! f_r(ω_i, ω_o) = k_d·albedo/π + f_s(ω_i, ω_o) (Cook & Torrance 1982); `kd = 0` gives a purely
 //! specular material. The glTF metallic-roughness model (`gltf-pbr`) is the exception: its
 //! diffuse part is weighted by 1 − F, so it replaces the sum (see [`GltfPbr`]). This is the only
 //! place the terms are combined, for every mode.
@@ -338,7 +338,7 @@ fn check_color(key: &str, c: [f32; 3]) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::brdf::FresnelTerm;
+    use crate::brdf::{FresnelTerm, MaskingShadowing};
     use std::f64::consts::PI;
 
     fn dots(ci: f64, co: f64, nh: f64, ih: f64) -> LocalDots<f64> {
@@ -346,11 +346,17 @@ mod tests {
     }
 
     #[test]
-    fn assignment_cook_torrance_by_hand() {
-        // The report's material: α = 0.7, metallic, specular colour [0.98, 0.82, 0.76], kd = 1,
-        // albedo [0.4, 0.7, 0.4]; GGX, Schlick–Smith, Schlick.
+    fn cook_torrance_by_hand() {
+        // α = 0.7, metallic, specular colour [0.98, 0.82, 0.76], kd = 1, albedo [0.4, 0.7, 0.4];
+        // GGX, Schlick–Smith, Schlick.
         let m = Material {
-            model: BrdfModel::CookTorrance(CookTorrance::default()),
+            model: BrdfModel::CookTorrance(CookTorrance {
+                alpha: 0.7,
+                g: MaskingShadowing::SchlickSmith,
+                metallic: true,
+                specular_color: [0.98, 0.82, 0.76],
+                ..CookTorrance::DEFAULT
+            }),
             ..Material::lambert("tp", [0.4, 0.7, 0.4])
         };
         let (ci, co, nh, ih) = (0.6f64, 0.8f64, 0.95f64, 0.9f64);

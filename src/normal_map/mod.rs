@@ -25,7 +25,7 @@ use crate::film::{overflow_error, Image};
 use crate::lanes::{LaneInstructions, Lanes, Scalar, LANES};
 use crate::normal_map::image::NormalImage;
 use crate::normal_map::likeness::NormalLikeness;
-use crate::normal_map::pixels::{ImageSurface, NormalDecoding, PixelPositions, TpScaling};
+use crate::normal_map::pixels::{ImageSurface, MinMaxScaling, NormalDecoding, PixelPositions};
 use crate::normal_map::plan::NormalMapPlan;
 use crate::normal_map::scene_file::{NormalMapScene, Preset};
 use crate::shading::convention::ShadingConvention;
@@ -84,7 +84,7 @@ pub fn shade(scene: &NormalMapScene, image: &NormalImage, output: &str) -> Input
 /// scaling would divide by zero).
 pub fn image_surface(scene: &NormalMapScene, image: &NormalImage) -> Result<ImageSurface, String> {
     let decoding = match scene.preset {
-        Preset::Tp => NormalDecoding::MinMax(TpScaling::of(image)?),
+        Preset::Tp => NormalDecoding::MinMax(MinMaxScaling::of(image)?),
         Preset::Physical => NormalDecoding::Signed,
     };
     Ok(ImageSurface {
@@ -116,9 +116,15 @@ pub fn shader<'a>(scene: &'a NormalMapScene, convention: ShadingConvention) -> S
 /// A row's foreground pixels become [`SurfaceLanes`] straight from the image — eight in f32
 /// lanes for the `physical` preset, four in float64 lanes for `tp` (the assignment's numpy code
 /// is float64) — and go through the shader's lane path. The decoding and the BRDF are the same
-/// functions [`ImageSurface::point`], [`shade_tp_pixel`] and [`Shader::shade`] run for one pixel.
+/// functions [`ImageSurface::point`], [`shade_min_max_pixel`] and [`Shader::shade`] run for one pixel.
 pub fn shade_image(scene: &NormalMapScene, image: &NormalImage, surface: &ImageSurface) -> (Image, NormalMapStats) {
-    shade_image_with(scene, image, surface, LaneInstructions::detect(), TpPrecision::Float64)
+    shade_image_with(
+        scene,
+        image,
+        surface,
+        LaneInstructions::detect(),
+        MinMaxPrecision::Float64,
+    )
 }
 
 /// [`shade_image`] with the lane path compiled for `instructions` (which must be available on
@@ -130,14 +136,14 @@ pub fn shade_image_with(
     image: &NormalImage,
     surface: &ImageSurface,
     instructions: LaneInstructions,
-    precision: TpPrecision,
+    precision: MinMaxPrecision,
 ) -> (Image, NormalMapStats) {
     match (surface.decoding, precision) {
-        (NormalDecoding::MinMax(s), TpPrecision::Float64) => {
-            shade_rows::<TpLanes<f64, 4>>(scene, image, surface, &s, instructions)
+        (NormalDecoding::MinMax(s), MinMaxPrecision::Float64) => {
+            shade_rows::<MinMaxLanes<f64, 4>>(scene, image, surface, &s, instructions)
         }
-        (NormalDecoding::MinMax(s), TpPrecision::Float32) => {
-            shade_rows::<TpLanes<f32, LANES>>(scene, image, surface, &s, instructions)
+        (NormalDecoding::MinMax(s), MinMaxPrecision::Float32) => {
+            shade_rows::<MinMaxLanes<f32, LANES>>(scene, image, surface, &s, instructions)
         }
         (NormalDecoding::Signed, _) => shade_rows::<PhysicalLanes>(scene, image, surface, &(), instructions),
     }
@@ -149,7 +155,7 @@ pub fn shade_image_with(
 /// guard than numpy's (`cargo bench --bench normalmap` compares both). The `physical` preset is
 /// always f32.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TpPrecision {
+pub enum MinMaxPrecision {
     /// Four float64 lanes (the default).
     Float64,
     /// Eight f32 lanes.
@@ -237,14 +243,14 @@ impl LaneGroup for PhysicalLanes {
 
 /// `tp` pixels in `Lanes<T, N>`: four float64 ones for the preset, eight f32 ones to compare.
 #[derive(Clone, Copy)]
-struct TpLanes<T: Scalar, const N: usize>(SurfaceLanes<Lanes<T, N>>);
+struct MinMaxLanes<T: Scalar, const N: usize>(SurfaceLanes<Lanes<T, N>>);
 
-impl<T: Scalar, const N: usize> LaneGroup for TpLanes<T, N> {
+impl<T: Scalar, const N: usize> LaneGroup for MinMaxLanes<T, N> {
     const WIDTH: usize = N;
-    type Decoding = TpScaling;
+    type Decoding = MinMaxScaling;
     #[inline(always)]
-    fn read(surface: &ImageSurface, scaling: &TpScaling, image: &NormalImage, row: u32, cols: &[u32]) -> Self {
-        TpLanes(surface.tp_lanes(scaling, image, row, std::array::from_fn(|i| cols[i])))
+    fn read(surface: &ImageSurface, scaling: &MinMaxScaling, image: &NormalImage, row: u32, cols: &[u32]) -> Self {
+        MinMaxLanes(surface.tp_lanes(scaling, image, row, std::array::from_fn(|i| cols[i])))
     }
     #[inline(always)]
     fn shade(&self, shader: &Shader<NoOcclusion>, mut out: impl FnMut(usize, Vec3)) {
@@ -339,7 +345,7 @@ fn shade_row<G: LaneGroup>(shader: &Shader<NoOcclusion>, buffers: &RowBuffers<G>
 /// --preset tp` runs four pixels at a time, in float64 (equal for every pixel:
 /// `tests/integration/normalmap.rs`): L_o (before the output's min-max normalisation) of the
 /// pixel at (`row`, `col`) with values `v` in `scaling`'s units (an image's integer levels for
-/// [`TpScaling::of`], [0, 1] for [`TpScaling::new`]), under `scene`'s lights, viewer and
+/// [`MinMaxScaling::of`], [0, 1] for [`MinMaxScaling::new`]), under `scene`'s lights, viewer and
 /// material (build `scene` with [`NormalMapScene::from_preset`] and [`Preset::Tp`], then change
 /// what you need).
 ///
@@ -348,7 +354,7 @@ fn shade_row<G: LaneGroup>(shader: &Shader<NoOcclusion>, buffers: &RowBuffers<G>
 /// Cook-Torrance denominator 0) gives the diffuse part alone, or 0 when n·ω_i = 0; ω_i + ω_o = 0
 /// gives the diffuse part alone; a light at the point adds nothing; a viewer at the point sees
 /// n·ω_o = 0. Never NaN. For the stability report.
-pub fn shade_tp_pixel(scene: &NormalMapScene, scaling: TpScaling, v: [f64; 3], row: u32, col: u32) -> DVec3 {
+pub fn shade_min_max_pixel(scene: &NormalMapScene, scaling: MinMaxScaling, v: [f64; 3], row: u32, col: u32) -> DVec3 {
     if scaling.is_background(v) {
         return DVec3::ZERO;
     }

@@ -16,7 +16,7 @@
 //! | position | (row, column, 0), in pixels | image plane z = 0, centred, image height = 2 units, +x right, +y up |
 //!
 //! ω_o comes from a [`Viewer`]: a direction (orthographic) or a position (ω_o = (x_c − x)/‖x_c − x‖;
-//! under `tp` formed as the report writes it, [`report_unit`]).
+//! under `tp` formed as the report writes it, [`unit_by_division`]).
 
 use glam::{Vec2, Vec3};
 
@@ -25,30 +25,30 @@ use crate::normal_map::image::NormalImage;
 use crate::normal_map::image::Sample;
 use crate::normal_map::image::TP_BACKGROUND_LEVEL;
 use crate::normal_map::image::{Samples, UnitSample};
-use crate::shading::convention::report_unit;
+use crate::shading::convention::unit_by_division;
 use crate::surface::{SurfaceLanes, SurfacePoint};
 
 /// The `tp` preset's scaling: n = (v − min)/(max − min) with one min and max over every RGB value
 /// of the image, in float64 and in the units of the values it scales — an image's integer levels
-/// ([`TpScaling::of`]: numerator and denominator exact, one rounding), or [0, 1]
-/// ([`TpScaling::new`]). Only constructible with min < max, so the division is always defined.
+/// ([`MinMaxScaling::of`]: numerator and denominator exact, one rounding), or [0, 1]
+/// ([`MinMaxScaling::new`]). Only constructible with min < max, so the division is always defined.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TpScaling {
+pub struct MinMaxScaling {
     min: f64,
     max: f64,
     full_scale: f64,
 }
 
-impl TpScaling {
+impl MinMaxScaling {
     /// The scaling of values in [0, 1] spanning [`min`, `max`]; an error unless min < max, both
     /// finite (max − min = 0 would divide by zero: such an image is one flat colour and holds no
     /// normal information).
-    pub fn new(min: f64, max: f64) -> Result<TpScaling, String> {
+    pub fn new(min: f64, max: f64) -> Result<MinMaxScaling, String> {
         Self::of_levels(min, max, 1.0)
     }
 
-    /// The scaling of levels in [0, `full_scale`] spanning [`min`, `max`] (see [`TpScaling::new`]).
-    pub fn of_levels(min: f64, max: f64, full_scale: f64) -> Result<TpScaling, String> {
+    /// The scaling of levels in [0, `full_scale`] spanning [`min`, `max`] (see [`MinMaxScaling::new`]).
+    pub fn of_levels(min: f64, max: f64, full_scale: f64) -> Result<MinMaxScaling, String> {
         if !(max > min && min.is_finite() && max.is_finite()) {
             return Err(format!(
                 "every RGB value is {}: the tp preset's scaling (c − min)/(max − min) divides by zero",
@@ -56,11 +56,11 @@ impl TpScaling {
             ));
         }
         // max − min > 0 is exact for levels, and ≥ one ulp of max otherwise: never 0.
-        Ok(TpScaling { min, max, full_scale })
+        Ok(MinMaxScaling { min, max, full_scale })
     }
 
-    /// The scaling of `image`'s RGB levels (see [`TpScaling::new`]).
-    pub fn of(image: &NormalImage) -> Result<TpScaling, String> {
+    /// The scaling of `image`'s RGB levels (see [`MinMaxScaling::new`]).
+    pub fn of(image: &NormalImage) -> Result<MinMaxScaling, String> {
         let (min, max) = image.level_range();
         Self::of_levels(min, max, image.full_scale())
     }
@@ -99,7 +99,7 @@ impl TpScaling {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum NormalDecoding {
     /// `tp`: the min-max-scaled colour as is; background (n = 0) at max(r, g, b) ≤ 4/255.
-    MinMax(TpScaling),
+    MinMax(MinMaxScaling),
     /// `physical`: n = normalise(2c − 1); background where alpha = 0 or r = g = b = 0.
     Signed,
 }
@@ -107,7 +107,7 @@ pub enum NormalDecoding {
 impl NormalDecoding {
     /// The normal stored in colour `rgb` with opacity `alpha`, or `None` for background.
     ///
-    /// `MinMax`: max − min > 0 is guaranteed by [`TpScaling::new`]; the colour in [0, 1] is
+    /// `MinMax`: max − min > 0 is guaranteed by [`MinMaxScaling::new`]; the colour in [0, 1] is
     /// taken to the scaling's units and decoded in float64, then rounded to f32 (the `tp` image
     /// path shades in float64 from the levels themselves: [`ImageSurface::tp_lanes`]). `Signed`:
     /// 2c − 1 can only be the zero vector for c = (½, ½, ½), which no 8- or 16-bit value encodes
@@ -314,7 +314,7 @@ impl ImageSurface {
     #[inline(always)]
     pub fn tp_lanes<T: Scalar, const N: usize>(
         &self,
-        scaling: &TpScaling,
+        scaling: &MinMaxScaling,
         image: &NormalImage,
         row: u32,
         cols: [u32; N],
@@ -336,15 +336,15 @@ impl ImageSurface {
     /// The `tp` surface point of a foreground pixel at (`col`, `row`) with values `v` in
     /// `scaling`'s units, in any [`Real`] (float64 for the preset): n = (v − min)/(max − min),
     /// x = (row, col, 0), and ω_o = (x_c − x)/‖x_c − x‖ formed as the report writes it
-    /// ([`report_unit`]) — so that, in float64, n·ω_o is the numpy implementation's to the bit.
+    /// ([`unit_by_division`]) — so that, in float64, n·ω_o is the numpy implementation's to the bit.
     #[inline(always)]
-    pub fn tp_point<R: Real>(&self, scaling: &TpScaling, v: [R; 3], col: R, row: R) -> SurfaceLanes<R> {
+    pub fn tp_point<R: Real>(&self, scaling: &MinMaxScaling, v: [R; 3], col: R, row: R) -> SurfaceLanes<R> {
         let position = self.position_of(col, row);
         let to_viewer = match self.viewer {
             Viewer::Direction(d) => map3(d.to_array(), R::of),
             Viewer::Position(c) => {
                 let c = map3(c.to_array(), R::of);
-                report_unit([c[0] - position[0], c[1] - position[1], c[2] - position[2]]).0
+                unit_by_division([c[0] - position[0], c[1] - position[1], c[2] - position[2]]).0
             }
         };
         SurfaceLanes {
@@ -375,7 +375,7 @@ mod tests {
             samples: Samples::Eight(vec![[51, 102, 153, 255], [76, 204, 127, 255]]),
             has_alpha: false,
         };
-        let s = TpScaling::of(&img).unwrap();
+        let s = MinMaxScaling::of(&img).unwrap();
         assert_eq!((s.min(), s.max(), s.full_scale()), (51.0, 204.0, 255.0), "levels");
         // (v − min)/(max − min) on the levels: one division of exact integers.
         assert_eq!(s.normal([51.0, 127.5, 204.0]), [0.0, 0.5, 1.0]);
@@ -386,8 +386,8 @@ mod tests {
             samples: Samples::Sixteen(vec![[300; 4]; 2]),
             ..img
         };
-        assert!(TpScaling::of(&flat).unwrap_err().contains("divides by zero"));
-        assert!(TpScaling::new(0.3, 0.3).is_err());
+        assert!(MinMaxScaling::of(&flat).unwrap_err().contains("divides by zero"));
+        assert!(MinMaxScaling::new(0.3, 0.3).is_err());
         // Many pixels (whole blocks and a remainder), the extremes in different channels and
         // blocks, alpha outside the RGB range: alpha must not count.
         let many = NormalImage {
@@ -406,13 +406,13 @@ mod tests {
             source: "m.png".into(),
         };
         assert_eq!(many.level_range(), (12.0, 201.0));
-        assert!(TpScaling::new(0.0, f64::NAN).is_err());
+        assert!(MinMaxScaling::new(0.0, f64::NAN).is_err());
     }
 
     #[test]
     fn tp_background_of_levels_is_the_integer_rule() {
         // The f64 test on levels decides as the integer test the row scan runs, at both depths.
-        let eight = TpScaling::of_levels(0.0, 255.0, 255.0).unwrap();
+        let eight = MinMaxScaling::of_levels(0.0, 255.0, 255.0).unwrap();
         for v in 0..=255u8 {
             assert_eq!(
                 eight.is_background([v as f64, 0.0, 0.0]),
@@ -420,7 +420,7 @@ mod tests {
                 "{v}"
             );
         }
-        let sixteen = TpScaling::of_levels(0.0, 65535.0, 65535.0).unwrap();
+        let sixteen = MinMaxScaling::of_levels(0.0, 65535.0, 65535.0).unwrap();
         for v in 0..=65535u16 {
             assert_eq!(
                 sixteen.is_background([0.0, v as f64, 0.0]),
@@ -432,7 +432,7 @@ mod tests {
 
     #[test]
     fn tp_background_is_the_near_black_surround() {
-        let d = NormalDecoding::MinMax(TpScaling::new(0.0, 1.0).unwrap());
+        let d = NormalDecoding::MinMax(MinMaxScaling::new(0.0, 1.0).unwrap());
         assert_eq!(d.normal([4.0 / 255.0, 3.0 / 255.0, 0.0], 1.0), None);
         assert!(d.normal([5.0 / 255.0, 0.0, 0.0], 1.0).is_some());
     }

@@ -18,6 +18,7 @@ use glam::Vec3;
 use serde::Deserialize;
 use toml::Spanned;
 
+use crate::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
 use crate::error::InputResult;
 use crate::light::{Falloff, Light, LightKind};
 use crate::material::{BlinnPhong, CookTorrance, Material};
@@ -26,6 +27,21 @@ use crate::scene::file::values::{resolve, three, three_opt, vec3};
 pub use crate::scene::file::ModelName;
 use crate::scene::file::{light, material, LightSection, MaterialDefaults, MaterialSection, TomlSource};
 use crate::shading::convention::ShadingConvention;
+
+/// The `tp` preset's Cook-Torrance, the NPM3D TP4 assignment's: GGX, Schlick–Smith and Schlick;
+/// α = 0.7, metallic with the specular colour [0.98, 0.82, 0.76] as F0, and n = 5 for a
+/// dielectric. η and κ are Mitsuba's "none" (F ≡ 1), as in [`CookTorrance::DEFAULT`].
+pub const TP_COOK_TORRANCE: CookTorrance = CookTorrance {
+    alpha: 0.7,
+    d: MicrofacetDistribution::Ggx,
+    g: MaskingShadowing::SchlickSmith,
+    f: FresnelTerm::Schlick,
+    metallic: true,
+    specular_color: [0.98, 0.82, 0.76],
+    ior: 5.0,
+    eta: [0.0; 3],
+    k: [1.0; 3],
+};
 
 /// A set of conventions and defaults for shading a normal image.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
@@ -114,7 +130,7 @@ impl Preset {
                     shininess: 1.0,
                     color: [1.0; 3],
                 },
-                cook_torrance: CookTorrance::TP_PRESET,
+                cook_torrance: TP_COOK_TORRANCE,
             },
             // One-sided: a decoded normal facing away from the viewer (noise at silhouettes, the
             // near-black surround of normal.png) shades black instead of being turned around.
@@ -412,7 +428,7 @@ mod tests {
             })
         );
         let ct = NormalMapScene::from_preset(Path::new("n.png"), Preset::Tp, ModelName::CookTorrance);
-        assert_eq!(ct.material.model, BrdfModel::CookTorrance(CookTorrance::TP_PRESET));
+        assert_eq!(ct.material.model, BrdfModel::CookTorrance(TP_COOK_TORRANCE));
     }
 
     #[test]

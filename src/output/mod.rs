@@ -1,8 +1,8 @@
 //! Output: images to files. PNG is 8-bit sRGB with exposure and clamping; EXR is linear float32
 //! RGB, untouched. All files of a render are encoded in memory first, written to temporary
 //! files beside their targets and renamed only when every one of them is written, so a failure
-//! never leaves partial output behind. The NPM3D assignment's formats (min-max 8-bit renders,
-//! RGBA normal images) are the normal-map mode's, in [`crate::normal_map::formats`].
+//! never leaves partial output behind. The normal-map mode's formats (min-max 8-bit renders,
+//! RGBA normal images) are in [`crate::normal_map::formats`].
 
 pub mod atomic;
 pub mod exr;

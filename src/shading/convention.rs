@@ -4,11 +4,10 @@
 //! - [`ShadingConvention::Physical`] (every mesh render, the normal-map `physical` preset): unit
 //!   normals, ω_i towards the light, the material's sidedness (one- or two-sided) decides where a
 //!   light contributes.
-//! - [`ShadingConvention::Clamped`] (the normal-map `tp` preset): the conventions behind the
-//!   NPM3D TP4 report's images, reproduced on purpose — the normal is used as given (the image's
-//!   min-max-scaled colour, not unit length), ω_i points *from the light towards the point*, ω_o
-//!   towards the viewer, and every dot product is clamped to [0, 1] instead of testing sides.
-//!   With the lights' `Falloff::None` (L_i = colour × intensity) this is the report's
+//! - [`ShadingConvention::Clamped`] (used by the normal-map `tp` preset): the normal is used as
+//!   given (of any length), ω_i points *from the light towards the point*, ω_o towards the
+//!   viewer, and every dot product is clamped to [0, 1] instead of testing sides. With the
+//!   lights' `Falloff::None` (L_i = colour × intensity) the shader then forms
 //!   L_o = L_i · f(ω_i, ω_o) · (n·ω_i).
 //!
 //! [`Material::eval`]: crate::material::Material::eval
@@ -22,7 +21,7 @@ pub enum ShadingConvention {
     /// Physical: unit normals, ω_i towards the light, sidedness from the material.
     Physical,
     /// Normals as given, ω_i from the light towards the point, every dot product clamped to
-    /// [0, 1]: the NPM3D TP4 assignment's convention, which the `tp` preset reproduces.
+    /// [0, 1].
     Clamped,
 }
 
@@ -32,7 +31,7 @@ impl ShadingConvention {
         match self {
             Self::Physical => "physical: unit normals, ω_i towards the light, material sidedness",
             Self::Clamped => {
-                "assignment (tp): normals used as given, ω_i from the light towards the point, \
+                "clamped: normals used as given, ω_i from the light towards the point, \
                  every dot product clamped to [0, 1]"
             }
         }
@@ -59,25 +58,25 @@ fn clamp01<R: Real>(v: R) -> R {
     v.max(R::zero()).min(R::one())
 }
 
-/// v/‖v‖ as the report writes its directions (and a numpy implementation computes them): each
-/// component divided by ‖v‖ = √(v_x² + v_y² + v_z²), summed in that order; the zero vector where
-/// ‖v‖ is 0 or not finite, with the lanes where it is defined. Division, not a product with 1/‖v‖: in float64 the `tp` preset then
-/// forms the report's ω_i and ω_o to the bit, so where n·ω_o is 0 in exact arithmetic — the
-/// Cook-Torrance denominator's guard is discontinuous there — it rounds to the side numpy does.
+/// v/‖v‖ with each component divided by ‖v‖ = √(v_x² + v_y² + v_z²), summed in that order (as
+/// `v / np.linalg.norm(v)` computes it); the zero vector where ‖v‖ is 0 or not finite, with the
+/// lanes where it is defined. Division, not a product with 1/‖v‖: in float64 the directions are
+/// then those of a numpy implementation to the bit, so where n·ω_o is 0 in exact arithmetic — a
+/// guarded Cook-Torrance denominator is discontinuous there — it rounds to the side numpy does.
 #[inline(always)]
-pub fn report_unit<R: Real>(v: [R; 3]) -> ([R; 3], R::Mask) {
+pub fn unit_by_division<R: Real>(v: [R; 3]) -> ([R; 3], R::Mask) {
     let len = dot(v, v).sqrt();
     let defined = len.gt(R::zero()) & len.is_finite();
     let safe = R::select(defined, len, R::one());
     (map3(v, |c| R::select(defined, c / safe, R::zero())), defined)
 }
 
-/// The assignment's dot products for normal `n` (used as given, any length), `wi_from_light`
-/// (unit, from the light towards the point, as the report writes ω_i) and `wo` (unit or zero,
+/// The clamped convention's dot products for normal `n` (used as given, any length),
+/// `wi_from_light` (unit, from the light towards the point) and `wo` (unit or zero,
 /// from the point towards the viewer); the half-vector products only `with_half_vector`.
 /// Generic over [`Real`]: the `tp` preset runs it on float64 lanes, the stability checks on f64.
 ///
-/// ω_h = (ω_i + ω_o)/‖ω_i + ω_o‖ ([`report_unit`]), with the sum formed once and its own length
+/// ω_h = (ω_i + ω_o)/‖ω_i + ω_o‖ ([`unit_by_division`]), with the sum formed once and its own length
 /// taken (no √(2 + 2 ω_i·ω_o), which cancels as ω_i → −ω_o); a zero (or NaN) length means no half vector.
 #[inline(always)]
 pub fn clamped_dots<R: Real>(n: [R; 3], wi_from_light: [R; 3], wo: [R; 3], with_half_vector: bool) -> ClampedDots<R> {
@@ -85,13 +84,13 @@ pub fn clamped_dots<R: Real>(n: [R; 3], wi_from_light: [R; 3], wo: [R; 3], with_
     let n_dot_i = clamp01(dot(n, wi));
     let n_dot_o = clamp01(dot(n, wo));
     let (wh, half_vector) = if with_half_vector {
-        report_unit([wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]])
+        unit_by_division([wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]])
     } else {
         ([R::zero(); 3], R::Mask::splat(false))
     };
     // Without a half vector report 0 (ω_h is the zero vector there: nothing NaN in any lane).
     let keep = |v: R| R::select(half_vector, v, R::zero());
-    // sin²θ_h = (1 − c)(1 + c) from the clamped c: the report's D is a function of that c.
+    // sin²θ_h = (1 − c)(1 + c) from the clamped c: D is a function of that c.
     ClampedDots {
         dots: LocalDots::from_cosines(n_dot_i, n_dot_o, keep(clamp01(dot(n, wh))), keep(clamp01(dot(wi, wh)))),
         half_vector,

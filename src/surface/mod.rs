@@ -25,8 +25,8 @@ pub struct SurfacePoint {
     /// Unit normal of the flat surface element (for shadow-ray offsets and sidedness).
     pub geometric_normal: Vec3,
     /// Normal used for shading (interpolated vertex normals, or a normal image's pixel): unit
-    /// length, except under the assignment convention (the `tp` preset), which uses the image's
-    /// scaled colour as it is.
+    /// length, except under the clamped convention (the normal-map `tp` preset's), which uses a
+    /// normal image's scaled colour as it is.
     pub shading_normal: Vec3,
     /// Texture coordinates (set 0); zero unless the scene's plan asks for them.
     pub uv: Vec2,
@@ -41,7 +41,7 @@ pub struct SurfacePoint {
 /// Surface points of one material, each coordinate in the lanes of `R` — [`LANES`](crate::lanes::LANES) of them in
 /// [`F32x8`] by default, four `tp` pixels in [`F64x4`](crate::lanes::F64x4), one point
 /// in a scalar: what the shader's lane path reads. Only the fields that path uses (the
-/// assignment convention has no sides, textures or shadow rays); the normal-map mode fills them
+/// clamped convention has no sides, textures or shadow rays); the normal-map mode fills them
 /// straight from the image.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceLanes<R: Real = F32x8> {

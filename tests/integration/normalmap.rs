@@ -12,9 +12,9 @@ use std::process::{Command, Output};
 
 use glam::{DVec3, Vec3};
 use pointshade::light::{Falloff, Light, LightKind};
-use pointshade::normal_map::pixels::{TpScaling, Viewer};
+use pointshade::normal_map::pixels::{MinMaxScaling, Viewer};
 use pointshade::normal_map::scene_file::{ModelName, NormalMapScene, Preset};
-use pointshade::normal_map::shade_tp_pixel;
+use pointshade::normal_map::shade_min_max_pixel;
 
 const BRDFS: [&str; 3] = ["lambert", "blinn-phong", "cook-torrance"];
 
@@ -249,13 +249,13 @@ fn all_finite(v: DVec3) -> bool {
 }
 
 /// Shades `image` through `shade_image_with` for every lane instruction set and compares each
-/// pixel with one point at a time: `shade_tp_pixel` for the tp preset (float64, rounded to f32 as
+/// pixel with one point at a time: `shade_min_max_pixel` for the tp preset (float64, rounded to f32 as
 /// the image path stores it), the scalar shader on `ImageSurface::point` for the physical one
 /// (one- and two-sided). Equal as numbers.
 fn assert_image_path_is_the_single_pixel_function(image: &pointshade::normal_map::image::NormalImage) {
     use pointshade::lanes::LaneInstructions;
-    use pointshade::normal_map::{image_surface, shade_image_with, shader, TpPrecision};
-    let scaling = TpScaling::of(image).unwrap();
+    use pointshade::normal_map::{image_surface, shade_image_with, shader, MinMaxPrecision};
+    let scaling = MinMaxScaling::of(image).unwrap();
     let mut sets = vec![LaneInstructions::Portable, LaneInstructions::detect()];
     sets.dedup();
     for brdf in ModelName::ALL {
@@ -265,13 +265,13 @@ fn assert_image_path_is_the_single_pixel_function(image: &pointshade::normal_map
             let surface = image_surface(&scene, image).unwrap();
             let one = shader(&scene, preset.convention());
             for &set in &sets {
-                let (shaded, _) = shade_image_with(&scene, image, &surface, set, TpPrecision::Float64);
+                let (shaded, _) = shade_image_with(&scene, image, &surface, set, MinMaxPrecision::Float64);
                 for row in 0..image.height {
                     for col in 0..image.width {
                         let index = (row * image.width + col) as usize;
                         let (rgb, alpha) = image.pixel(index);
                         let expected = match preset {
-                            Preset::Tp => shade_tp_pixel(&scene, scaling, image.levels(index), row, col).as_vec3(),
+                            Preset::Tp => shade_min_max_pixel(&scene, scaling, image.levels(index), row, col).as_vec3(),
                             Preset::Physical => surface
                                 .point(col, row, rgb, alpha)
                                 .map_or(Vec3::ZERO, |sp| one.shade(&sp, &mut 0)),
@@ -334,36 +334,36 @@ fn single_pixel_function_is_the_image_path_on_the_assignments_image() {
 
 #[test]
 fn tp_background_and_zero_normals_shade_to_zero() {
-    let full = TpScaling::new(0.0, 1.0).unwrap();
-    let from_tenth = TpScaling::new(0.1, 0.9).unwrap();
+    let full = MinMaxScaling::new(0.0, 1.0).unwrap();
+    let from_tenth = MinMaxScaling::new(0.1, 0.9).unwrap();
     for brdf in ModelName::ALL {
         let scene = tp_scene(brdf);
         // Background: max(rgb) ≤ 4/255 → n = 0, no surface point.
         assert_eq!(
-            shade_tp_pixel(&scene, full, [4.0 / 255.0, 0.0, 1.0 / 255.0], 100, 200),
+            shade_min_max_pixel(&scene, full, [4.0 / 255.0, 0.0, 1.0 / 255.0], 100, 200),
             DVec3::ZERO
         );
         // A pixel at the image's minimum is not background but scales to n = 0: every dot
         // product is 0, the Cook-Torrance denominator is guarded, L_o = 0.
         assert_eq!(
-            shade_tp_pixel(&scene, from_tenth, [0.1; 3], 100, 200),
+            shade_min_max_pixel(&scene, from_tenth, [0.1; 3], 100, 200),
             DVec3::ZERO,
             "{brdf:?}"
         );
         // A lit pixel is not 0 (the test above is not vacuous).
-        assert!(shade_tp_pixel(&scene, full, [0.9, 0.6, 0.4], 100, 200).max_element() > 0.0);
+        assert!(shade_min_max_pixel(&scene, full, [0.9, 0.6, 0.4], 100, 200).max_element() > 0.0);
     }
 }
 
 #[test]
 fn tp_zero_cook_torrance_denominator_leaves_the_diffuse_part() {
     use std::f64::consts::PI;
-    let full = TpScaling::new(0.0, 1.0).unwrap();
+    let full = MinMaxScaling::new(0.0, 1.0).unwrap();
     // n = (1, 0, 0) at (row 100, col 50): n·ω_i = 100/‖(100, 49, −1)‖ > 0, but ω_o points to the
     // camera [1, 300, 1] with a negative first component, so n·ω_o is clamped to 0 and
     // 4(n·ω_i)(n·ω_o) = 0.
-    let ct = shade_tp_pixel(&tp_scene(ModelName::CookTorrance), full, [1.0, 0.0, 0.0], 100, 50);
-    let lambert = shade_tp_pixel(&tp_scene(ModelName::Lambert), full, [1.0, 0.0, 0.0], 100, 50);
+    let ct = shade_min_max_pixel(&tp_scene(ModelName::CookTorrance), full, [1.0, 0.0, 0.0], 100, 50);
+    let lambert = shade_min_max_pixel(&tp_scene(ModelName::Lambert), full, [1.0, 0.0, 0.0], 100, 50);
     assert!(all_finite(ct));
     assert_eq!(ct, lambert, "the specular lobe is 0 where the denominator is 0");
     let cos = 100.0 / (100.0f64 * 100.0 + 49.0 * 49.0 + 1.0).sqrt();
@@ -372,18 +372,18 @@ fn tp_zero_cook_torrance_denominator_leaves_the_diffuse_part() {
         assert!((ct[c] - expect).abs() < 1e-6 * expect, "{c}: {} vs {expect}", ct[c]);
     }
     // n·ω_i = 0 as well (n = (0, 0, 1): ω_i has z = −1/‖·‖ < 0): L_o = 0.
-    let dark = shade_tp_pixel(&tp_scene(ModelName::CookTorrance), full, [0.0, 0.0, 1.0], 100, 50);
+    let dark = shade_min_max_pixel(&tp_scene(ModelName::CookTorrance), full, [0.0, 0.0, 1.0], 100, 50);
     assert_eq!(dark, DVec3::ZERO);
 }
 
 #[test]
 fn tp_light_and_viewer_on_one_ray_leave_the_diffuse_part() {
-    let full = TpScaling::new(0.0, 1.0).unwrap();
+    let full = MinMaxScaling::new(0.0, 1.0).unwrap();
     let on_the_light = |brdf| {
         let mut scene = tp_scene(brdf);
         // The viewer at the light: ω_o = (x_s − x)/‖·‖ = −ω_i, ω_i + ω_o = 0, no half vector.
         scene.viewer = Viewer::Position(Vec3::new(0.0, 1.0, 1.0));
-        shade_tp_pixel(&scene, full, [0.8, 0.7, 0.1], 40, 30)
+        shade_min_max_pixel(&scene, full, [0.8, 0.7, 0.1], 40, 30)
     };
     let lambert = on_the_light(ModelName::Lambert);
     assert!(lambert.min_element() > 0.0);
@@ -396,7 +396,7 @@ fn tp_light_and_viewer_on_one_ray_leave_the_diffuse_part() {
 
 #[test]
 fn tp_light_or_viewer_at_the_point_stay_finite() {
-    let full = TpScaling::new(0.0, 1.0).unwrap();
+    let full = MinMaxScaling::new(0.0, 1.0).unwrap();
     for brdf in ModelName::ALL {
         let mut scene = tp_scene(brdf);
         scene.lights = vec![Light {
@@ -407,11 +407,11 @@ fn tp_light_or_viewer_at_the_point_stay_finite() {
             falloff: Falloff::None,
         }];
         // The light at the point: no direction, documented to add nothing.
-        assert_eq!(shade_tp_pixel(&scene, full, [0.5, 0.6, 0.7], 5, 7), DVec3::ZERO);
+        assert_eq!(shade_min_max_pixel(&scene, full, [0.5, 0.6, 0.7], 5, 7), DVec3::ZERO);
         // The viewer at the point: ω_o = 0, n·ω_o = 0; finite.
         let mut scene = tp_scene(brdf);
         scene.viewer = Viewer::Position(Vec3::new(5.0, 7.0, 0.0));
-        assert!(all_finite(shade_tp_pixel(&scene, full, [0.5, 0.6, 0.7], 5, 7)));
+        assert!(all_finite(shade_min_max_pixel(&scene, full, [0.5, 0.6, 0.7], 5, 7)));
     }
 }
 
@@ -620,7 +620,7 @@ fn plan_shows_no_bvh_and_no_rays() {
         assert!(text.contains("[skip] shadow rays"), "{text}");
         assert!(text.contains("rays: 0 primary, at most 0 shadow"), "{text}");
         assert!(
-            text.contains(if preset == "tp" { "assignment (tp)" } else { "physical:" }),
+            text.contains(if preset == "tp" { "clamped:" } else { "physical:" }),
             "{text}"
         );
         let summary = String::from_utf8_lossy(&o.stderr);

@@ -1,5 +1,5 @@
 //! The normal-map `tp` preset's degenerate and ordinary pixels: the float64 shading path the
-//! `normalmap` command runs ([`shade_tp_pixel`]) against the same generic code — the assignment's
+//! `normalmap` command runs ([`shade_min_max_pixel`]) against the same generic code — the assignment's
 //! dot products ([`clamped_dots`]) and [`Material::eval`] — composed again, in f64, with
 //! glam's vector operations.
 //!
@@ -14,9 +14,9 @@ use glam::{DVec3, Vec3};
 
 use super::case::{num, rel_err, Case, Rng, REL_TOL};
 use crate::light::LightKind;
-use crate::normal_map::pixels::{TpScaling, Viewer};
+use crate::normal_map::pixels::{MinMaxScaling, Viewer};
 use crate::normal_map::scene_file::{NormalMapScene, Preset};
-use crate::normal_map::shade_tp_pixel;
+use crate::normal_map::shade_min_max_pixel;
 use crate::scene::file::ModelName;
 use crate::shading::convention::clamped_dots;
 
@@ -80,8 +80,8 @@ fn pixel_case(
         format!("tp {} {name}", model.name()),
         format!("rgb {rgb:?} at ({row}, {col})"),
     );
-    let tp = TpScaling::new(scaling.0 as f64, scaling.1 as f64).expect("the cases use min < max");
-    let ours = shade_tp_pixel(&s, tp, rgb.map(f64::from), row, col);
+    let tp = MinMaxScaling::new(scaling.0 as f64, scaling.1 as f64).expect("the cases use min < max");
+    let ours = shade_min_max_pixel(&s, tp, rgb.map(f64::from), row, col);
     let reference = tp_pixel_f64(&s, scaling, rgb, row, col);
     for c in 0..3 {
         case.count(ours[c]);
@@ -153,8 +153,8 @@ pub fn run(samples: u64, seed: u64) -> Vec<Case> {
     // on a line through both; an orthographic viewer looking back along ω_i makes the case.
     let mut opposite = scene(ModelName::CookTorrance);
     opposite.viewer = Viewer::Direction(-wi); // ω_o = −ω_i exactly
-    let tp = TpScaling::new(0.0, 1.0).expect("min < max");
-    let ours = shade_tp_pixel(&opposite, tp, [0.3, 0.2, 0.9], row, col);
+    let tp = MinMaxScaling::new(0.0, 1.0).expect("min < max");
+    let ours = shade_min_max_pixel(&opposite, tp, [0.3, 0.2, 0.9], row, col);
     let want = diffuse_only(ModelName::CookTorrance, Vec3::new(0.3, 0.2, 0.9), wi);
     let mut case = Case::new(
         "normal-map",
@@ -174,7 +174,7 @@ pub fn run(samples: u64, seed: u64) -> Vec<Case> {
     // A flat image is refused: no division by max − min = 0.
     let mut flat = Case::new("normal-map", "tp flat image (min = max)", "every RGB value 0.5");
     flat.singular = Some("documented: refused with an error".into());
-    match TpScaling::new(0.5, 0.5) {
+    match MinMaxScaling::new(0.5, 0.5) {
         Err(_) => flat.f32_value = "error".into(),
         Ok(_) => flat.fail("a flat image was accepted"),
     }
@@ -194,7 +194,7 @@ pub fn run(samples: u64, seed: u64) -> Vec<Case> {
         for _ in 0..samples {
             let rgb = [rng.uniform() as f32, rng.uniform() as f32, rng.uniform() as f32];
             let (row, col) = (rng.below(451) as u32, rng.below(768) as u32);
-            let ours = shade_tp_pixel(&s, tp, rgb.map(f64::from), row, col);
+            let ours = shade_min_max_pixel(&s, tp, rgb.map(f64::from), row, col);
             let reference = tp_pixel_f64(&s, unit, rgb, row, col);
             (0..3).for_each(|c| case.count(ours[c]));
             // Ill-conditioned pixels keep their NaN/Inf/negative counts but not the tolerance.

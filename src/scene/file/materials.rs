@@ -4,7 +4,7 @@
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
+use crate::brdf::FresnelTerm;
 use crate::material::{BlinnPhong, BrdfModel, CookTorrance, Material, MaterialTextures};
 
 use super::values::three_opt;
@@ -91,11 +91,9 @@ pub struct MaterialDefaults {
 impl MaterialDefaults {
     /// The defaults of mesh scene files (docs/scene-format.md, "Materials"): what someone porting
     /// a Mitsuba 3 or pbrt-v4 scene expects. Diffuse reflectance 0.5 (both renderers' default);
-    /// Cook-Torrance as Mitsuba's `roughconductor` computes it (GGX, separable Smith, α = 0.1,
-    /// Mitsuba's default roughness) with an untinted specular colour, over a dielectric
-    /// (η = 1.5, Schlick) unless `eta`/`k` make it a conductor (see `material`). The
-    /// assignment's values (α = 0.7, Schlick–Smith, a copper tint, n = 5) are the normal-map
-    /// `tp` preset's, not every scene file's.
+    /// Cook-Torrance [`CookTorrance::DEFAULT`] (Mitsuba's `roughconductor` terms at its default
+    /// roughness, over a dielectric unless `eta`/`k` make it a conductor: see `material`). The
+    /// normal-map `tp` preset has defaults of its own (`normal_map::scene_file`).
     pub const SCENE: MaterialDefaults = MaterialDefaults {
         albedo: [0.5; 3],
         kd: 1.0,
@@ -105,17 +103,7 @@ impl MaterialDefaults {
             shininess: 32.0,
             color: [1.0; 3],
         },
-        cook_torrance: CookTorrance {
-            alpha: 0.1,
-            d: MicrofacetDistribution::Ggx,
-            g: MaskingShadowing::SmithGgx,
-            f: FresnelTerm::Schlick,
-            metallic: false,
-            specular_color: [1.0; 3],
-            ior: 1.5,
-            eta: [0.0; 3],
-            k: [1.0; 3],
-        },
+        cook_torrance: CookTorrance::DEFAULT,
     };
 
     /// A material of `model` with every parameter at its default.

@@ -6,7 +6,7 @@
 //! convention) contributes only where n_s·ω_i > 0 and n_s·ω_o > 0; two-sided first turns both
 //! normals towards the viewer (when the shading normal faces away from it, as Mitsuba's
 //! `twosided` does). Lights behind the surface are skipped before any shadow ray is traced.
-//! Under the assignment convention (the normal-map `tp` preset, see [`ShadingConvention`]) the
+//! Under the clamped convention (the normal-map `tp` preset's, see [`ShadingConvention`]) the
 //! same sum is formed from clamped dot products instead. Either way f_r is [`Material::eval`]:
 //! the convention changes the inputs, never the BRDF.
 
@@ -261,7 +261,7 @@ impl<O: Occluder> Shader<'_, O> {
         Vec3::from(reflected_radiance(f, lit.ls.irradiance.to_array(), lit.cos_i))
     }
 
-    /// The assignment's L_o = Σ L_i · f(ω_i, ω_o) · (n·ω_i) with ω_i from the light towards the
+    /// The clamped convention's L_o = Σ L_i · f(ω_i, ω_o) · (n·ω_i) with ω_i from the light towards the
     /// point, n as given and every dot product clamped to [0, 1] ([`clamped_dots`]): the
     /// lane path ([`Shader::shade_clamped_lanes`]) on one point in f32. No sides and no shadow
     /// rays (the plan never pairs this convention with an occluder). Where ω_i + ω_o = 0 the half
@@ -291,7 +291,7 @@ fn front_lift(lift: f32, facing_ng: Vec3, ng: Vec3) -> f32 {
     }
 }
 
-/// One light's L_i · f(ω_i, ω_o) · (n·ω_i) under the assignment convention, per channel, in any
+/// One light's L_i · f(ω_i, ω_o) · (n·ω_i) under the clamped convention, per channel, in any
 /// [`Real`] (f32 for one point, [`F32x8`] for eight).
 #[inline(always)]
 fn clamped_term<R: Real>(

@@ -24,7 +24,9 @@ pub(super) fn materials() -> Vec<Material> {
                     g: *g,
                     f: *f,
                     alpha: 0.3,
-                    ..CookTorrance::TP_PRESET
+                    metallic: true,
+                    specular_color: [0.98, 0.82, 0.76],
+                    ..CookTorrance::DEFAULT
                 });
                 all.push(m);
             }
