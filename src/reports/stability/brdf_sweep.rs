@@ -20,16 +20,27 @@ use super::case::{num, rel_err, Case, Options, Rng, REL_TOL};
 use crate::brdf::{FresnelTerm, LocalDots, MaskingShadowing, MicrofacetDistribution};
 use crate::material::{BlinnPhong, BrdfModel, CookTorrance, Material};
 
-/// Families the sweep reports on, one pair of rows each.
-const FAMILIES: usize = 2 + 2 * 4;
+/// Masking terms: the Cook-Torrance families are the D × G pairs, D-major.
+const GS: usize = MaskingShadowing::ALL.len();
+
+/// Families the sweep reports on, one pair of rows each: Lambert, Blinn-Phong and every
+/// Cook-Torrance D × G pair (a new term adds its families here by itself).
+const FAMILIES: usize = 2 + MicrofacetDistribution::ALL.len() * GS;
+
+/// The D × G pair of Cook-Torrance family `f` (f ≥ 2).
+fn terms(f: usize) -> (MicrofacetDistribution, MaskingShadowing) {
+    (
+        MicrofacetDistribution::ALL[(f - 2) / GS],
+        MaskingShadowing::ALL[(f - 2) % GS],
+    )
+}
 
 fn family_name(f: usize) -> String {
     match f {
         0 => "lambert".into(),
         1 => "blinn-phong".into(),
         _ => {
-            let d = MicrofacetDistribution::ALL[(f - 2) / 4];
-            let g = MaskingShadowing::ALL[(f - 2) % 4];
+            let (d, g) = terms(f);
             format!("cook-torrance {}/{}", d.name(), g.name())
         }
     }
@@ -113,8 +124,8 @@ fn material(rng: &mut Rng, f: usize) -> (Material, bool) {
             ok = alpha >= 1e-2 && !(f_term == FresnelTerm::Conductor && weak_tir);
             m.model = BrdfModel::CookTorrance(CookTorrance {
                 alpha: alpha as f32,
-                d: MicrofacetDistribution::ALL[(f - 2) / 4],
-                g: MaskingShadowing::ALL[(f - 2) % 4],
+                d: terms(f).0,
+                g: terms(f).1,
                 f: f_term,
                 metallic: rng.uniform() < 0.5,
                 specular_color: color,
