@@ -193,8 +193,8 @@ mod tests {
     fn fans_and_coincident_boxes_overlap_too_much_and_surfaces_do_not() {
         assert!(overlaps_too_much(&fan(30_000)));
         assert!(overlaps_too_much(&fan(5_000)));
-        // A fan inside a large scene: the scene's extent no longer hides it (it did for a test
-        // of the whole scene's overlap, and PLOC took minutes on such a fuzz input).
+        // A fan inside a large scene: the windows see it where a test of the whole scene's
+        // overlap would not (a fuzz input of this shape took PLOC minutes).
         let mut scene = grid(300);
         scene.extend(fan(20_000).into_iter().map(|b| Aabb::new(b.min * 3.0, b.max * 3.0)));
         assert!(overlaps_too_much(&scene));

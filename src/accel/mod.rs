@@ -405,10 +405,9 @@ impl Occluder for Bvh {
 /// every other value unchanged).
 ///
 /// Traversal decides a slab's near plane from a sign and intersects it with 1/d; for −0.0 the two
-/// must agree, and with +0.0 they do by construction. (obvhs's CWBVH traversal, used before,
-/// took the sign from `d < 0` but divided by −0.0, and culled whole subtrees: Mitsuba validation
-/// caught shadows missing under a directional light of direction (0, −1, −1). The regression
-/// test stays.)
+/// must agree, and with +0.0 they do by construction: a sign taken from `d < 0` beside a division
+/// by −0.0 would put the near plane on the far side and cull whole subtrees (the test
+/// `directions_with_negative_zero_components_find_their_hits` holds the walk to it).
 #[inline(always)]
 fn without_negative_zeros(direction: Vec3) -> Vec3A {
     Vec3A::from(direction) + Vec3A::ZERO

@@ -159,8 +159,8 @@ impl WideBvh {
 }
 
 /// The child of `node` (among those in `mask`, entered at `t_near`) to visit next — the nearest —
-/// after pushing the others onto `stack`, farthest first. (An insertion sort: on coherent rays
-/// its branches predict well, and two branch-free orderings measured slower, see docs/performance-log.md.)
+/// after pushing the others onto `stack`, farthest first. An insertion sort: on coherent rays
+/// its branches predict well (docs/performance-log.md compares branch-free orderings).
 #[inline(always)]
 fn descend_nearest(node: &Node4, mask: u32, t_near: Vec4, stack: &mut impl Stack) -> (u32, f32) {
     let t = t_near.to_array();

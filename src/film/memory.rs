@@ -7,13 +7,13 @@
 //! docs/benchmarks.md). They cover the film's sums, the finished image and its encoded copies.
 //! The constants round the measurements up.
 
-/// Peak bytes per pixel of a plain render (measured 39–40: sums, image, encoded file).
+/// Peak bytes per pixel of a plain render (sums, image, encoded file).
 pub const BYTES_PER_PIXEL: u64 = 44;
-/// Added per AOV image other than `samples` (measured 30–41).
+/// Added per AOV image other than `samples`.
 pub const BYTES_PER_AOV_PIXEL: u64 = 44;
-/// Added by the `samples` AOV (measured 0: the sample counts are kept anyway).
+/// Added by the `samples` AOV (little: the sample counts are kept anyway).
 pub const BYTES_PER_SAMPLES_AOV_PIXEL: u64 = 8;
-/// Added by the adaptive samplers (`adaptive`, `cells`: measured 34–36, their per-pixel state).
+/// Added by the adaptive samplers (`adaptive`, `cells`: their per-pixel state).
 pub const BYTES_PER_ADAPTIVE_PIXEL: u64 = 40;
 
 /// What a film of `pixels` pixels needs at its peak, with `aovs` AOV images besides `samples`,

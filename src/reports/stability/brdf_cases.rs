@@ -1,4 +1,5 @@
-//! Fixed BRDF cases: every term and model at the singular and extreme inputs of issue 6, each in
+//! Fixed BRDF cases: every term and model at its singular and extreme inputs (α → 0, grazing
+//! angles, ω_i = −ω_o, huge exponents and indices), each in
 //! f32 and f64 through the same generic function, with the value the singular ones must take.
 //!
 //! Documented values (tested here and next to each term):
@@ -456,8 +457,8 @@ pub fn run() -> Vec<Case> {
         Eval::Material(bp(1e6), n, wi, wo),
         Expect::Match,
     ));
-    // The formulation issue 6 asked to fix, kept for comparison: sin²θ_h recovered from the f32
-    // cosine n·ω_h alone. The renderer does not use it (LocalDots carries sin²θ_h).
+    // A formulation that loses the narrow lobe, kept for comparison: sin²θ_h recovered from the
+    // f32 cosine n·ω_h alone. The renderer does not use it (LocalDots carries sin²θ_h).
     let (n, wi, wo) = tilted(1e-2);
     let mut cos_only = case(
         "CT ggx narrow, sin²θh from n·h (old)",
