@@ -1,5 +1,7 @@
 use super::*;
+use crate::material::Material;
 use crate::scene;
+use crate::texture::TextureImage;
 
 fn load(toml: &str) -> Scene {
     let dir = std::env::temp_dir().join(format!("pointshade-mitsuba-{}-{}", std::process::id(), toml.len()));
