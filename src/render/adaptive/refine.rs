@@ -1,5 +1,5 @@
-//! What the two refiners (`rounds` for `adaptive`, `subdivision` for `cells`) are given by the
-//! adaptive driver (`adaptive`): an active pixel and the refinement settings.
+//! What the two refiners (adaptive.rs for the `adaptive` sampler, cells.rs for `cells`) are
+//! given by the driver (mod.rs): an active pixel and the refinement settings.
 
 use glam::Vec3;
 

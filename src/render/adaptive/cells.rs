@@ -35,7 +35,7 @@
 use glam::{Vec2, Vec3};
 
 use super::refine::{ActivePixel, Settings};
-use super::tile::{PixelSums, SampleJob};
+use crate::render::tile::{PixelSums, SampleJob};
 
 /// Side of the first grid (16 cells, one packet of rays) when the film allows 16 samples.
 const FIRST_SIDE: u32 = 4;

@@ -17,9 +17,9 @@
 use glam::{Vec2, Vec3};
 
 use super::refine::{ActivePixel, Settings, DARK_FLOOR};
-use super::tile::{PixelSums, SampleJob};
 use crate::film::sampler::pixel_offsets;
 use crate::film::sampler::Sequence;
+use crate::render::tile::{PixelSums, SampleJob};
 
 /// Samples of an active pixel's first refinement round (a 4×4-stratified Sobol net); each later
 /// round takes 4× as many.

@@ -17,9 +17,9 @@
 //!    the largest of its centre value, a twentieth of its neighbourhood's level and display white
 //!    (the radiance 8-bit output shows as white, 2^−exposure): below white the tolerance is
 //!    absolute, as the error a viewer and RMSE see is.
-//!    - `adaptive` (`rounds`): Owen-scrambled Sobol samples in rounds of 16, 64, 256, … until the
+//!    - `adaptive` (adaptive.rs): Owen-scrambled Sobol samples in rounds of 16, 64, 256, … until the
 //!      pixel's estimate stops moving and the two halves of its samples agree.
-//!    - `cells` (`subdivision`): a centred 4×4 grid of cells (3×3 for a pixel active only
+//!    - `cells` (cells.rs): a centred 4×4 grid of cells (3×3 for a pixel active only
 //!      through the dilation), split 2×2 where a cell's value still jumps against its
 //!      neighbours', down to 32×32.
 //!
@@ -37,12 +37,19 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-use super::refine::{ActivePixel, Settings, DARK_FLOOR};
-use super::rounds;
-use super::sample_cache::SampleCache;
-use super::subdivision::{self, Scratch};
-use super::tile::{assemble, block_order, par_tiles, place_tile, tiles, Context, PixelSums, SampleJob, SurfaceSample};
+// Each sampler's refinement in a file named as `--sampler` names it.
+#[allow(clippy::module_inception)]
+mod adaptive;
+mod cells;
+mod refine;
+
 use crate::film::{FilmSettings, PixelRect, SamplerKind};
+use crate::render::sample_cache::SampleCache;
+use crate::render::tile::{
+    assemble, block_order, par_tiles, place_tile, tiles, Context, PixelSums, SampleJob, SurfaceSample,
+};
+use cells::Scratch;
+use refine::{ActivePixel, Settings, DARK_FLOOR};
 
 /// Renders `region` adaptively; returns the per-pixel sums and sample counts (row-major).
 pub fn render(ctx: &Context, region: PixelRect, on_tile: &(dyn Fn(u64) + Sync)) -> (PixelSums, Vec<u32>) {
@@ -186,9 +193,9 @@ pub fn refine(
                     None => &mut traced,
                 };
                 if film.sampler == SamplerKind::Cells {
-                    subdivision::refine(settings, &active, &mut sums, &mut counts, scratch, trace);
+                    cells::refine(settings, &active, &mut sums, &mut counts, scratch, trace);
                 } else {
-                    rounds::refine(settings, &active, &mut sums, &mut counts, trace);
+                    adaptive::refine(settings, &active, &mut sums, &mut counts, trace);
                 }
             });
             on_tile(done.fetch_add(1, Ordering::Relaxed) + 1);
