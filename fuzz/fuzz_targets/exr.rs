@@ -7,7 +7,7 @@ use pointshade::output::exr::{check_tiling, merge, read_crop, read_crop_placemen
 fuzz_target!(|data: &[u8]| {
     let path = pointshade_fuzz::put("i.exr", data);
     if let Ok(image) = pointshade::output::read_linear(&path) {
-        if let Ok(c) = pointshade::validation::compare::compare_checked(&image, &image, 1e-3, 3, false) {
+        if let Ok(c) = pointshade::film::compare::compare_checked(&image, &image, 1e-3, 3, false) {
             assert!(c.rmse == 0.0, "an image differs from itself: {}", c.rmse);
         }
     }

@@ -22,6 +22,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use pointshade::error::InputError as LibError;
+use pointshade::film::compare::{compare_checked, Side};
 use pointshade::film::Image;
 use pointshade::input_files::Confinement;
 use pointshade::material::{BrdfModel, Material};
@@ -35,7 +36,6 @@ use pointshade::render::request::RenderRequest;
 use pointshade::scene::file::{material_from_toml, MaterialDefaults};
 use pointshade::scene::{LoadOptions, SceneSource};
 use pointshade::shading::shader::{brdf_value, shading_dots};
-use pointshade::validation::compare::{compare_checked, Side};
 use pointshade::validation::export::{export_files, ExportOptions};
 
 use arrays::{directions, image_of, DirectionArray};

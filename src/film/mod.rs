@@ -1,8 +1,10 @@
 //! Film: image size, sampling settings, and the pixel buffers samples are averaged into.
 //!
 //! Pixels use a box filter: a pixel's value is the plain mean of its own samples, which is what
-//! Mitsuba's `box` rfilter computes, so references compare pixel for pixel.
+//! Mitsuba's `box` rfilter computes, so references compare pixel for pixel; [`compare`] is that
+//! comparison, the image metric every command uses.
 
+pub mod compare;
 pub mod memory;
 pub mod sampler;
 

@@ -1,10 +1,9 @@
-//! Validation against Mitsuba 3: export a scene as Mitsuba XML ([`mitsuba`]), compare images
-//! pixel by pixel ([`compare`]), and run both renderers and report ([`run`], [`report`]).
+//! Validation against Mitsuba 3: export a scene as Mitsuba XML ([`mitsuba`]), run both renderers,
+//! compare their images pixel by pixel ([`crate::film::compare`]) and report ([`run`], [`report`]).
 //!
 //! The Python side (installing Mitsuba, the `pointshade` BSDF plugin, rendering references)
 //! lives in the repository's `validation/` folder.
 
-pub mod compare;
 pub mod export;
 pub mod mitsuba;
 pub mod ply;

@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::validation::compare::Comparison;
+use crate::film::compare::Comparison;
 use crate::validation::run::{
     meets_thresholds, SceneValidation, REQUIRED_MEAN_RELATIVE_ERROR, REQUIRED_WITHIN, TOLERANCE,
 };

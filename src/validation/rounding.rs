@@ -15,9 +15,9 @@
 //! texture mistake worth the name (a flipped v, a missing transform, a wrong tangent sign)
 //! moves far more than one ulp and still fails (the README's broken-on-purpose checks).
 
+use crate::film::compare::Comparison;
 use crate::plan::RenderPlan;
 use crate::scene::Scene;
-use crate::validation::compare::Comparison;
 
 /// `scene` with every texture coordinate of both sets moved to the next float up (`up`) or
 /// down, or `None` when no rendered material samples a texture (then coordinates play no part).
@@ -56,11 +56,11 @@ mod tests {
     use glam::{Vec2, Vec3};
 
     use super::*;
+    use crate::film::compare::compare;
     use crate::film::Image;
     use crate::material::Material;
     use crate::reports::stability::scale_cases::contact_scene;
     use crate::texture::{TextureImage, TextureRef};
-    use crate::validation::compare::compare;
 
     fn image(values: &[f32]) -> Image {
         let mut img = Image::new(values.len() as u32, 1);

@@ -12,13 +12,13 @@ use std::process::Command;
 use std::time::{Duration, Instant};
 
 use crate::error::{InputError, InputResult};
+use crate::film::compare::{compare, Comparison};
 use crate::film::{Image, SamplerKind};
 use crate::output::{encode, read_linear, write_all_or_nothing, Format};
 use crate::plan::RenderPlan;
 use crate::render::{render_scene, Rendered};
 use crate::scene::shadows::ShadowOffset;
 use crate::scene::{self, Scene};
-use crate::validation::compare::{compare, Comparison};
 use crate::validation::mitsuba::{export, BsdfChoice, MitsubaExport};
 use crate::validation::rounding;
 

@@ -12,8 +12,8 @@
 //! ([`MAX_BEYOND_1E2`]), whatever the largest error of those few. The bounds and the
 //! measurements behind them are in docs/reference-drift.md (`validation/reference-drift.sh`).
 
+use crate::film::compare::compare;
 use crate::film::Image;
-use crate::validation::compare::compare;
 
 /// Largest share of pixels beyond 1e-3 relative error that host rounding explains: above the
 /// share by which AVX-512, AVX2 and scalar renders of any validation scene differ, far below

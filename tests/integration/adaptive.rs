@@ -5,11 +5,11 @@
 use crate::support;
 
 use glam::Vec3;
+use pointshade::film::compare::compare;
 use pointshade::film::{Image, SamplerKind};
 use pointshade::plan::{Aov, RenderPlan};
 use pointshade::render::{render_scene, Rendered};
 use pointshade::scene::Scene;
-use pointshade::validation::compare::compare;
 
 fn render(sampler: SamplerKind, spp: u32) -> Rendered {
     render_lit(sampler, spp, 1.0, 0.0)

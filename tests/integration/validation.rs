@@ -8,10 +8,10 @@
 
 use std::path::{Path, PathBuf};
 
+use pointshade::film::compare::compare;
 use pointshade::film::SamplerKind;
 use pointshade::output::read_linear;
 use pointshade::scene::shadows::ShadowOffset;
-use pointshade::validation::compare::compare;
 use pointshade::validation::mitsuba::{export, BsdfChoice};
 use pointshade::validation::rounding::nudged_texture_coordinates;
 use pointshade::validation::run::{load_sampled, meets_thresholds, render_ours, rounding_band, TOLERANCE};

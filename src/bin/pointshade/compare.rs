@@ -4,9 +4,9 @@ use std::path::PathBuf;
 
 use crate::options::{comma_list, option_error};
 use pointshade::error::InputError;
+use pointshade::film::compare::{bin_labels, compare_checked, error_by_group, group_table, Side};
 use pointshade::film::Image;
 use pointshade::output::{encode, read_linear, write_all_or_nothing, Format};
-use pointshade::validation::compare::{bin_labels, compare_checked, error_by_group, group_table, Side};
 use pointshade::validation::staleness::{check_reference, ReferenceCheck};
 
 /// Arguments of `pointshade compare`.

@@ -18,11 +18,11 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use crate::error::{InputError, InputResult};
+use crate::film::compare::compare;
 use crate::film::{time_budget_defaults, FilmSettings, Image, SamplerKind};
 use crate::output::{encode, write_all_or_nothing, Format};
 use crate::scene::shadows::ShadowOffset;
 use crate::scene::Scene;
-use crate::validation::compare::compare;
 use crate::validation::mitsuba::{export, BsdfChoice};
 use crate::validation::run::{load_sampled, render_ours, MitsubaJob, MitsubaRunner};
 

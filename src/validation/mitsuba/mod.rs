@@ -13,9 +13,9 @@
 //! [`MitsubaExport::differences`] ("no Mitsuba equivalent").
 
 //!
-//! One file per kind of Mitsuba plugin the export writes, as Mitsuba names them: [`sensor`]
-//! (with its film and sampler), [`bsdf`] (Mitsuba's own BSDFs), [`pointshade_bsdf`] (the
-//! plugin), [`emitter`] and [`shape`]; this file assembles the documents.
+//! One file per kind of Mitsuba plugin the export writes, as Mitsuba names them: sensor.rs
+//! (with its film and sampler), bsdf.rs (Mitsuba's own BSDFs), pointshade_bsdf.rs (the plugin),
+//! emitter.rs and shape.rs; this file assembles the documents.
 
 mod bsdf;
 mod emitter;
