@@ -280,7 +280,7 @@ class Scene:
             if obj["mesh"] not in self.meshes and not _os.path.isabs(obj["mesh"]):
                 obj["mesh"] = _os.path.relpath(_os.path.join(self.base_dir, obj["mesh"]), folder)
         for file, (vertices, faces, normals, uvs) in self.meshes.items():
-            _write_obj(_os.path.join(folder, file), vertices, faces, normals, uvs)
+            _native.write_obj(_os.path.join(folder, file), vertices, faces, normals, uvs)
         with open(path, "w", encoding="utf-8") as f:
             f.write(_native.to_toml(doc))
 
@@ -295,19 +295,3 @@ class Scene:
     def __repr__(self):
         counts = {k: len(self.doc.get(k, ())) for k in ("object", "material", "light")}
         return f"Scene({counts['object']} objects, {counts['material']} materials, {counts['light']} lights)"
-
-
-def _write_obj(path, vertices, faces, normals, uvs):
-    """An OBJ file that loads as the arrays do: shortest round-trip decimals, 1-based indices."""
-    v = _np.asarray(vertices, dtype=_np.float64)
-    lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in v.tolist()]
-    if uvs is not None:
-        lines += [f"vt {a!r} {b!r}" for a, b in _np.asarray(uvs, dtype=_np.float64).tolist()]
-    if normals is not None:
-        lines += [f"vn {x!r} {y!r} {z!r}" for x, y, z in _np.asarray(normals, dtype=_np.float64).tolist()]
-    slot = {(False, False): "{0}", (True, False): "{0}/{0}", (False, True): "{0}//{0}", (True, True): "{0}/{0}/{0}"}
-    fmt = slot[(uvs is not None, normals is not None)]
-    for tri in _np.asarray(faces, dtype=_np.int64).tolist():
-        lines.append("f " + " ".join(fmt.format(i + 1) for i in tri))
-    with open(path, "w", encoding="utf-8") as f:
-        f.write("\n".join(lines) + "\n")

@@ -118,27 +118,39 @@ pub fn mesh_table(meshes: &Bound<'_, PyDict>) -> PyResult<MeshTable> {
         let name: String = key.extract()?;
         let (vertices, faces, normals, uvs): (Bound<PyAny>, Bound<PyAny>, Bound<PyAny>, Bound<PyAny>) =
             value.extract()?;
-        let what = |part: &str| format!("mesh '{name}' {part}");
-        let positions = finite_floats(&what("vertices"), array(&what("vertices"), &vertices, 2, &[Some(3)])?)?;
-        let faces = indices(&what("faces"), array(&what("faces"), &faces, 2, &[Some(3)])?)?;
-        if faces.is_empty() {
-            return Err(value_error(&what("faces"), "no faces: nothing to render"));
-        }
-        let optional = |part: &str, value: &Bound<PyAny>, width: usize| -> PyResult<Vec<f64>> {
-            match value.is_none() {
-                true => Ok(Vec::new()),
-                false => finite_floats(&what(part), array(&what(part), value, 2, &[Some(width)])?),
-            }
-        };
-        let arrays = MeshArrays {
-            normals: optional("normals", &normals, 3)?,
-            uvs: optional("uvs", &uvs, 2)?,
-            positions,
-            indices: faces,
-        };
+        let arrays = mesh_arrays(&format!("mesh '{name}'"), &vertices, &faces, &normals, &uvs)?;
         table.insert(name, arrays);
     }
     Ok(table)
+}
+
+/// A mesh's arrays: (N, 3) float `vertices`, (M, 3) integer `faces`, and (N, 3) `normals` and
+/// (N, 2) `uvs` or `None`; messages name the part after `what` (`mesh 'x' vertices`).
+pub fn mesh_arrays(
+    what: &str,
+    vertices: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+    normals: &Bound<'_, PyAny>,
+    uvs: &Bound<'_, PyAny>,
+) -> PyResult<MeshArrays> {
+    let what = |part: &str| format!("{what} {part}");
+    let positions = finite_floats(&what("vertices"), array(&what("vertices"), vertices, 2, &[Some(3)])?)?;
+    let faces = indices(&what("faces"), array(&what("faces"), faces, 2, &[Some(3)])?)?;
+    if faces.is_empty() {
+        return Err(value_error(&what("faces"), "no faces: nothing to render"));
+    }
+    let optional = |part: &str, value: &Bound<PyAny>, width: usize| -> PyResult<Vec<f64>> {
+        match value.is_none() {
+            true => Ok(Vec::new()),
+            false => finite_floats(&what(part), array(&what(part), value, 2, &[Some(width)])?),
+        }
+    };
+    Ok(MeshArrays {
+        normals: optional("normals", normals, 3)?,
+        uvs: optional("uvs", uvs, 2)?,
+        positions,
+        indices: faces,
+    })
 }
 
 /// An (H, W, 3|4) uint8, uint16 or float normal image's samples: width, height, RGBA samples (alpha at

@@ -464,6 +464,30 @@ fn export_mitsuba<'py>(
     .map_err(py_err)
 }
 
+/// Writes a mesh's arrays as the OBJ file that loads exactly as they do
+/// (`pointshade::scene::obj::MeshArrays::to_obj`), all or nothing.
+#[pyfunction]
+#[pyo3(signature = (path, vertices, faces, normals=None, uvs=None))]
+fn write_obj(
+    py: Python<'_>,
+    path: PathBuf,
+    vertices: Bound<'_, PyAny>,
+    faces: Bound<'_, PyAny>,
+    normals: Option<Bound<'_, PyAny>>,
+    uvs: Option<Bound<'_, PyAny>>,
+) -> PyResult<()> {
+    let none = py.None().into_bound(py);
+    let arrays = arrays::mesh_arrays(
+        &format!("mesh {}", path.display()),
+        &vertices,
+        &faces,
+        normals.as_ref().unwrap_or(&none),
+        uvs.as_ref().unwrap_or(&none),
+    )?;
+    py.detach(|| pointshade::output::write_all_or_nothing(&[(path, arrays.to_obj().into_bytes())]))
+        .map_err(py_err)
+}
+
 /// A TOML document's text from a dict of str, bool, int, float, lists and dicts.
 #[pyfunction]
 fn to_toml(value: Bound<'_, PyDict>) -> PyResult<String> {
@@ -491,6 +515,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(read_image, m)?)?;
     m.add_function(wrap_pyfunction!(export_mitsuba, m)?)?;
     m.add_function(wrap_pyfunction!(to_toml, m)?)?;
+    m.add_function(wrap_pyfunction!(write_obj, m)?)?;
     m.add_function(wrap_pyfunction!(parse_toml, m)?)?;
     m.add_function(wrap_pyfunction!(options::render_option_table, m)?)?;
     Ok(())

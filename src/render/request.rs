@@ -3,15 +3,19 @@
 //! makes the plan; [`PreparedRender::render`] renders it. The CLI writes the result to files, the
 //! Python module returns it as arrays.
 
+use std::path::Path;
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 use super::options::{RenderOptions, Spelling};
 use super::progress::Progress;
+use super::progress::Silent;
 use super::workers::Workers;
-use super::{render_scene_until, Rendered};
+use super::{render_scene, render_scene_until, Rendered};
 use crate::error::{InputError, InputResult};
+use crate::film::SamplerKind;
 use crate::plan::RenderPlan;
+use crate::scene::shadows::ShadowOffset;
 use crate::scene::{LoadOptions, Scene, SceneSource};
 
 /// A scene to render and the options to render it with.
@@ -68,4 +72,27 @@ impl PreparedRender {
             .install(|| render_scene_until(&self.scene, &self.plan, progress, stop))
             .map_err(|e| InputError::new(&self.scene.source, e))
     }
+}
+
+/// The scene at `path` with its sampler and spp replaced (and checked) and no time budget: a
+/// render of a given sample count whatever the machine, as the validation and the convergence
+/// report measure them.
+pub fn load_sampled(path: &Path, sampler: SamplerKind, spp: u32) -> InputResult<Scene> {
+    let mut scene = crate::scene::load(path)?;
+    scene.film.sampler = sampler;
+    scene.film.spp = spp;
+    scene.film.time_budget = None;
+    scene.film.validate().map_err(|e| InputError::new(path, e))?;
+    Ok(scene)
+}
+
+/// `scene` rendered with shadow-ray offset `offset`, no AOVs and no progress; the render and
+/// the time its plan, BVH and render took.
+pub fn render_timed(scene: &Scene, offset: ShadowOffset) -> InputResult<(Rendered, Duration)> {
+    let mut scene = scene.clone();
+    scene.shadow_offset = offset;
+    let start = Instant::now();
+    let plan = RenderPlan::new(&scene, &[]);
+    let rendered = render_scene(&scene, &plan, &Silent).map_err(|e| InputError::new(&scene.source, e))?;
+    Ok((rendered, start.elapsed()))
 }

@@ -1,5 +1,5 @@
-//! Procedural meshes: the shapes in `meshes/`, generated here and written as OBJ by
-//! `cargo run --bin gen-meshes`.
+//! Procedural meshes: the shapes in `meshes/`, generated here and written as OBJ
+//! ([`crate::scene::obj::write`]) by `cargo run --bin gen-meshes`.
 //!
 //! Every shape is counter-clockwise seen from outside (or from inside the room, for the Cornell
 //! box walls), so one-sided materials show their front. Analytic shapes carry analytic normals.
@@ -7,6 +7,7 @@
 use std::f32::consts::{PI, TAU};
 use std::fmt::Write as _;
 
+use crate::scene::obj::write::ObjMesh;
 use crate::scene::TriangleMesh;
 use glam::{Vec2, Vec3};
 
@@ -45,42 +46,22 @@ impl ProceduralMesh {
         }
     }
 
-    /// Wavefront OBJ text. Floats are written in Rust's shortest round-trip form, so reading the
-    /// file back gives exactly these f32 values. `mtllib` names the MTL file if there are groups.
+    /// Wavefront OBJ text ([`ObjMesh`]): f32 values in their shortest round-trip form, so
+    /// reading the file back gives exactly these values. `mtllib` names the MTL file of the groups.
     pub fn to_obj(&self, header: &str, mtllib: Option<&str>) -> String {
-        let mut s = String::new();
-        for line in header.lines() {
-            let _ = writeln!(s, "# {line}");
+        let normals: Option<Vec<[f32; 3]>> = self.normals.as_ref().map(|n| n.iter().map(|v| v.to_array()).collect());
+        let uvs: Option<Vec<[f32; 2]>> = self.uvs.as_ref().map(|t| t.iter().map(|v| v.to_array()).collect());
+        let positions: Vec<[f32; 3]> = self.positions.iter().map(|p| p.to_array()).collect();
+        ObjMesh {
+            header,
+            mtllib,
+            positions: &positions,
+            normals: normals.as_deref(),
+            uvs: uvs.as_deref(),
+            triangles: &self.triangles,
+            groups: &self.groups,
         }
-        if let Some(lib) = mtllib {
-            let _ = writeln!(s, "mtllib {lib}");
-        }
-        for p in &self.positions {
-            let _ = writeln!(s, "v {} {} {}", p.x, p.y, p.z);
-        }
-        for n in self.normals.iter().flatten() {
-            let _ = writeln!(s, "vn {} {} {}", n.x, n.y, n.z);
-        }
-        for t in self.uvs.iter().flatten() {
-            let _ = writeln!(s, "vt {} {}", t.x, t.y);
-        }
-        let corner = |i: u32| {
-            let i = i + 1;
-            match (self.uvs.is_some(), self.normals.is_some()) {
-                (false, false) => format!("{i}"),
-                (true, false) => format!("{i}/{i}"),
-                (false, true) => format!("{i}//{i}"),
-                (true, true) => format!("{i}/{i}/{i}"),
-            }
-        };
-        let mut groups = self.groups.iter().peekable();
-        for (k, t) in self.triangles.iter().enumerate() {
-            while let Some((name, _)) = groups.next_if(|(_, first)| *first == k) {
-                let _ = writeln!(s, "o {name}\nusemtl {name}");
-            }
-            let _ = writeln!(s, "f {} {} {}", corner(t[0]), corner(t[1]), corner(t[2]));
-        }
-        s
+        .to_obj()
     }
 
     /// The triangles of one group as a mesh of their own (vertices compacted, no groups).

@@ -9,16 +9,16 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use crate::error::{InputError, InputResult};
 use crate::film::compare::{compare, Comparison};
 use crate::film::{Image, SamplerKind};
 use crate::output::{encode, read_linear, write_all_or_nothing, Format};
-use crate::plan::RenderPlan;
-use crate::render::{render_scene, Rendered};
+use crate::render::request::{load_sampled, render_timed};
+use crate::render::Rendered;
 use crate::scene::shadows::ShadowOffset;
-use crate::scene::{self, Scene};
+use crate::scene::Scene;
 use crate::validation::mitsuba::{export, BsdfChoice, MitsubaExport};
 use crate::validation::rounding;
 
@@ -250,33 +250,10 @@ pub fn rounding_band(scene: &Scene, reference: &Image, c: &Comparison) -> InputR
         let Some(s) = rounding::nudged_texture_coordinates(scene, up) else {
             return Ok(None);
         };
-        let image = render_ours(&s, ShadowOffset::Mitsuba)?.0.image;
+        let image = render_timed(&s, ShadowOffset::Mitsuba)?.0.image;
         nudged.push(compare(&image, reference, c.tolerance, 0));
     }
     Ok(Some(rounding::within_band(c, &nudged)))
-}
-
-/// Loads `path` with its sampler and spp replaced (and checked).
-pub fn load_sampled(path: &Path, sampler: SamplerKind, spp: u32) -> InputResult<Scene> {
-    let mut scene = scene::load(path)?;
-    scene.film.sampler = sampler;
-    scene.film.spp = spp;
-    // The count is the caller's: a time budget in the file would make it the machine's.
-    scene.film.time_budget = None;
-    scene.film.validate().map_err(|e| InputError::new(path, e))?;
-    Ok(scene)
-}
-
-/// Renders `scene` with pointshade using `offset`; returns the render and the time its plan,
-/// BVH and render took.
-pub fn render_ours(scene: &Scene, offset: ShadowOffset) -> InputResult<(Rendered, Duration)> {
-    let mut scene = scene.clone();
-    scene.shadow_offset = offset;
-    let start = Instant::now();
-    let plan = RenderPlan::new(&scene, &[]);
-    let rendered =
-        render_scene(&scene, &plan, &crate::render::progress::Silent).map_err(|e| InputError::new(&scene.source, e))?;
-    Ok((rendered, start.elapsed()))
 }
 
 /// Validates one scene at pixel centres and on a `grid`×`grid` grid, writing the files of the
@@ -331,7 +308,7 @@ pub fn validate_scene(
         let mut ours = Vec::new();
         let mut heat = Vec::new();
         for offset in [ShadowOffset::Mitsuba, ShadowOffset::ErrorBound] {
-            let (Rendered { image, .. }, time) = render_ours(&scene, offset)?;
+            let (Rendered { image, .. }, time) = render_timed(&scene, offset)?;
             let mut comparison = compare(&image, &reference, TOLERANCE, 8);
             if offset == ShadowOffset::Mitsuba {
                 comparison.within_rounding_band = rounding_band(&scene, &reference, &comparison)?;

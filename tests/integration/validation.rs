@@ -11,10 +11,11 @@ use std::path::{Path, PathBuf};
 use pointshade::film::compare::compare;
 use pointshade::film::SamplerKind;
 use pointshade::output::read_linear;
+use pointshade::render::request::{load_sampled, render_timed};
 use pointshade::scene::shadows::ShadowOffset;
 use pointshade::validation::mitsuba::{export, BsdfChoice};
 use pointshade::validation::rounding::nudged_texture_coordinates;
-use pointshade::validation::run::{load_sampled, meets_thresholds, render_ours, rounding_band, TOLERANCE};
+use pointshade::validation::run::{meets_thresholds, rounding_band, TOLERANCE};
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -38,7 +39,7 @@ fn check(scene: &Path) -> bool {
         .unwrap_or_else(|e| panic!("{e}: every validation scene needs a committed reference (pointshade validate --update-references validation/references)"));
     let s = load_sampled(scene, SamplerKind::Grid, 1).unwrap();
     let exact = export(&s, 1, BsdfChoice::NativeWhereExact, "s").differences.is_empty();
-    let ours = render_ours(&s, ShadowOffset::Mitsuba).unwrap().0.image;
+    let ours = render_timed(&s, ShadowOffset::Mitsuba).unwrap().0.image;
     let mut c = compare(&ours, &reference, TOLERANCE, 3);
     c.within_rounding_band = rounding_band(&s, &reference, &c).unwrap();
     eprintln!(
@@ -89,10 +90,10 @@ fn shared_mesh_scenes_agree_with_committed_mitsuba_references() {
 fn one_ulp_of_texture_coordinates_moves_a_textured_scene_past_the_tolerance() {
     let path = root().join("scenes/validation/shared/damaged-helmet.toml");
     let s = load_sampled(&path, SamplerKind::Grid, 1).unwrap();
-    let ours = render_ours(&s, ShadowOffset::Mitsuba).unwrap().0.image;
+    let ours = render_timed(&s, ShadowOffset::Mitsuba).unwrap().0.image;
     for up in [true, false] {
         let nudged = nudged_texture_coordinates(&s, up).expect("the helmet samples textures");
-        let image = render_ours(&nudged, ShadowOffset::Mitsuba).unwrap().0.image;
+        let image = render_timed(&nudged, ShadowOffset::Mitsuba).unwrap().0.image;
         let c = compare(&image, &ours, TOLERANCE, 0);
         let moved = 1.0 - c.within_tolerance;
         eprintln!(
@@ -142,7 +143,7 @@ fn a_changed_scene_makes_its_committed_reference_stale() {
             let path = dir.join(format!("{k}-{name}.toml"));
             std::fs::write(&path, scene_text).unwrap();
             let s = load_sampled(&path, SamplerKind::Grid, 1).unwrap();
-            let ours = render_ours(&s, ShadowOffset::Mitsuba).unwrap().0.image;
+            let ours = render_timed(&s, ShadowOffset::Mitsuba).unwrap().0.image;
             let verdict = check_reference(&ours, &committed);
             eprintln!("{name}, {label}: {verdict:?}");
             let stale = matches!(verdict, ReferenceCheck::Stale(_));

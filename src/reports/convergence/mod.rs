@@ -21,10 +21,11 @@ use crate::error::{InputError, InputResult};
 use crate::film::compare::compare;
 use crate::film::{time_budget_defaults, FilmSettings, Image, SamplerKind};
 use crate::output::{encode, write_all_or_nothing, Format};
+use crate::render::request::{load_sampled, render_timed};
 use crate::scene::shadows::ShadowOffset;
 use crate::scene::Scene;
 use crate::validation::mitsuba::{export, BsdfChoice};
-use crate::validation::run::{load_sampled, render_ours, MitsubaJob, MitsubaRunner};
+use crate::validation::run::{MitsubaJob, MitsubaRunner};
 
 /// Relative tolerance of the "within" column.
 pub const TOLERANCE: f32 = 1e-3;
@@ -190,7 +191,7 @@ struct OurRender {
 fn render_once(sweep: &Sweep, run: OurRun) -> InputResult<OurRender> {
     let start = Instant::now();
     let scene = load(sweep, run)?;
-    let (rendered, _) = render_ours(&scene, sweep.shadow_offset)?;
+    let (rendered, _) = render_timed(&scene, sweep.shadow_offset)?;
     let time = start.elapsed();
     let pixels = (rendered.image.width * rendered.image.height) as f64;
     Ok(OurRender {

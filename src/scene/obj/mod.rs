@@ -11,6 +11,7 @@
 
 mod mtl;
 mod plain;
+pub mod write;
 
 use std::path::{Path, PathBuf};
 
