@@ -152,6 +152,8 @@ pub trait Real:
     fn ln_1p(self) -> Self;
     /// self^e.
     fn powf(self, e: Self) -> Self;
+    /// arccos(self) in radians (NaN outside [−1, 1]).
+    fn acos(self) -> Self;
 
     /// self > other.
     fn gt(self, other: Self) -> Self::Mask;
@@ -247,6 +249,10 @@ macro_rules! scalar_real {
             #[inline(always)]
             fn powf(self, e: Self) -> Self {
                 <$t>::powf(self, e)
+            }
+            #[inline(always)]
+            fn acos(self) -> Self {
+                <$t>::acos(self)
             }
             #[inline(always)]
             fn gt(self, other: Self) -> bool {
@@ -490,6 +496,10 @@ impl<T: Scalar, const N: usize> Real for Lanes<T, N> {
     #[inline(always)]
     fn powf(self, e: Self) -> Self {
         self.zip(e, T::powf)
+    }
+    #[inline(always)]
+    fn acos(self) -> Self {
+        self.map(T::acos)
     }
     #[inline(always)]
     fn gt(self, other: Self) -> LaneMask<N> {

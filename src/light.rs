@@ -5,8 +5,9 @@
 //! - point: E = I/d² with I = color × intensity in W/sr (Mitsuba's `point`);
 //! - directional: E = color × intensity, `direction` is where the light travels (Mitsuba's
 //!   `directional`);
-//! - spot: a point light times the KHR_lights_punctual cone falloff
-//!   `saturate(cos θ·s + o)²`, s = 1/max(0.001, cos θ_inner − cos θ_outer), o = −cos θ_outer·s.
+//! - spot: a point light times a cone profile ([`SpotProfile`]): KHR_lights_punctual's
+//!   `saturate(cos θ·s + o)²`, s = 1/max(0.001, cos θ_inner − cos θ_outer), o = −cos θ_outer·s,
+//!   or Mitsuba 3's `spot`, linear in the angle from the inner cone to the outer one.
 //!
 //! `Falloff::None` drops the 1/d² (L_i = color × intensity at any distance, as the normal-map
 //! `tp` preset's lights are);
@@ -43,7 +44,22 @@ pub enum LightKind {
         direction: Vec3,
         cos_inner: f32,
         cos_outer: f32,
+        profile: SpotProfile,
     },
+}
+
+/// How a spot light's intensity falls from its inner cone (θ_inner, full intensity) to its
+/// outer one (θ_outer, none), θ the angle between its direction and the point.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SpotProfile {
+    /// KHR_lights_punctual's: saturate((cos θ − cos θ_outer)/(cos θ_inner − cos θ_outer))²,
+    /// smooth in cos θ (glTF 2.0 KHR_lights_punctual, "Inner and Outer Cone Angles").
+    #[default]
+    Gltf,
+    /// Mitsuba 3's `spot` emitter: 1 within the inner cone (its `beam_width`), then
+    /// (θ_outer − θ)/(θ_outer − θ_inner), linear in the angle, to 0 at the outer cone (its
+    /// `cutoff_angle`) and beyond (Mitsuba 3 documentation, "Spot light source").
+    Mitsuba,
 }
 
 /// A light source.
@@ -122,17 +138,22 @@ impl Light {
                 direction,
                 cos_inner,
                 cos_outer,
+                profile,
             } => {
                 let position = lane(position);
                 let v = [p[0] - position[0], p[1] - position[1], p[2] - position[2]];
                 let to_point = normalize_or_zero(v);
-                let scale = R::of(1.0 / (cos_inner - cos_outer).max(0.001));
-                let cos_outer = R::of(cos_outer);
-                let cone = (dot(to_point, lane(direction)) * scale - cos_outer * scale)
-                    .max(R::zero())
-                    .min(R::one());
-                let mut s = self.positional(p, position, cone * cone);
-                s.lit = s.lit & cone.gt(R::zero());
+                let cos = dot(to_point, lane(direction));
+                let factor = match profile {
+                    SpotProfile::Gltf => {
+                        let scale = R::of(1.0 / (cos_inner - cos_outer).max(0.001));
+                        let cone = (cos * scale - R::of(cos_outer) * scale).max(R::zero()).min(R::one());
+                        cone * cone
+                    }
+                    SpotProfile::Mitsuba => mitsuba_cone(cos, cos_inner, cos_outer),
+                };
+                let mut s = self.positional(p, position, factor);
+                s.lit = s.lit & factor.gt(R::zero());
                 s
             }
         }
@@ -172,6 +193,19 @@ impl Light {
             lit,
         }
     }
+}
+
+/// The spot profile of Mitsuba 3 at cos θ = `cos`: 1 where cos θ ≥ cos θ_inner, 0 where
+/// cos θ ≤ cos θ_outer, else (θ_outer − θ)/(θ_outer − θ_inner). Lights are loaded with ordered
+/// cones (θ_inner < θ_outer), so the quotient divides by a positive angle; cos θ is clamped to
+/// [−1, 1] before its arccos, against rounding.
+#[inline(always)]
+fn mitsuba_cone<R: Real>(cos: R, cos_inner: f32, cos_outer: f32) -> R {
+    let (inner, outer) = (cos_inner.acos(), cos_outer.acos());
+    let theta = cos.max(-R::one()).min(R::one()).acos();
+    let ramp = (R::of(outer) - theta) / R::of((outer - inner).max(f32::MIN_POSITIVE));
+    let inside = R::select(cos.ge(R::of(cos_inner)), R::one(), ramp.max(R::zero()).min(R::one()));
+    R::select(cos.gt(R::of(cos_outer)), inside, R::zero())
 }
 
 #[cfg(test)]
@@ -244,6 +278,7 @@ mod tests {
                 direction: Vec3::NEG_Y,
                 cos_inner: inner.cos(),
                 cos_outer: outer.cos(),
+                profile: SpotProfile::Gltf,
             },
             power: Vec3::ONE,
             falloff: Falloff::None,
@@ -257,5 +292,34 @@ mod tests {
         let mid = 15f32.to_radians().cos();
         let expected = ((mid - outer.cos()) / (inner.cos() - outer.cos())).powi(2);
         assert!((at(15.0).unwrap() - expected).abs() < 1e-5);
+    }
+
+    #[test]
+    fn mitsuba_profile_is_linear_in_the_angle_between_the_cones() {
+        let (inner, outer) = (10f32.to_radians(), 20f32.to_radians());
+        let l = Light {
+            kind: LightKind::Spot {
+                position: Vec3::ZERO,
+                direction: Vec3::NEG_Y,
+                cos_inner: inner.cos(),
+                cos_outer: outer.cos(),
+                profile: SpotProfile::Mitsuba,
+            },
+            power: Vec3::ONE,
+            falloff: Falloff::None,
+        };
+        let at = |deg: f32| {
+            l.sample(Vec3::new(deg.to_radians().tan(), -1.0, 0.0))
+                .map(|s| s.irradiance.x)
+        };
+        assert_eq!(at(5.0), Some(1.0));
+        assert_eq!(at(20.5), None);
+        for (deg, expected) in [(12.5, 0.75), (15.0, 0.5), (17.5, 0.25)] {
+            assert!((at(deg).unwrap() - expected).abs() < 1e-4, "{deg}°: {:?}", at(deg));
+        }
+        // Lanes and scalars agree, and rounding past ±1 gives no NaN.
+        let lanes = mitsuba_cone(crate::lanes::F32x8::splat(1.0 + 1e-7), inner.cos(), outer.cos());
+        assert_eq!(lanes.0, [1.0; 8]);
+        assert_eq!(mitsuba_cone(-1.0f32 - 1e-7, inner.cos(), outer.cos()), 0.0);
     }
 }

@@ -19,6 +19,7 @@ of area emitters (the emissive factor times the emissive texture). Only eval() m
 import drjit as dr
 import mitsuba as mi
 
+import pointshade_light as light
 import pointshade_textures as textures
 
 MIN_ALPHA = 1e-4
@@ -40,7 +41,8 @@ def _float(props, name, default):
 
 
 def register():
-    """Registers the plugin; call after mi.set_variant() and before loading a scene."""
+    """Registers the plugin, with the texture and light plugins (pointshade_textures.py,
+    pointshade_light.py); call after mi.set_variant() and before loading a scene."""
 
     class PointshadeBSDF(mi.BSDF):
         def __init__(self, props):
@@ -241,3 +243,4 @@ def register():
 
     mi.register_bsdf("pointshade", lambda props: PointshadeBSDF(props))
     textures.register()
+    light.register()

@@ -5,7 +5,7 @@ use glam::{DVec3, Vec3};
 use serde::Deserialize;
 
 use super::values::{point3, three, three_opt, vec3};
-use crate::light::{Falloff, Light, LightKind};
+use crate::light::{Falloff, Light, LightKind, SpotProfile};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -45,6 +45,7 @@ enum LightType {
 enum FalloffName {
     InverseSquare,
     None,
+    Mitsuba,
 }
 
 /// The light a `[[light]]` section describes, its position relative to `origin` (the scene's,
@@ -81,6 +82,10 @@ pub(crate) fn light(l: &LightSection, default_falloff: Falloff, origin: DVec3) -
                 direction: direction("direction")?,
                 cos_inner: inner.to_radians().cos(),
                 cos_outer: outer.to_radians().cos(),
+                profile: match l.falloff {
+                    Some(FalloffName::Mitsuba) => SpotProfile::Mitsuba,
+                    _ => SpotProfile::Gltf,
+                },
             }
         }
     };
@@ -88,10 +93,50 @@ pub(crate) fn light(l: &LightSection, default_falloff: Falloff, origin: DVec3) -
         None => default_falloff,
         Some(FalloffName::InverseSquare) => Falloff::InverseSquare,
         Some(FalloffName::None) => Falloff::None,
+        // Mitsuba's spot: the inverse square with its cone profile (set above).
+        Some(FalloffName::Mitsuba) if matches!(l.kind, LightType::Spot) => Falloff::InverseSquare,
+        Some(FalloffName::Mitsuba) => {
+            return Err("falloff = \"mitsuba\" is Mitsuba's spot-light profile: only a spot light takes it".into())
+        }
     };
     Ok(Light {
         kind,
         power: color * l.intensity,
         falloff,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(text: &str) -> Result<Light, String> {
+        let section: LightSection = toml::from_str(text).map_err(|e| e.to_string())?;
+        light(&section, Falloff::InverseSquare, DVec3::ZERO)
+    }
+
+    #[test]
+    fn falloff_mitsuba_is_a_spot_profile_with_the_inverse_square() {
+        let spot =
+            read("type = \"spot\"\nposition = [0.0, 2.0, 0.0]\ndirection = [0.0, -1.0, 0.0]\nfalloff = \"mitsuba\"\n")
+                .unwrap();
+        assert!(matches!(
+            spot.kind,
+            LightKind::Spot {
+                profile: SpotProfile::Mitsuba,
+                ..
+            }
+        ));
+        assert_eq!(spot.falloff, Falloff::InverseSquare);
+        let plain = read("type = \"spot\"\nposition = [0.0, 2.0, 0.0]\ndirection = [0.0, -1.0, 0.0]\n").unwrap();
+        assert!(matches!(
+            plain.kind,
+            LightKind::Spot {
+                profile: SpotProfile::Gltf,
+                ..
+            }
+        ));
+        let point = read("type = \"point\"\nposition = [0.0, 2.0, 0.0]\nfalloff = \"mitsuba\"\n").unwrap_err();
+        assert!(point.contains("only a spot light"), "{point}");
+    }
 }

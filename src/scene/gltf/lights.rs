@@ -10,7 +10,7 @@
 use glam::{Mat4, Vec3};
 
 use crate::error::InputResult;
-use crate::light::{Falloff, Light, LightKind};
+use crate::light::{Falloff, Light, LightKind, SpotProfile};
 use crate::scene::gltf::document::GltfDocument;
 
 /// The light `light` placed by a node with world matrix `world`.
@@ -52,6 +52,7 @@ pub fn light_at(d: &GltfDocument, light: &::gltf::khr_lights_punctual::Light, wo
                 direction: direction()?,
                 cos_inner: inner.cos(),
                 cos_outer: outer.cos(),
+                profile: SpotProfile::Gltf,
             }
         }
     };

@@ -1,6 +1,6 @@
 use super::*;
 use crate::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
-use crate::light::{Falloff, LightKind};
+use crate::light::{Falloff, LightKind, SpotProfile};
 use crate::material::BrdfModel;
 use crate::material::{BlinnPhong, CookTorrance};
 use glam::Vec2;
@@ -79,8 +79,8 @@ pub(super) fn points() -> Vec<SurfacePoint> {
     v
 }
 
-/// A point, a spot and a directional light.
-pub(super) fn lights() -> [Light; 3] {
+/// A point light, a spot light of each profile and a directional light.
+pub(super) fn lights() -> [Light; 4] {
     [
         Light {
             kind: LightKind::Point {
@@ -95,9 +95,21 @@ pub(super) fn lights() -> [Light; 3] {
                 direction: Vec3::new(0.0, -1.0, -0.2).normalize(),
                 cos_inner: 0.9,
                 cos_outer: 0.5,
+                profile: SpotProfile::Gltf,
             },
             power: Vec3::new(3.0, 2.0, 1.0),
             falloff: Falloff::InverseSquareWithin { range: 6.0 },
+        },
+        Light {
+            kind: LightKind::Spot {
+                position: Vec3::new(-1.0, 4.0, 2.0),
+                direction: Vec3::new(0.0, -1.0, -0.2).normalize(),
+                cos_inner: 0.9,
+                cos_outer: 0.5,
+                profile: SpotProfile::Mitsuba,
+            },
+            power: Vec3::new(1.0, 2.0, 3.0),
+            falloff: Falloff::InverseSquare,
         },
         Light {
             kind: LightKind::Directional {
@@ -164,7 +176,7 @@ pub(super) fn assert_shaded_as_one_by_one(shader: &Shader<HalfOccluder>, batch: 
 /// both sides and the degenerate points.
 #[test]
 fn brdf_value_is_what_the_shader_multiplies() {
-    let light = &lights()[2..];
+    let light = &lights()[3..];
     for material in batch_materials() {
         let materials = [material];
         let shader = physical(&materials, light, &crate::accel::shadow::NoOcclusion);

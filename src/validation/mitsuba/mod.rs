@@ -165,7 +165,8 @@ pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice, mesh_prefix: &str) -> 
             meshes.push((name, bytes));
         }
     }
-    let lights: Vec<String> = scene.lights.iter().map(|l| emitter(l, &mut differences)).collect();
+    let lights: Vec<String> = scene.lights.iter().map(emitter).collect();
+    let plugin_lights = lights.iter().any(|l| l.contains(emitter::PLUGIN));
     if !scene.shadows {
         differences.push("shadows = false (Mitsuba always traces shadow rays)".into());
     }
@@ -176,10 +177,11 @@ pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice, mesh_prefix: &str) -> 
             "<!-- exported by pointshade from {} -->",
             xml_escape(&scene.source.display().to_string())
         );
-        if material_notes.iter().any(|n| n.contains("plugin")) || any_emitter {
+        if material_notes.iter().any(|n| n.contains("plugin")) || any_emitter || plugin_lights {
             let _ = writeln!(
                 s,
-                "<!-- materials of type \"pointshade\" and emitted radiance need validation/pointshade_bsdf.py registered -->"
+                "<!-- materials of type \"pointshade\", emitters of type \"{}\" and emitted radiance need validation/pointshade_bsdf.py registered -->",
+                emitter::PLUGIN
             );
         }
         for d in &differences {

@@ -69,8 +69,36 @@ fn models_without_native_bsdf_use_the_plugin_and_inexact_features_are_listed() {
         .scene
         .contains("type=\"pointshade\"><string name=\"model\" value=\"blinn-phong\"/>"));
     assert!(e.material_notes[0].contains("plugin"));
-    assert_eq!(e.differences.len(), 3, "{:?}", e.differences); // sobol, falloff none, spot cone
-    assert!(e.scene.contains("<!-- no Mitsuba equivalent: spot light cone falloff"));
+    assert_eq!(
+        e.differences,
+        ["sobol sampler (exported as Mitsuba's independent sampler)"]
+    );
+    // A spot without the inverse square: the light plugin, with its falloff and cone.
+    assert!(e.scene.contains("<emitter type=\"pointshade_light\">"), "{}", e.scene);
+    assert!(e.scene.contains("<string name=\"falloff\" value=\"none\"/>"));
+    assert!(e.scene.contains("<string name=\"profile\" value=\"gltf\"/>"));
+    assert!(e.scene.contains("emitters of type \"pointshade_light\""));
+}
+
+#[test]
+fn spot_lights_are_mitsubas_spot_only_with_its_profile() {
+    let spot = |extra: &str| {
+        load(&format!(
+            "{CAMERA}[[light]]\ntype = \"spot\"\nposition = [0.0, 2.0, 0.0]\ndirection = [0.0, -1.0, 0.0]\n\
+             inner_cone = 15.0\nouter_cone = 30.0\n{extra}[[object]]\nmesh = \"tri.obj\"\n"
+        ))
+    };
+    let native = export(&spot("falloff = \"mitsuba\"\n"), 1, BsdfChoice::NativeWhereExact, "s");
+    assert!(native.scene.contains("<emitter type=\"spot\">"), "{}", native.scene);
+    assert!(native.scene.contains("<float name=\"cutoff_angle\" value=\"30"));
+    assert!(native.scene.contains("<float name=\"beam_width\" value=\"15"));
+    let gltf = export(&spot(""), 1, BsdfChoice::NativeWhereExact, "s");
+    assert!(
+        gltf.scene.contains("<emitter type=\"pointshade_light\">"),
+        "{}",
+        gltf.scene
+    );
+    assert!(!gltf.scene.contains("type=\"spot\""));
 }
 
 #[test]
