@@ -7,8 +7,8 @@ use crate::support;
 use glam::Vec3;
 use pointshade::film::compare::compare;
 use pointshade::film::{Image, SamplerKind};
-use pointshade::plan::{Aov, RenderPlan};
-use pointshade::render::{render_scene, Rendered};
+use pointshade::plan::Aov;
+use pointshade::render::Rendered;
 use pointshade::scene::Scene;
 
 fn render(sampler: SamplerKind, spp: u32) -> Rendered {
@@ -17,8 +17,7 @@ fn render(sampler: SamplerKind, spp: u32) -> Rendered {
 
 /// The test scene with its lights' power times `dim`, at `exposure` stops.
 fn render_lit(sampler: SamplerKind, spp: u32, dim: f32, exposure: f32) -> Rendered {
-    let s = lit_scene(sampler, spp, dim, exposure);
-    render_scene(&s, &RenderPlan::new(&s, &[]), &|_| {}).unwrap()
+    support::render(&lit_scene(sampler, spp, dim, exposure), &[])
 }
 
 fn lit_scene(sampler: SamplerKind, spp: u32, dim: f32, exposure: f32) -> Scene {
@@ -146,7 +145,7 @@ fn the_samples_aov_is_the_count_each_pixel_took() {
         (SamplerKind::Sobol, 4),
     ] {
         let s = lit_scene(sampler, spp, 1.0, 0.0);
-        let r = render_scene(&s, &RenderPlan::new(&s, &[Aov::Samples]), &|_| {}).unwrap();
+        let r = support::render(&s, &[Aov::Samples]);
         let [(Aov::Samples, image)] = &r.aovs[..] else {
             panic!("one samples AOV expected")
         };

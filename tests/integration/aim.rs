@@ -1,18 +1,19 @@
 //! Aiming a scene's camera from the command line: `--view azimuth,elevation[,distance]` around
 //! the automatic framing, `--look-from`, `--look-at` and `--fov`; automatic lights follow.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
+use std::process::Output;
 
-use crate::support::gltf_builder::temp_dir;
+use crate::support::{self, Scratch};
 
 /// The shipped 20×20 plane in y = 0 (normal +y, two-sided light grey), rendered 49×37 (so that
-/// a pixel's centre is the image's) with `extra`, with its normal and depth AOVs.
-fn render(name: &str, extra: &[&str]) -> (Output, PathBuf) {
-    let dir = temp_dir(&format!("aim-{name}"));
-    let out = dir.join("out.exr");
+/// a pixel's centre is the image's) with `extra`, with its normal and depth AOVs, into `out.exr`
+/// (and `out.normal.exr`, `out.depth.exr`) of the folder returned.
+fn render(name: &str, extra: &[&str]) -> (Output, Scratch) {
+    let dir = Scratch::new(&format!("aim-{name}"));
+    let out = dir.path("out.exr");
     let plane = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/plane.obj");
-    let r = Command::new(env!("CARGO_BIN_EXE_pointshade"))
+    let r = support::command()
         .arg("render")
         .arg(&plane)
         .arg("-o")
@@ -32,7 +33,7 @@ fn render(name: &str, extra: &[&str]) -> (Output, PathBuf) {
         .args(extra)
         .output()
         .unwrap();
-    (r, out)
+    (r, dir)
 }
 
 fn exr(path: &Path) -> Vec<f32> {
@@ -42,8 +43,9 @@ fn exr(path: &Path) -> Vec<f32> {
 /// Radiance, normal and depth at the centre pixel (one sample at its centre: the grid sampler),
 /// and the depth four pixels above and below it.
 fn centre(name: &str, extra: &[&str]) -> ([f32; 3], [f32; 3], f32, [f32; 2]) {
-    let (r, out) = render(name, extra);
+    let (r, dir) = render(name, extra);
     assert!(r.status.success(), "{name}: {}", String::from_utf8_lossy(&r.stderr));
+    let out = dir.path("out.exr");
     let at = |row: usize| 3 * (row * 49 + 24);
     let pixel = |p: &Path| {
         let v = exr(p);
@@ -106,9 +108,9 @@ fn look_from_look_at_and_fov_set_the_camera() {
     // A narrower field of view sees a smaller part of the plane around the same centre: the
     // corner pixel, off the plane at 90°, is on it at 20°.
     let corner = |extra: &[&str], name: &str| {
-        let (r, out) = render(name, extra);
+        let (r, dir) = render(name, extra);
         assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
-        exr(&out.with_file_name("out.depth.exr"))[0]
+        exr(&dir.path("out.depth.exr"))[0]
     };
     let wide = corner(&["--look-from", "0,3,4", "--look-at", "0,0,0", "--fov", "150"], "wide");
     let narrow = corner(&["--look-from", "0,3,4", "--look-at", "0,0,0", "--fov", "20"], "narrow");
@@ -137,14 +139,8 @@ fn bad_aims_are_one_line_errors_naming_the_option() {
         ),
         (&["--fov", "0"][..], "--fov", "(0, 180)"),
     ] {
-        let (r, out) = render(&format!("bad-{}", args.join("_").replace(['-', ','], "")), args);
-        let stderr = String::from_utf8_lossy(&r.stderr);
-        assert_eq!(r.status.code(), Some(2), "{args:?}: {stderr}");
-        assert_eq!(stderr.lines().count(), 1, "{args:?}: {stderr}");
-        assert!(
-            stderr.contains(option) && stderr.contains(problem),
-            "{args:?}: {stderr}"
-        );
-        assert!(!out.exists(), "{args:?}: no output");
+        let (r, dir) = render(&format!("bad-{}", args.join("_").replace(['-', ','], "")), args);
+        let out = dir.path("out.exr");
+        support::assert_one_line_error(&r, &[option, problem], &[&out]);
     }
 }

@@ -4,34 +4,32 @@
 use crate::support;
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use serde_json::json;
 use support::gltf_builder::{square, GltfBuilder};
+use support::Scratch;
 
+/// A test's folder, holding `tri.obj` (one triangle) for scenes to name.
 struct Case {
-    dir: PathBuf,
+    dir: Scratch,
 }
 
 impl Case {
     fn new(name: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("pointshade-bad-{}-{name}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        std::fs::write(dir.join("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+        let dir = Scratch::new(&format!("bad-{name}"));
+        dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
         Case { dir }
     }
 
     fn file(&self, name: &str, text: &str) -> PathBuf {
-        let p = self.dir.join(name);
-        std::fs::write(&p, text).unwrap();
-        p
+        self.dir.write(name, text)
     }
 
-    /// Runs `render SCENE -o out.png EXTRA…` and checks the failure contract; returns stderr.
+    /// Runs `render SCENE -o out.png EXTRA…` and checks the failure contract
+    /// ([`support::assert_input_error`]); returns the error line.
     fn fails(&self, scene: &Path, extra: &[&str], expect_in_message: &[&str]) -> String {
-        let out = self.dir.join("out.png");
-        let result = Command::new(env!("CARGO_BIN_EXE_pointshade"))
+        let out = self.dir.path("out.png");
+        let result = support::command()
             .arg("render")
             .arg(scene)
             .arg("-o")
@@ -39,32 +37,11 @@ impl Case {
             .args(extra)
             .output()
             .unwrap();
-        let stderr = String::from_utf8_lossy(&result.stderr).into_owned();
-        assert_eq!(result.status.code(), Some(2), "exit code for {scene:?}: {stderr}");
-        let errors: Vec<_> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
-        assert_eq!(errors.len(), 1, "exactly one error line: {stderr}");
-        assert!(!stderr.contains("panicked"), "{stderr}");
-        for e in expect_in_message {
-            assert!(errors[0].contains(e), "'{}' should mention '{e}'", errors[0]);
-        }
-        assert!(!out.exists(), "no output file after an error");
-        let leftovers: Vec<_> = std::fs::read_dir(&self.dir)
-            .unwrap()
-            .filter_map(|e| e.ok())
-            .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
-            .collect();
-        assert!(leftovers.is_empty(), "temporary files left behind");
-        errors[0].to_string()
+        support::assert_input_error(&result, expect_in_message, &[&out])
     }
 
     fn scene(&self, body: &str) -> PathBuf {
         self.file("scene.toml", body)
-    }
-}
-
-impl Drop for Case {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.dir);
     }
 }
 
@@ -176,15 +153,12 @@ fn absurd_sizes_and_bad_options() {
     let budget_in_file = c.scene(&format!("{CAMERA}[film]\ntime_budget = -2.0\n"));
     c.fails(&budget_in_file, &[], &["scene.toml", "time_budget"]);
     let out = c.dir.join("out.png");
-    let r = Command::new(env!("CARGO_BIN_EXE_pointshade"))
-        .args([
-            "render",
-            tri.to_str().unwrap(),
-            "-o",
-            c.dir.join("out.jpg").to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
+    let r = support::pointshade(&[
+        "render",
+        tri.to_str().unwrap(),
+        "-o",
+        c.dir.join("out.jpg").to_str().unwrap(),
+    ]);
     assert_eq!(r.status.code(), Some(2));
     assert!(!out.exists());
 }
@@ -196,20 +170,8 @@ fn an_output_folder_that_does_not_exist_fails_before_anything_is_rendered() {
     let out = c.dir.join("missing").join("out.png");
     // merge's crop does not even exist: the folder is checked before any input is read.
     for (command, input) in [("render", tri), ("merge", c.dir.join("crop.exr"))] {
-        let r = Command::new(env!("CARGO_BIN_EXE_pointshade"))
-            .arg(command)
-            .arg(&input)
-            .arg("-o")
-            .arg(&out)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&r.stderr);
-        assert_eq!(r.status.code(), Some(2), "{command}: {stderr}");
-        assert_eq!(stderr.lines().count(), 1, "{command}: {stderr}");
-        assert!(
-            stderr.contains("out.png") && stderr.contains("does not exist"),
-            "{command}: {stderr}"
-        );
+        let r = support::pointshade(&[command.as_ref(), input.as_os_str(), "-o".as_ref(), out.as_os_str()]);
+        support::assert_one_line_error(&r, &["out.png", "does not exist"], &[&out]);
     }
     assert!(!c.dir.join("missing").exists());
 }

@@ -1,19 +1,18 @@
 //! `pointshade compare` on synthetic EXRs with known errors, NaN and Inf pixels, and bad input.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use crate::support::{self, Scratch};
+
+use std::path::Path;
 
 use glam::Vec3;
 use pointshade::film::Image;
 use pointshade::output::{encode, Format};
 
-fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("pointshade-compare-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn dir(name: &str) -> Scratch {
+    Scratch::new(&format!("compare-{name}"))
 }
 
-fn write(path: &PathBuf, values: &[f32], width: u32) {
+fn write(path: &Path, values: &[f32], width: u32) {
     let img = Image {
         width,
         height: values.len() as u32 / width,
@@ -23,11 +22,7 @@ fn write(path: &PathBuf, values: &[f32], width: u32) {
 }
 
 fn run(args: &[&std::ffi::OsStr]) -> (Option<i32>, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_pointshade"))
-        .arg("compare")
-        .args(args)
-        .output()
-        .unwrap();
+    let out = support::command().arg("compare").args(args).output().unwrap();
     (
         out.status.code(),
         String::from_utf8_lossy(&out.stdout).into_owned(),
@@ -103,7 +98,6 @@ fn reports_known_errors_and_non_finite_pixels_and_writes_a_heat_map() {
     assert_eq!(h.dimensions(), (3, 2));
     assert_eq!(h.get_pixel(2, 0).0, [255, 255, 255], "NaN pixel is white");
     assert_eq!(h.get_pixel(0, 0).0, [0, 0, 0], "exact pixel is black");
-    std::fs::remove_dir_all(d).unwrap();
 }
 
 #[test]
@@ -129,7 +123,6 @@ fn size_mismatch_and_unreadable_files_are_one_line_errors() {
         assert_eq!(lines.len(), 1, "{stderr}");
         assert!(lines[0].starts_with("error:") && lines[0].contains(expect), "{stderr}");
     }
-    std::fs::remove_dir_all(d).unwrap();
 }
 
 #[test]
@@ -193,5 +186,4 @@ fn group_by_splits_the_squared_error_by_label_and_refuses_bad_label_images() {
             "{stderr}"
         );
     }
-    std::fs::remove_dir_all(d).unwrap();
 }

@@ -6,18 +6,12 @@
 use crate::support;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use serde_json::json;
 
-use support::gltf_builder::{square, temp_dir, write_png, GltfBuilder};
-
-fn run(args: &[&Path]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pointshade"))
-        .args(args)
-        .output()
-        .unwrap()
-}
+use support::gltf_builder::{square, write_png, GltfBuilder};
+use support::Scratch;
 
 /// `render INPUT -o DIR/out.png` at 8×6, with `--confine inside` when given: the output and
 /// whether the image was written.
@@ -29,7 +23,7 @@ fn render(input: &Path, confine: Option<&Path>) -> (Output, bool) {
     if let Some(dir) = confine {
         args.extend([Path::new("--confine"), dir]);
     }
-    let output = run(&args);
+    let output = support::pointshade(&args);
     (output, out.exists())
 }
 
@@ -42,27 +36,23 @@ fn succeeds(input: &Path, confine: Option<&Path>) -> String {
 
 /// The one error line of a refused render, which wrote nothing.
 fn refused(input: &Path, confine: &Path) -> String {
-    let (out, written) = render(input, Some(confine));
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert_eq!(out.status.code(), Some(2), "{}: {stderr}", input.display());
-    assert!(!written, "{}: an image was written", input.display());
-    let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
-    assert_eq!(errors.len(), 1, "{stderr}");
-    assert!(errors[0].contains("the folder reads are confined to"), "{}", errors[0]);
-    errors[0].to_string()
+    let (out, _) = render(input, Some(confine));
+    let image = input.parent().unwrap().join("out.png");
+    support::assert_input_error(&out, &["the folder reads are confined to"], &[&image])
 }
 
 const TRIANGLE: &str = "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n";
 
-/// `root/inside` (the confinement) and `root/outside` with a triangle OBJ in each.
-fn folders(name: &str) -> (PathBuf, PathBuf) {
-    let root = temp_dir(name);
-    let (inside, outside) = (root.join("inside"), root.join("outside"));
+/// `root/inside` (the confinement) and `root/outside` with a triangle OBJ in each; `root` is
+/// removed when the first value is dropped.
+fn folders(name: &str) -> (Scratch, PathBuf, PathBuf) {
+    let root = Scratch::new(name);
+    let (inside, outside) = (root.path("inside"), root.path("outside"));
     for d in [&inside, &outside] {
         std::fs::create_dir_all(d).unwrap();
         std::fs::write(d.join("tri.obj"), TRIANGLE).unwrap();
     }
-    (inside, outside)
+    (root, inside, outside)
 }
 
 fn scene_naming(inside: &Path, name: &str, mesh: &str) -> PathBuf {
@@ -73,7 +63,7 @@ fn scene_naming(inside: &Path, name: &str, mesh: &str) -> PathBuf {
 
 #[test]
 fn scene_files_reach_no_mesh_outside_the_folder() {
-    let (inside, outside) = folders("confine-scene");
+    let (_root, inside, outside) = folders("confine-scene");
     std::os::unix::fs::symlink(outside.join("tri.obj"), inside.join("link.obj")).unwrap();
     let own = scene_naming(&inside, "own", "tri.obj");
     succeeds(&own, Some(&inside));
@@ -102,12 +92,11 @@ fn scene_files_reach_no_mesh_outside_the_folder() {
         stderr.contains("--confine") && stderr.contains("folder not found"),
         "{stderr}"
     );
-    let _ = std::fs::remove_dir_all(inside.parent().unwrap());
 }
 
 #[test]
 fn material_libraries_outside_are_errors_and_foreign_files_are_never_quoted() {
-    let (inside, outside) = folders("confine-mtl");
+    let (_root, inside, outside) = folders("confine-mtl");
     // A file that is not an MTL, like /etc/passwd.
     let passwd = "root:x:0:0:root:/root:/bin/bash\nsecret_user:x:1000:1000:Some Name:/home/s:/bin/sh\n";
     std::fs::write(outside.join("passwd"), passwd).unwrap();
@@ -127,12 +116,11 @@ fn material_libraries_outside_are_errors_and_foreign_files_are_never_quoted() {
     for secret in ["root:x", "secret_user", "/bin/bash", "Some Name"] {
         assert!(!stderr.contains(secret), "quoted '{secret}': {stderr}");
     }
-    let _ = std::fs::remove_dir_all(inside.parent().unwrap());
 }
 
 #[test]
 fn gltf_uris_outside_are_refused_however_they_are_spelled() {
-    let (inside, outside) = folders("confine-gltf");
+    let (_root, inside, outside) = folders("confine-gltf");
     write_png(&outside.join("a.png"), 1, 1, &[[200, 100, 50, 255]]);
     write_png(&inside.join("a.png"), 1, 1, &[[200, 100, 50, 255]]);
     let outside_png = outside.join("a.png").display().to_string();
@@ -161,12 +149,11 @@ fn gltf_uris_outside_are_refused_however_they_are_spelled() {
             succeeds(&path, None);
         }
     }
-    let _ = std::fs::remove_dir_all(inside.parent().unwrap());
 }
 
 #[test]
 fn normal_images_outside_are_refused() {
-    let (inside, outside) = folders("confine-normals");
+    let (_root, inside, outside) = folders("confine-normals");
     write_png(&outside.join("n.png"), 2, 2, &[[128, 128, 255, 255]; 4]);
     let out = inside.join("shaded.png");
     let args = |confine: bool| {
@@ -178,7 +165,7 @@ fn normal_images_outside_are_refused() {
         }
         a
     };
-    let refused = Command::new(env!("CARGO_BIN_EXE_pointshade"))
+    let refused = support::command()
         .args(args(true))
         .current_dir(&inside)
         .output()
@@ -187,12 +174,11 @@ fn normal_images_outside_are_refused() {
     assert_eq!(refused.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("n.png") && stderr.contains("confined to"), "{stderr}");
     assert!(!out.exists());
-    let allowed = Command::new(env!("CARGO_BIN_EXE_pointshade"))
+    let allowed = support::command()
         .args(args(false))
         .current_dir(&inside)
         .output()
         .unwrap();
     assert!(allowed.status.success(), "{}", String::from_utf8_lossy(&allowed.stderr));
     assert!(out.exists());
-    let _ = std::fs::remove_dir_all(inside.parent().unwrap());
 }

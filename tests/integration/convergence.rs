@@ -1,31 +1,28 @@
 //! `pointshade convergence`: the CSV lists every point with a falling error, and the plots exist;
 //! bad input fails before anything is rendered or written.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use crate::support::{self, Scratch};
 
-const BIN: &str = env!("CARGO_BIN_EXE_pointshade");
+use std::path::{Path, PathBuf};
 
 /// A fresh folder for one test, and in it `small.toml`: the Lambert scene at `width`×`height`.
-fn small_scene(test: &str, width: u32, height: u32) -> (PathBuf, PathBuf) {
-    let d = std::env::temp_dir().join(format!("pointshade-convergence-{test}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
+fn small_scene(test: &str, width: u32, height: u32) -> (Scratch, PathBuf) {
+    let d = Scratch::new(&format!("convergence-{test}"));
     let lambert = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/lambert.toml")).unwrap();
     let meshes = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes");
     let small = lambert
         .replace("width = 512", &format!("width = {width}"))
         .replace("height = 384", &format!("height = {height}"))
         .replace("../meshes", meshes.to_str().unwrap());
-    let scene = d.join("small.toml");
-    std::fs::write(&scene, small).unwrap();
+    let scene = d.write("small.toml", &small);
     (d, scene)
 }
 
 /// One test's sweep: its folder, the small scene in it, a reference and the output folder.
 /// Dropping it removes the folder.
 struct SweepFolder {
-    dir: PathBuf,
+    /// Held for its drop.
+    _dir: Scratch,
     scene: PathBuf,
     reference: PathBuf,
     out: PathBuf,
@@ -37,8 +34,8 @@ impl SweepFolder {
         let (dir, scene) = small_scene(test, width, height);
         let reference = reference(&dir, &scene);
         Self {
-            out: dir.join("out"),
-            dir,
+            out: dir.path("out"),
+            _dir: dir,
             scene,
             reference,
         }
@@ -46,7 +43,7 @@ impl SweepFolder {
 
     /// Runs `pointshade convergence` with `options`.
     fn run(&self, options: &[&str]) -> std::process::Output {
-        Command::new(BIN)
+        support::command()
             .args(["convergence", self.scene.to_str().unwrap(), "--reference"])
             .arg(&self.reference)
             .args(options)
@@ -71,21 +68,13 @@ impl SweepFolder {
         Table { csv, header, rows }
     }
 
-    /// Runs a sweep that must fail (`why`) before writing anything: a non-zero exit, one line
-    /// on stderr naming each of `says`, and no output folder.
+    /// Runs a sweep that must fail (`why`) before writing anything: the failure contract
+    /// ([`support::assert_one_line_error`]) with the one line naming each of `says`, and no
+    /// output folder.
     fn fails_before_writing(&self, options: &[&str], why: &str, says: &[&str]) {
         let r = self.run(options);
-        let stderr = String::from_utf8_lossy(&r.stderr);
         assert!(!r.status.success(), "{why} must fail");
-        assert_eq!(stderr.trim().lines().count(), 1, "one line: {stderr}");
-        assert!(says.iter().all(|s| stderr.contains(s)), "{why}: {stderr}");
-        assert!(!self.out.exists(), "no output folder for a run that failed");
-    }
-}
-
-impl Drop for SweepFolder {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.dir);
+        support::assert_one_line_error(&r, says, &[&self.out]);
     }
 }
 
@@ -119,11 +108,17 @@ impl Table {
 /// Renders `scene` with a 16×16 grid into `d/ref.exr`.
 fn reference(d: &Path, scene: &Path) -> PathBuf {
     let reference = d.join("ref.exr");
-    let r = Command::new(BIN)
-        .args(["render", scene.to_str().unwrap(), "-o", reference.to_str().unwrap()])
-        .args(["--sampler", "grid", "--spp", "256", "--quiet"])
-        .output()
-        .unwrap();
+    let r = support::pointshade(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        reference.to_str().unwrap(),
+        "--sampler",
+        "grid",
+        "--spp",
+        "256",
+        "--quiet",
+    ]);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     reference
 }

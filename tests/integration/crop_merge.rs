@@ -1,18 +1,13 @@
 //! Splitting a frame into crops and merging them gives exactly the single-machine render, byte
 //! for byte, for fixed and adaptive sampling; bad crops are refused with one-line errors.
 
+use crate::support::{self, Scratch};
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_pointshade"))
-}
-
-fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("pointshade-crops-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn dir(name: &str) -> Scratch {
+    Scratch::new(&format!("crops-{name}"))
 }
 
 fn scene() -> PathBuf {
@@ -24,7 +19,7 @@ fn ok(out: Output) {
 }
 
 fn render(sampling: &[&str], out: &Path, crop: Option<&str>) {
-    let mut c = bin();
+    let mut c = support::command();
     c.arg("render")
         .arg(scene())
         .arg("-o")
@@ -53,7 +48,7 @@ fn four_crops_merge_to_the_full_render(sampling: &[&str], name: &str) {
     }
     for ext in ["exr", "png"] {
         let merged = d.join(format!("merged.{ext}"));
-        ok(bin()
+        ok(support::command()
             .arg("merge")
             .args([&paths[2], &paths[0], &paths[3], &paths[1]])
             .arg("-o")
@@ -66,7 +61,6 @@ fn four_crops_merge_to_the_full_render(sampling: &[&str], name: &str) {
         );
         assert!(a == b, "{name}: merged .{ext} differs from the full render");
     }
-    std::fs::remove_dir_all(d).unwrap();
 }
 
 #[test]
@@ -87,16 +81,10 @@ fn crops_of_an_adaptive_render_merge_byte_identically() {
     four_crops_merge_to_the_full_render(&["--sampler", "cells", "--spp", "64"], "cells");
 }
 
+/// Runs `args`, which must fail with one line ([`support::assert_one_line_error`]) containing
+/// `expect` and write no `no_file`.
 fn fails(args: &[&std::ffi::OsStr], expect: &str, no_file: &Path) {
-    let out = bin().args(args).output().unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{stderr}");
-    let lines: Vec<_> = stderr.lines().collect();
-    assert!(
-        lines.len() == 1 && lines[0].starts_with("error:") && lines[0].contains(expect),
-        "{stderr}"
-    );
-    assert!(!no_file.exists());
+    support::assert_one_line_error(&support::pointshade(args), &[expect], &[no_file]);
 }
 
 #[test]
@@ -165,5 +153,4 @@ fn bad_crops_and_merges_are_refused() {
             &exr,
         );
     }
-    std::fs::remove_dir_all(d).unwrap();
 }

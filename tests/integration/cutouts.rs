@@ -13,9 +13,9 @@ use pointshade::accel::{Bvh, BvhPreset};
 use pointshade::film::{Image, SamplerKind};
 use pointshade::normal_map::bake::bake_normals;
 use pointshade::plan::RenderPlan;
-use pointshade::render::render_scene;
 use pointshade::scene::{self, Scene};
-use support::gltf_builder::{temp_dir, write_png, GltfBuilder};
+use support::gltf_builder::{write_png, GltfBuilder};
+use support::Scratch;
 
 /// A square of half-size `s` in the plane z = `z`, facing +z, uv (0, 0) at its top-left corner.
 fn square_mesh(b: &mut GltfBuilder, s: f32, z: f32, material: usize) -> serde_json::Value {
@@ -33,10 +33,7 @@ fn square_mesh(b: &mut GltfBuilder, s: f32, z: f32, material: usize) -> serde_js
 /// (half-size 3, z = −1, green), an orthographic camera from +z spanning x ∈ [−2, 2], and a
 /// directional light travelling along (0.5, 0, −1): a shadow falls 0.5 to the right of its caster.
 fn scene(alpha_mode: &str) -> Scene {
-    // A folder per call: the tests run in parallel and each removes its own.
-    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let dir = temp_dir(&format!("cutouts-{alpha_mode}-{call}"));
+    let dir = Scratch::new(&format!("cutouts-{alpha_mode}"));
     // 2×1 texels: red with alpha 0 on the left, red with alpha 255 on the right.
     write_png(&dir.join("alpha.png"), 2, 1, &[[255, 0, 0, 0], [255, 0, 0, 255]]);
     let mut b = GltfBuilder::default();
@@ -68,7 +65,6 @@ fn scene(alpha_mode: &str) -> Scene {
     });
     let path = b.write_gltf(&dir, "cutouts", rest);
     let mut scene = scene::load(&path).unwrap();
-    let _ = std::fs::remove_dir_all(dir);
     scene.film.width = 64;
     scene.film.height = 64;
     scene.film.spp = 1;
@@ -77,9 +73,7 @@ fn scene(alpha_mode: &str) -> Scene {
 }
 
 fn render(scene: &Scene) -> Image {
-    render_scene(scene, &RenderPlan::new(scene, &[]), &|_| {})
-        .unwrap()
-        .image
+    support::render(scene, &[]).image
 }
 
 /// The pixel whose centre looks at x (y = 0): x = −2 + 4·(px + ½)/64.

@@ -1,7 +1,9 @@
 //! End-to-end renders through the whole pipeline (scene file → plan → BVH → surface points →
 //! shader → film), with pixel values checked against closed-form radiance.
 
-use std::path::{Path, PathBuf};
+use crate::support::Scratch;
+
+use std::path::Path;
 
 use glam::Vec3;
 use pointshade::accel::Bvh;
@@ -15,9 +17,8 @@ const SIZE: u32 = 128;
 /// A ground quad at y = 0 (±3), an occluder quad at y = 1 over x ∈ [0.4, 0.8], z ∈ [−0.2, 0.2],
 /// a point light 2 above the origin, an orthographic camera looking down on x, z ∈ [−1, 1] —
 /// everything moved by `offset`.
-fn scene_dir(name: &str, offset: f32) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pointshade-e2e-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+fn scene_dir(name: &str, offset: f32) -> Scratch {
+    let dir = Scratch::new(&format!("e2e-{name}"));
     let quad = |y: f32, x0: f32, x1: f32, z0: f32, z1: f32| {
         format!("v {x0} {y} {z0}\nv {x0} {y} {z1}\nv {x1} {y} {z1}\nv {x1} {y} {z0}\nf 1 2 3\nf 1 3 4\n")
     };
@@ -124,7 +125,6 @@ fn pixels_match_closed_form_radiance_and_shadows_are_black() {
         lit > 8000 && shadowed > 120 && top > 120,
         "lit {lit}, shadowed {shadowed}, top {top}"
     );
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]
@@ -145,8 +145,6 @@ fn scene_moved_to_1e5_keeps_its_shadows_and_shading() {
     assert_eq!(far.get(si as u32, sj as u32), Vec3::ZERO);
     let (ti, tj) = ((0.6f32 + 1.0) / 2.0 * SIZE as f32, SIZE as f32 / 2.0);
     assert!(far.get(ti as u32, tj as u32).min_element() > 0.0);
-    let _ = std::fs::remove_dir_all(a);
-    let _ = std::fs::remove_dir_all(b);
 }
 
 #[test]
@@ -163,7 +161,6 @@ fn image_is_identical_for_any_thread_count() {
         .unwrap()
         .install(|| render_scene(&dir));
     assert_eq!(one, three);
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 /// A render whose stop flag is set ends with `INTERRUPTED`; never set, the same call renders the

@@ -14,9 +14,8 @@
 //! without it.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-use crate::support::gltf_builder::temp_dir;
+use crate::support::{self, Scratch};
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -92,7 +91,7 @@ fn run(args: &[String], out: &Path, what: &str) -> String {
             extra.extend(["--spp", "1"]);
         }
     }
-    let r = Command::new(env!("CARGO_BIN_EXE_pointshade"))
+    let r = support::command()
         .current_dir(root())
         .args(rest)
         .args(&extra)
@@ -121,7 +120,7 @@ fn run_blocks(shared: bool) -> usize {
             continue;
         }
         let what = format!("{}:{line}", file.strip_prefix(root()).unwrap_or(&file).display());
-        let out = temp_dir(&format!("example-{shared}-{i}"));
+        let out = Scratch::new(&format!("example-{shared}-{i}"));
         match kind {
             "sh" => {
                 for command in commands(&body) {

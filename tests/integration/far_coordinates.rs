@@ -3,20 +3,13 @@
 
 use std::f32::consts::FRAC_PI_4;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use glam::{Quat, Vec3};
 use pointshade::scene;
 use serde_json::json;
 
-use crate::support::gltf_builder::{square, temp_dir, GltfBuilder};
-
-fn pointshade(args: &[&Path]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pointshade"))
-        .args(args)
-        .output()
-        .unwrap()
-}
+use crate::support::gltf_builder::{square, GltfBuilder};
+use crate::support::{self, Scratch};
 
 /// A pyramid on a ground square, every coordinate multiplied by `scale`.
 fn pyramid(dir: &Path, scale: f64) -> PathBuf {
@@ -41,7 +34,7 @@ fn pyramid(dir: &Path, scale: f64) -> PathBuf {
 /// Renders `mesh` framed automatically at 64×48 into an EXR; returns its linear RGB values.
 fn render(mesh: &Path) -> Vec<f32> {
     let out = mesh.with_extension("exr");
-    let r = Command::new(env!("CARGO_BIN_EXE_pointshade"))
+    let r = support::command()
         .args(["render".as_ref(), mesh.as_os_str(), "-o".as_ref(), out.as_os_str()])
         .args(["--width", "64", "--height", "48", "--quiet"])
         .output()
@@ -55,7 +48,7 @@ fn render(mesh: &Path) -> Vec<f32> {
 fn a_scene_scaled_by_1e12_renders_as_at_scale_1() {
     // Above about 1e10 the cross products of the triangles' edges overflowed in f32: the
     // geometric normals came out zero and the image black or speckled.
-    let dir = temp_dir("far-scale");
+    let dir = Scratch::new("far-scale");
     let near = render(&pyramid(&dir, 1.0));
     let far = render(&pyramid(&dir, 1e12));
     assert!(near.iter().any(|&v| v > 0.05), "the pyramid is lit");
@@ -65,14 +58,13 @@ fn a_scene_scaled_by_1e12_renders_as_at_scale_1() {
             "value {i}: {a} at scale 1, {b} at 1e12"
         );
     }
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]
 fn normals_survive_transforms_whose_determinant_overflows() {
     // A scale of 1e17 has a determinant of 1e51: the inverse transpose is not finite in f32, and
     // the flat normals' cross products (edges of 2e17) overflow. Both keep their direction.
-    let dir = temp_dir("far-normals");
+    let dir = Scratch::new("far-normals");
     for with_normals in [true, false] {
         let mut b = GltfBuilder::default();
         let mesh = square(&mut b, with_normals, None);
@@ -96,26 +88,17 @@ fn normals_survive_transforms_whose_determinant_overflows() {
             );
         }
     }
-    let _ = std::fs::remove_dir_all(dir);
 }
 
-/// Runs `args`, which must fail with exit 2, one error line containing each of `expect`, and no
-/// output written to `out`.
+/// Runs `args`, which must fail as bad input does ([`support::assert_input_error`]): one error
+/// line containing each of `expect`, and no output written to `out`.
 fn refused(args: &[PathBuf], out: &Path, expect: &[&str]) {
-    let r = pointshade(&args.iter().map(PathBuf::as_path).collect::<Vec<_>>());
-    let stderr = String::from_utf8_lossy(&r.stderr);
-    assert_eq!(r.status.code(), Some(2), "{args:?}: {stderr}");
-    let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
-    assert_eq!(errors.len(), 1, "{stderr}");
-    for e in expect {
-        assert!(errors[0].contains(e), "'{}' should mention '{e}'", errors[0]);
-    }
-    assert!(!out.exists(), "no output is written");
+    support::assert_input_error(&support::pointshade(args), expect, &[out]);
 }
 
 #[test]
 fn geometry_cameras_and_lights_beyond_1e18_are_refused() {
-    let dir = temp_dir("far-refused");
+    let dir = Scratch::new("far-refused");
     let out = dir.join("out.png");
     let render = |input: &Path, extra: &[&str]| -> Vec<PathBuf> {
         let mut args = vec![PathBuf::from("render"), input.into(), "-o".into(), out.clone()];
@@ -167,5 +150,4 @@ fn geometry_cameras_and_lights_beyond_1e18_are_refused() {
     )
     .unwrap();
     refused(&render(&toml, &[]), &out, &["far-light.toml", "light 1", "1.000e30"]);
-    let _ = std::fs::remove_dir_all(dir);
 }

@@ -15,10 +15,9 @@ use std::path::Path;
 
 use serde_json::{json, Value};
 
-use pointshade::plan::RenderPlan;
-use pointshade::render::render_scene;
 use pointshade::scene;
-use support::gltf_builder::{square, temp_dir, write_png, GltfBuilder};
+use support::gltf_builder::{square, write_png, GltfBuilder};
+use support::Scratch;
 
 /// The document's JSON besides buffers and accessors; the builder holds the binary data.
 fn document() -> (GltfBuilder, Value) {
@@ -162,8 +161,7 @@ fn load_and_render(path: &Path) -> bool {
     scene.film.height = 8;
     scene.film.spp = 1;
     scene.film.time_budget = None;
-    let plan = RenderPlan::new(&scene, &[]);
-    if let Ok(rendered) = render_scene(&scene, &plan, &|_| {}) {
+    if let Ok(rendered) = support::try_render(&scene, &[]) {
         // NaN never reaches a pixel, whatever finite data the loader let through.
         assert!(
             rendered.image.pixels.iter().all(|p| p.is_finite()),
@@ -177,7 +175,7 @@ const CASES: usize = 1000;
 
 #[test]
 fn mutated_gltf_files_load_or_fail_without_panicking() {
-    let dir = temp_dir("mutations");
+    let dir = Scratch::new("mutations");
     write_png(
         &dir.join("a.png"),
         2,
@@ -253,7 +251,7 @@ fn mutated_gltf_files_load_or_fail_without_panicking() {
             std::fs::write(file, original_bytes).unwrap();
         }
     }
-    let _ = std::fs::remove_dir_all(&dir);
+    drop(dir);
     assert!(failures.is_empty(), "panics:\n{}", failures.join("\n"));
     // Both outcomes are exercised: mutants that still load (and are rendered) and ones refused.
     eprintln!("{loaded} of {CASES} mutants loaded and rendered, the rest were refused");

@@ -186,22 +186,19 @@ fn normal_mapped_cells_are_lit_like_their_geometry_twins() {
     // upper left. Each row has two pairs of cells: real hemisphere geometry, then a flat quad
     // whose normal texture encodes the same hemisphere (each row with UVs rotated differently).
     // A flipped green channel or a wrong tangent frame lights the mapped dome from another side.
-    let scene_dir = std::env::temp_dir().join(format!("pointshade-ntt-{}", std::process::id()));
-    std::fs::create_dir_all(&scene_dir).unwrap();
-    let toml = scene_dir.join("ntt.toml");
-    std::fs::write(
-        &toml,
-        format!(
+    let scene_dir = support::Scratch::new("ntt");
+    let toml = scene_dir.write(
+        "ntt.toml",
+        &format!(
             "[film]\nwidth = 444\nheight = 430\n\
              [camera]\ntype = \"orthographic\"\nposition = [0.0, -0.125, 5.0]\nlook_at = [0.0, -0.125, 0.0]\nscale = 1.075\n\
              [[light]]\ntype = \"directional\"\ndirection = [0.5, -0.6, -1.0]\nintensity = 3.0\n\
              [[object]]\nmesh = \"{}\"\n",
             dir.join("NormalTangentTest/glTF-Binary/NormalTangentTest.glb").display()
         ),
-    )
-    .unwrap();
+    );
     let img = render(&toml, &[]);
-    let _ = std::fs::remove_dir_all(scene_dir);
+    drop(scene_dir);
     // Mean brightness of the four quadrants (UL, UR, LL, LR) of the dome of the 60-pixel cell
     // whose top-left pixel is (x0, y0).
     let quadrants = |x0: u32, y0: u32| -> [f64; 4] {

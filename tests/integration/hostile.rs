@@ -1,34 +1,19 @@
 //! The classes a hostile pass over the command line found (issue 42), each through the binary as
 //! a user meets it: what crashed, hung, lost a file or called a difference a match.
 
+use crate::support::{self, pointshade, Scratch};
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("pointshade-hostile-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn scratch(name: &str) -> Scratch {
+    Scratch::new(&format!("hostile-{name}"))
 }
 
-fn pointshade(args: &[&std::ffi::OsStr]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pointshade"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-/// Runs `args`, which must fail with exit 2 and one error line containing each of `expect`.
+/// Runs `args`, which must fail as bad input does ([`support::assert_input_error`]) with the
+/// error line containing each of `expect`.
 fn fails(args: &[&std::ffi::OsStr], expect: &[&str]) -> String {
-    let out = pointshade(args);
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
-    let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
-    assert_eq!(errors.len(), 1, "{stderr}");
-    for e in expect {
-        assert!(errors[0].contains(e), "'{}' should mention '{e}'", errors[0]);
-    }
-    errors[0].to_string()
+    support::assert_input_error(&pointshade(args), expect, &[])
 }
 
 fn os<S: AsRef<std::ffi::OsStr> + ?Sized>(s: &S) -> &std::ffi::OsStr {
@@ -77,7 +62,6 @@ fn a_fan_of_thirty_thousand_triangles_renders() {
         os("--quiet"),
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    std::fs::remove_dir_all(d).unwrap();
 }
 
 #[test]
@@ -93,7 +77,6 @@ fn an_aov_that_cannot_be_written_replaces_no_output() {
     assert_eq!(std::fs::read(&image).unwrap(), b"old image");
     assert_eq!(std::fs::read(d.join("o.normal.exr")).unwrap(), b"old normals");
     assert_eq!(std::fs::read_dir(&d).unwrap().count(), 3, "no temporary left");
-    std::fs::remove_dir_all(d).unwrap();
 }
 
 #[test]
@@ -119,7 +102,6 @@ fn a_film_larger_than_memory_is_refused_before_it_renders() {
         &["a 65536×4096 film with 3 AOV(s) needs about 47.24 GB at its peak, more than the"],
     );
     assert!(e.contains("GB available") || e.contains("address-space limit"), "{e}");
-    std::fs::remove_dir_all(d).unwrap();
 }
 
 #[test]
@@ -128,7 +110,6 @@ fn too_many_threads_are_refused() {
     let out = render(&d.join("x.png"), &["--threads", "100000"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--threads: 100000 is more than"));
-    std::fs::remove_dir_all(d).unwrap();
 }
 
 #[test]
@@ -178,7 +159,6 @@ fn devices_and_fifos_are_refused_wherever_a_file_is_named() {
         &["a FIFO"],
     );
     assert!(!d.join("a.png").exists());
-    std::fs::remove_dir_all(d).unwrap();
 }
 
 #[test]
@@ -192,7 +172,6 @@ fn an_output_that_is_an_input_is_refused() {
         &["c.exr: is also an input of this command"],
     );
     assert_eq!(std::fs::read(&crop).unwrap(), before);
-    std::fs::remove_dir_all(d).unwrap();
 }
 
 #[test]
@@ -204,7 +183,6 @@ fn temporaries_of_a_killed_write_are_removed_by_the_next() {
     std::fs::write(&stale, b"half an image").unwrap();
     assert!(render(&out, &["--width", "8", "--height", "6"]).status.success());
     assert!(out.exists() && !stale.exists());
-    std::fs::remove_dir_all(d).unwrap();
 }
 
 #[test]
@@ -248,5 +226,4 @@ fn compare_refuses_crops_and_merge_refuses_non_finite_crops() {
         &["nan.exr: pixel (11, 2) of the frame is not finite"],
     );
     assert!(!d.join("m.png").exists());
-    std::fs::remove_dir_all(d).unwrap();
 }

@@ -1,6 +1,8 @@
 //! The integration tests: one test binary whose modules are the files beside this one (one
 //! link of the whole program instead of one per file: docs/benchmarks.md, "Build and test time").
-//! Each module is a group of tests of one part of the product; `support` holds their helpers.
+//! Each module is a group of tests of one part of the product (a folder of one file per topic,
+//! with their shared helpers in its mod.rs, where a part has several); `support` holds the
+//! helpers every module may use.
 
 mod support;
 

@@ -32,10 +32,9 @@ fn committed_meshes_equal_the_generator_output_and_load() {
 fn missing_normals_are_derived_after_the_objects_transform() {
     use pointshade::scene::mesh::angle_weighted_normals;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let dir = std::env::temp_dir().join(format!("pointshade-derived-normals-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::support::Scratch::new("derived-normals");
     let meshes = root.join("meshes");
-    let scene = dir.join("scaled.toml");
+    let scene = dir.path("scaled.toml");
     let transform = "transform = { scale = [1.6, 0.7, 1.0], rotate = [0.0, 30.0, 0.0] }";
     let object = |mesh: &str| format!("[[object]]\nmesh = \"{}\"\n{transform}\n", meshes.join(mesh).display());
     let text = format!(
@@ -45,7 +44,7 @@ fn missing_normals_are_derived_after_the_objects_transform() {
     );
     std::fs::write(&scene, text).unwrap();
     let loaded = pointshade::scene::load(&scene).unwrap();
-    let _ = std::fs::remove_dir_all(&dir);
+    drop(dir);
     let (mesh, m) = (loaded.mesh, loaded.objects[0].transform);
     assert!(m.x_axis.length() > 1.5, "the scale is applied: {m}");
 

@@ -2,15 +2,17 @@
 //! parameters through the scene's texture machinery, and every statement pointshade does not use
 //! is one warning naming it.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
+use std::process::Output;
 
-use crate::support::gltf_builder::{temp_dir, write_png};
+use crate::support::gltf_builder::write_png;
+use crate::support::{self, Scratch};
 
 /// meshes/plane.obj (with texture coordinates) behind `mtllib m.mtl` / `usemtl m`, with `mtl` as
-/// m.mtl, in a fresh folder; returns the OBJ's path.
-fn textured_plane(name: &str, mtl: &str, with_uvs: bool) -> PathBuf {
-    let dir = temp_dir(&format!("mtl-{name}"));
+/// m.mtl, in a fresh folder; returns the folder, where the test writes the textures and renders
+/// `m.obj` ([`render`]).
+fn textured_plane(name: &str, mtl: &str, with_uvs: bool) -> Scratch {
+    let dir = Scratch::new(&format!("mtl-{name}"));
     let plane = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/plane.obj")).unwrap();
     let plane = if with_uvs {
         plane
@@ -36,15 +38,16 @@ fn textured_plane(name: &str, mtl: &str, with_uvs: bool) -> PathBuf {
             .collect::<Vec<_>>()
             .join("\n")
     };
-    std::fs::write(dir.join("m.obj"), format!("mtllib m.mtl\nusemtl m\n{plane}\n")).unwrap();
-    std::fs::write(dir.join("m.mtl"), mtl).unwrap();
-    dir.join("m.obj")
+    dir.write("m.obj", &format!("mtllib m.mtl\nusemtl m\n{plane}\n"));
+    dir.write("m.mtl", mtl);
+    dir
 }
 
-fn render(obj: &Path, out: &Path, extra: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pointshade"))
+/// Renders the textured plane's `m.obj` in `plane` (from [`textured_plane`]) into `out`.
+fn render(plane: &Scratch, out: &Path, extra: &[&str]) -> Output {
+    support::command()
         .arg("render")
-        .arg(obj)
+        .arg(plane.path("m.obj"))
         .arg("-o")
         .arg(out)
         .args(["--width", "48", "--height", "36", "--spp", "1"])
@@ -84,19 +87,14 @@ fn map_kd_multiplies_the_albedo_by_the_decoded_texture() {
             &format!("newmtl m\nKd {} {} {}\n{extra}map_Kd t.png\n", kd[0], kd[1], kd[2]),
             true,
         );
-        write_png(
-            &textured.with_file_name("t.png"),
-            2,
-            2,
-            &[[code[0], code[1], code[2], 255]; 4],
-        );
+        write_png(&textured.path("t.png"), 2, 2, &[[code[0], code[1], code[2], 255]; 4]);
         let albedo: Vec<f64> = (0..3).map(|c| kd[c] * srgb(code[c])).collect();
         let constant = textured_plane(
             &format!("constant-{model}"),
             &format!("newmtl m\nKd {} {} {}\n{extra}", albedo[0], albedo[1], albedo[2]),
             true,
         );
-        let (a, b) = (textured.with_file_name("a.exr"), constant.with_file_name("b.exr"));
+        let (a, b) = (textured.path("a.exr"), constant.path("b.exr"));
         let r = render(&textured, &a, &["--explain"]);
         assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
         let explain = String::from_utf8_lossy(&r.stdout);
@@ -118,13 +116,8 @@ fn map_kd_varies_over_the_surface() {
     // Two texels, black and white, across u: the textured plane has dark and bright pixels where
     // the untextured one is uniformly lit.
     let obj = textured_plane("two-texels", "newmtl m\nKd 1 1 1\nmap_Kd -clamp on t.png\n", true);
-    write_png(
-        &obj.with_file_name("t.png"),
-        2,
-        1,
-        &[[0, 0, 0, 255], [255, 255, 255, 255]],
-    );
-    let out = obj.with_file_name("out.exr");
+    write_png(&obj.path("t.png"), 2, 1, &[[0, 0, 0, 255], [255, 255, 255, 255]]);
+    let out = obj.path("out.exr");
     assert!(render(&obj, &out, &["--quiet"]).status.success());
     let lit: Vec<f32> = exr(&out).chunks(3).map(|p| p[0]).filter(|&v| v > 0.0).collect();
     let (lo, hi) = lit
@@ -141,8 +134,8 @@ fn every_unused_mtl_statement_is_one_warning_naming_it() {
          map_Ns -imfchan r r.png\nmap_Ka -bm 0.3 a.png\n",
         true,
     );
-    write_png(&obj.with_file_name("t.png"), 1, 1, &[[128, 128, 128, 255]]);
-    let r = render(&obj, &obj.with_file_name("out.png"), &[]);
+    write_png(&obj.path("t.png"), 1, 1, &[[128, 128, 128, 255]]);
+    let r = render(&obj, &obj.path("out.png"), &[]);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     let stderr = String::from_utf8_lossy(&r.stderr);
     let warnings: Vec<&str> = stderr.lines().filter(|l| l.contains("MTL statement")).collect();
@@ -166,7 +159,7 @@ fn every_unused_mtl_statement_is_one_warning_naming_it() {
     assert_eq!(warnings.len(), 8, "no warning for what is used (Kd, map_Kd):\n{stderr}");
     // Without texture coordinates map_Kd cannot be looked up: a warning, and no texture.
     let no_uvs = textured_plane("no-uvs", "newmtl m\nKd 0.5 0.5 0.5\nmap_Kd t.png\n", false);
-    let r = render(&no_uvs, &no_uvs.with_file_name("out.png"), &["--explain"]);
+    let r = render(&no_uvs, &no_uvs.path("out.png"), &["--explain"]);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     assert!(String::from_utf8_lossy(&r.stderr).contains("map_Kd (the mesh has no texture coordinates)"));
     assert!(String::from_utf8_lossy(&r.stdout).contains("no rendered material has a texture"));
@@ -175,19 +168,16 @@ fn every_unused_mtl_statement_is_one_warning_naming_it() {
 #[test]
 fn a_missing_or_broken_map_kd_image_is_a_one_line_error_and_no_output() {
     let obj = textured_plane("missing", "newmtl m\nKd 1 1 1\nmap_Kd nowhere.png\n", true);
-    let out = obj.with_file_name("out.png");
+    let out = obj.path("out.png");
     let r = render(&obj, &out, &[]);
-    let stderr = String::from_utf8_lossy(&r.stderr);
-    assert!(!r.status.success() && !out.exists(), "{stderr}");
-    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
-    assert!(stderr.contains("m.obj") && stderr.contains("nowhere.png"), "{stderr}");
-    std::fs::write(obj.with_file_name("nowhere.png"), b"not a png").unwrap();
+    support::assert_one_line_error(&r, &["m.obj", "nowhere.png"], &[&out]);
+    std::fs::write(obj.path("nowhere.png"), b"not a png").unwrap();
     let r = render(&obj, &out, &[]);
     let stderr = String::from_utf8_lossy(&r.stderr);
     assert!(!r.status.success() && !out.exists(), "{stderr}");
     assert!(stderr.contains("cannot decode"), "{stderr}");
     let bad = textured_plane("bad-option", "newmtl m\nKd 1 1 1\nmap_Kd -zz 1 t.png\n", true);
-    let r = render(&bad, &bad.with_file_name("out.png"), &[]);
+    let r = render(&bad, &bad.path("out.png"), &[]);
     let stderr = String::from_utf8_lossy(&r.stderr);
     assert!(
         !r.status.success() && stderr.contains("unknown option '-zz'"),
@@ -200,9 +190,9 @@ fn a_missing_or_broken_map_kd_image_is_a_one_line_error_and_no_output() {
 fn render_mtl(name: &str, mtl: &str, images: &[(&str, [u8; 4])]) -> Vec<f32> {
     let obj = textured_plane(name, mtl, true);
     for (file, texel) in images {
-        write_png(&obj.with_file_name(file), 1, 1, &[*texel]);
+        write_png(&obj.path(file), 1, 1, &[*texel]);
     }
-    let out = obj.with_file_name("out.exr");
+    let out = obj.path("out.exr");
     let r = render(&obj, &out, &["--quiet"]);
     assert!(r.status.success(), "{name}: {}", String::from_utf8_lossy(&r.stderr));
     assert!(
@@ -298,7 +288,7 @@ fn a_scalar_texture_reads_the_channel_imfchan_names() {
     );
     assert_eq!(luminance, scaled, "red reads as luminance 0.2126");
     let obj = textured_plane("chan-bad", &format!("{bp}map_Ns -imfchan z s.png\n"), true);
-    let r = render(&obj, &obj.with_file_name("out.png"), &[]);
+    let r = render(&obj, &obj.path("out.png"), &[]);
     assert!(!r.status.success());
     assert!(String::from_utf8_lossy(&r.stderr).contains("-imfchan takes r, g, b, m or l"));
 }
@@ -307,11 +297,11 @@ fn a_scalar_texture_reads_the_channel_imfchan_names() {
 /// texel `texel`; and the render's warnings about the MTL.
 fn centre_normal(name: &str, mtl: &str, texel: [u8; 4]) -> ([f32; 3], String) {
     let obj = textured_plane(name, mtl, true);
-    write_png(&obj.with_file_name("n.png"), 1, 1, &[texel]);
-    let out = obj.with_file_name("out.exr");
+    write_png(&obj.path("n.png"), 1, 1, &[texel]);
+    let out = obj.path("out.exr");
     let r = render(&obj, &out, &["--aov", "normal"]);
     assert!(r.status.success(), "{name}: {}", String::from_utf8_lossy(&r.stderr));
-    let normals = exr(&obj.with_file_name("out.normal.exr"));
+    let normals = exr(&obj.path("out.normal.exr"));
     let i = 3 * (18 * 48 + 24);
     let warnings = String::from_utf8_lossy(&r.stderr)
         .lines()

@@ -4,8 +4,7 @@
 //! the smooth surface of the normals (the default) every such point is lit as Lambert's law
 //! says, while the shadow the sphere casts on the ground stays where the geometry puts it.
 
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU32, Ordering};
+use crate::support::Scratch;
 
 use glam::Vec3;
 use pointshade::accel::Bvh;
@@ -30,15 +29,12 @@ const IRRADIANCE: f32 = 3.0;
 const CENTRE: Vec3 = Vec3::new(0.0, 1.0, 0.0);
 const CAMERA: Vec3 = Vec3::new(1.5, 3.0, 5.0);
 
-fn scene_dir(terminator: &str) -> PathBuf {
-    // Tests run in parallel: a directory per call.
-    static CALLS: AtomicU32 = AtomicU32::new(0);
-    let call = CALLS.fetch_add(1, Ordering::Relaxed);
-    let name = format!("pointshade-terminator-{}-{call}-{terminator}", std::process::id());
-    let dir = std::env::temp_dir().join(name);
-    std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(dir.join("sphere.obj"), uv_sphere(12, 8).to_obj("coarse sphere", None)).unwrap();
-    std::fs::write(dir.join("ground.obj"), plane(6.0, 1).to_obj("ground", None)).unwrap();
+/// A folder with the coarse sphere, the ground and (in `scene.toml`) the sphere on the ground
+/// under [`LIGHT`] with `shadow_terminator = terminator`.
+fn scene_dir(terminator: &str) -> Scratch {
+    let dir = Scratch::new(&format!("terminator-{terminator}"));
+    dir.write("sphere.obj", &uv_sphere(12, 8).to_obj("coarse sphere", None));
+    dir.write("ground.obj", &plane(6.0, 1).to_obj("ground", None));
     let rest = format!(
         "[[light]]\ntype = \"directional\"\ndirection = {light}\nintensity = {IRRADIANCE}\n\
          [render]\nshadow_terminator = \"{terminator}\"\n\
@@ -48,7 +44,7 @@ fn scene_dir(terminator: &str) -> PathBuf {
         centre = toml_vec(CENTRE),
     );
     let toml = clay_scene(CAMERA, Vec3::new(-0.8, 0.6, 0.0), 45.0, &rest);
-    std::fs::write(dir.join("scene.toml"), toml).unwrap();
+    dir.write("scene.toml", &toml);
     dir
 }
 
@@ -71,10 +67,9 @@ fn clay_scene(camera: Vec3, look_at: Vec3, fov: f32, rest: &str) -> String {
 }
 
 /// The render of `dir`'s scene.toml: radiance, shading normals and positions, and whether the
-/// plan smoothed the shadow origins. Removes `dir`.
-fn render_dir(dir: &Path) -> (Image, Image, Image, bool) {
-    let scene = scene::load(&dir.join("scene.toml")).expect("scene loads");
-    let _ = std::fs::remove_dir_all(dir);
+/// plan smoothed the shadow origins.
+fn render_dir(dir: &Scratch) -> (Image, Image, Image, bool) {
+    let scene = scene::load(&dir.path("scene.toml")).expect("scene loads");
     let plan = RenderPlan::new(&scene, &[Aov::Normal, Aov::Position]);
     let bvh = Bvh::for_scene(&scene);
     let mut rendered = render(&scene, &plan, Some(&bvh), &|_| {}).unwrap();

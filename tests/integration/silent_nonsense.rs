@@ -5,19 +5,13 @@
 use crate::support;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use serde_json::json;
 
 use pointshade::scene;
-use support::gltf_builder::{square, temp_dir, GltfBuilder};
-
-fn run(args: &[&Path]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pointshade"))
-        .args(args)
-        .output()
-        .unwrap()
-}
+use support::gltf_builder::{square, GltfBuilder};
+use support::Scratch;
 
 /// Renders `input` at 16×12 into `dir/out.png`: the output, and whether the PNG was written.
 fn render(dir: &Path, input: &Path) -> (Output, bool) {
@@ -33,19 +27,15 @@ fn render(dir: &Path, input: &Path) -> (Output, bool) {
         Path::new("--height"),
         Path::new("12"),
     ];
-    let output = run(&args);
+    let output = support::pointshade(&args);
     (output, out.exists())
 }
 
-/// The one error line of a render of `input` that must fail with exit 2 and write nothing.
+/// The one error line of a render of `input` that must fail as bad input does
+/// ([`support::assert_input_error`]) and write nothing.
 fn refused(dir: &Path, input: &Path) -> String {
-    let (out, written) = render(dir, input);
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert_eq!(out.status.code(), Some(2), "{}: {stderr}", input.display());
-    assert!(!written, "{}: an output was written", input.display());
-    let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
-    assert_eq!(errors.len(), 1, "{stderr}");
-    errors[0].to_string()
+    let (out, _) = render(dir, input);
+    support::assert_input_error(&out, &[], &[&dir.join("out.png")])
 }
 
 /// The warning lines of a render of `input` that must succeed.
@@ -77,7 +67,7 @@ fn scene_file(dir: &Path, name: &str, camera: &str, light: &str, material: &str)
 
 #[test]
 fn vectors_with_more_than_three_elements_are_refused() {
-    let dir = temp_dir("long-vectors");
+    let dir = Scratch::new("long-vectors");
     let (camera, light, albedo) = ("[0.0, 0.0, 3.0]", "[0.0, 2.0, 2.0]", "[0.5, 0.5, 0.5]");
     // The three as they should be render.
     assert!(warnings(&dir, &scene_file(&dir, "fine", camera, light, albedo)).is_empty());
@@ -103,12 +93,11 @@ fn vectors_with_more_than_three_elements_are_refused() {
         let e = refused(&dir, &bad);
         assert!(e.contains(&bad.display().to_string()) && e.contains(which), "{e}");
     }
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]
 fn faces_that_repeat_a_vertex_are_named() {
-    let dir = temp_dir("repeated-vertices");
+    let dir = Scratch::new("repeated-vertices");
     let obj = dir.join("some.obj");
     std::fs::write(&obj, format!("{TRIANGLE}f 1 2\nf 3\nf 2 2 2\n")).unwrap();
     let w = warnings(&dir, &obj);
@@ -125,7 +114,6 @@ fn faces_that_repeat_a_vertex_are_named() {
         e.contains("only.obj") && e.contains("every triangle repeats a vertex"),
         "{e}"
     );
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 fn gltf_with_camera(dir: &Path, name: &str, camera: serde_json::Value, version: &str) -> PathBuf {
@@ -145,7 +133,7 @@ fn gltf_with_camera(dir: &Path, name: &str, camera: serde_json::Value, version: 
 
 #[test]
 fn gltf_aspect_ratios_beyond_a_hundred_to_one_are_not_used_and_other_major_versions_are_refused() {
-    let dir = temp_dir("gltf-nonsense");
+    let dir = Scratch::new("gltf-nonsense");
     let perspective = |aspect: f64| json!({"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.01, "aspectRatio": aspect}});
     let ortho =
         json!({"type": "orthographic", "orthographic": {"xmag": 1e18, "ymag": 1.0, "znear": 0.01, "zfar": 100.0}});
@@ -178,7 +166,6 @@ fn gltf_aspect_ratios_beyond_a_hundred_to_one_are_not_used_and_other_major_versi
         assert!(e.contains("version.gltf") && e.contains(what), "{e}");
     }
     assert!(scene::load(&gltf_with_camera(&dir, "minor", perspective(1.0), "2.1")).is_ok());
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 /// A 4×2 palette PNG of `entries` colours whose pixels use the indices `0..8`.
@@ -195,13 +182,13 @@ fn palette_png(path: &Path, entries: usize) {
 
 #[test]
 fn palette_indices_past_the_palette_are_refused() {
-    let dir = temp_dir("palette");
+    let dir = Scratch::new("palette");
     // As a normal image.
     palette_png(&dir.join("full.png"), 8);
     palette_png(&dir.join("short.png"), 5);
     let normalmap = |name: &str| {
         let out = dir.join(format!("{name}-shaded.png"));
-        let output = run(&[
+        let output = support::pointshade(&[
             Path::new("normalmap"),
             &dir.join(name),
             Path::new("--brdf"),
@@ -234,5 +221,4 @@ fn palette_indices_past_the_palette_are_refused() {
     std::fs::write(dir.join("t.mtl"), "newmtl t\nKd 1 1 1\nmap_Kd short.png\n").unwrap();
     let e = refused(&dir, &dir.join("textured.obj"));
     assert!(e.contains("short.png") && e.contains("palette index 7"), "{e}");
-    let _ = std::fs::remove_dir_all(dir);
 }

@@ -7,8 +7,8 @@ use crate::support;
 use std::path::Path;
 
 use pointshade::film::{Image, SamplerKind};
-use pointshade::plan::{Aov, RenderPlan};
-use pointshade::render::{render_scene, Rendered};
+use pointshade::plan::Aov;
+use pointshade::render::Rendered;
 use pointshade::scene::Scene;
 
 fn scene(sampler: SamplerKind, spp: u32, budget: Option<f32>) -> Scene {
@@ -20,7 +20,7 @@ fn scene(sampler: SamplerKind, spp: u32, budget: Option<f32>) -> Scene {
 
 fn render(s: &Scene) -> Rendered {
     // A per-sample AOV goes through the passes as the radiance does.
-    render_scene(s, &RenderPlan::new(s, &[Aov::Normal]), &|_| {}).unwrap()
+    support::render(s, &[Aov::Normal])
 }
 
 fn bits(image: &Image) -> Vec<[u32; 3]> {
@@ -127,8 +127,7 @@ fn a_budget_needs_a_sampler_that_adds_samples_the_whole_film_and_a_sane_number()
 #[test]
 fn a_scene_with_a_budget_exports_to_mitsuba_only_with_a_sample_count() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let dir = std::env::temp_dir().join(format!("pointshade-budget-export-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = support::Scratch::new("budget-export");
     let text = std::fs::read_to_string(root.join("scenes/cook-torrance.toml"))
         .unwrap()
         .replace("[film]\n", "[film]\ntime_budget = 2.0\n")
@@ -137,11 +136,8 @@ fn a_scene_with_a_budget_exports_to_mitsuba_only_with_a_sample_count() {
     std::fs::write(&scene, text).unwrap();
     let xml = dir.join("budget.xml");
     let export = |extra: &[&str]| {
-        std::process::Command::new(env!("CARGO_BIN_EXE_pointshade"))
-            .args(["export-mitsuba", scene.to_str().unwrap(), "-o", xml.to_str().unwrap()])
-            .args(extra)
-            .output()
-            .unwrap()
+        let args = ["export-mitsuba", scene.to_str().unwrap(), "-o", xml.to_str().unwrap()];
+        support::pointshade(&[&args, extra].concat())
     };
     let refused = export(&[]);
     let stderr = String::from_utf8_lossy(&refused.stderr);
@@ -152,5 +148,4 @@ fn a_scene_with_a_budget_exports_to_mitsuba_only_with_a_sample_count() {
     assert!(counted.status.success(), "{}", String::from_utf8_lossy(&counted.stderr));
     let written = std::fs::read_to_string(&xml).unwrap();
     assert!(written.contains(r#"name="sample_count" value="16""#), "{written}");
-    let _ = std::fs::remove_dir_all(&dir);
 }

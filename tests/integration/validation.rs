@@ -118,8 +118,7 @@ fn one_ulp_of_texture_coordinates_moves_a_textured_scene_past_the_tolerance() {
 #[test]
 fn a_changed_scene_makes_its_committed_reference_stale() {
     use pointshade::validation::staleness::{check_reference, ReferenceCheck};
-    let dir = std::env::temp_dir().join(format!("pointshade-stale-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::support::Scratch::new("stale");
     let changes = [
         (
             "blinn-phong",
@@ -150,7 +149,6 @@ fn a_changed_scene_makes_its_committed_reference_stale() {
             assert_eq!(stale, label != "unchanged", "{name}, {label}: {verdict:?}");
         }
     }
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// The scene-file material defaults are Mitsuba's: a Cook-Torrance material that writes only

@@ -132,14 +132,6 @@ pub fn square(b: &mut GltfBuilder, with_normals: bool, material: Option<usize>) 
     json!({"primitives": [primitive]})
 }
 
-/// A fresh temporary directory for one test.
-pub fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pointshade-gltf-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 /// Writes a `w×h` RGBA PNG.
 pub fn write_png(path: &Path, w: u32, h: u32, texels: &[[u8; 4]]) {
     let raw: Vec<u8> = texels.iter().flatten().copied().collect();
