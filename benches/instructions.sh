@@ -6,7 +6,7 @@
 # that each dump counts one stage:
 #   load    start-up and pointshade::scene::load::load_with
 #   bvh     the plan and pointshade::accel::Bvh::build
-#   render  the rest of pointshade::render::render_scene
+#   render  the rest of pointshade::render::render_scene_until
 #   output  encoding, writing and exit (reported, not checked: PNG compression)
 # (Inclusive costs from callgrind_annotate split inlined functions across source files
 # unreliably; the dumps do not depend on inlining, only on those three functions existing.)
@@ -78,7 +78,7 @@ for case in "${cases[@]}"; do
   # shellcheck disable=SC2086 # $args is a list of arguments
   valgrind --tool=callgrind --callgrind-out-file="$out" \
     --dump-after='pointshade::scene::load::load_with' --dump-after='pointshade::accel::Bvh::build' \
-    --dump-after='pointshade::render::render_scene' \
+    --dump-after='pointshade::render::render_scene_until' \
     "$bin" render "$scene" $args -o "$work/$name.png" --threads 1 --quiet 2>"$work/$name.log" || {
     cat "$work/$name.log" >&2
     echo "FAILED: $name did not render" >&2

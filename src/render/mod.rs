@@ -73,7 +73,6 @@ pub struct Rendered {
 
 /// The pipeline after loading: builds the BVH the plan asks for (default preset) and renders.
 /// A film's time budget counts from here: BVH build and render.
-#[inline(never)] // a stage boundary that benches/instructions.sh counts
 pub fn render_scene(scene: &Scene, plan: &RenderPlan, progress: &dyn Progress) -> Result<Rendered, String> {
     render_scene_until(scene, plan, progress, None)
 }
@@ -92,6 +91,7 @@ pub const INTERRUPTED: &str = "interrupted";
 /// [`render_scene`], which ends early with the error [`INTERRUPTED`] once `stop` is set: no
 /// sample starts after that (each batch looks at it), so a render ends within one batch of
 /// samples per thread (the Python module's KeyboardInterrupt).
+#[inline(never)] // a stage boundary that benches/instructions.sh counts
 pub fn render_scene_until(
     scene: &Scene,
     plan: &RenderPlan,
