@@ -152,9 +152,9 @@ pub fn read_crop(path: &Path) -> InputResult<Crop> {
         )
         .first_valid_layer()
         .all_attributes()
-        .from_buffered(Cursor::new(&bytes))
+        .from_buffered(Cursor::new(bytes.as_slice()))
         .map_err(|e| InputError::new(path, format!("not a readable RGB OpenEXR file: {e}")))?;
-    let meta = exr::meta::MetaData::read_from_buffered(Cursor::new(&bytes), false)
+    let meta = exr::meta::MetaData::read_from_buffered(Cursor::new(bytes.as_slice()), false)
         .map_err(|e| InputError::new(path, format!("not a readable OpenEXR file: {e}")))?;
     let (region, frame) = placement(&meta.headers[0]).map_err(|e| InputError::new(path, e))?;
     let layer = &image.layer_data;

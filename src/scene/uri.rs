@@ -28,15 +28,58 @@ pub fn uri_file(dir: &Path, uri: &str) -> Result<Option<PathBuf>, String> {
 /// of four bytes, as the gltf crate pads them.
 pub fn read_uri(dir: &Path, uri: &str) -> Result<Vec<u8>, String> {
     match uri_file(dir, uri)? {
-        None => ::gltf::buffer::Data::from_source(::gltf::buffer::Source::Uri(uri), Some(dir))
-            .map(|d| d.0)
-            .map_err(|e| format!("cannot read an embedded data: URI: {e}")),
+        None => {
+            let mut bytes = data_uri_bytes(uri).map_err(|e| format!("cannot read an embedded data: URI: {e}"))?;
+            bytes.resize(bytes.len().next_multiple_of(4), 0);
+            Ok(bytes)
+        }
         Some(path) => {
             let mut bytes = crate::input_files::read(&path).map_err(|e| format!("'{}': {e}", path.display()))?;
             bytes.resize(bytes.len().next_multiple_of(4), 0);
             Ok(bytes)
         }
     }
+}
+
+/// The bytes of a `data:[MEDIA TYPE];base64,DATA` URI (RFC 2397), the form glTF embeds buffers
+/// and images in. DATA is base64 in the standard alphabet (RFC 4648, section 4), padded with `=`
+/// or not; anything else in it is an error naming the first offending character.
+fn data_uri_bytes(uri: &str) -> Result<Vec<u8>, String> {
+    let Some((_, data)) = uri.split_once(";base64,") else {
+        return Err("only base64 data URIs (data:...;base64,...) are supported".into());
+    };
+    let digits = data.trim_end_matches('=');
+    if data.len() - digits.len() > 2 || digits.len() % 4 == 1 {
+        return Err(format!(
+            "its base64 data has an impossible length ({} characters)",
+            data.len()
+        ));
+    }
+    let value = |c: u8| match c {
+        b'A'..=b'Z' => Some(c - b'A'),
+        b'a'..=b'z' => Some(c - b'a' + 26),
+        b'0'..=b'9' => Some(c - b'0' + 52),
+        b'+' => Some(62),
+        b'/' => Some(63),
+        _ => None,
+    };
+    let mut out = Vec::with_capacity(digits.len() / 4 * 3 + 2);
+    // Six bits per character, most significant first; a byte is out once eight have gathered.
+    let (mut bits, mut count) = (0u32, 0u32);
+    for (i, c) in digits.bytes().enumerate() {
+        let v = value(c).ok_or_else(|| {
+            let shown = digits[i..].chars().next().unwrap_or('?');
+            format!("its base64 data has '{shown}' at character {i}")
+        })?;
+        bits = (bits << 6) | u32::from(v);
+        count += 6;
+        if count >= 8 {
+            count -= 8;
+            out.push((bits >> count) as u8);
+            bits &= (1 << count) - 1;
+        }
+    }
+    Ok(out)
 }
 
 /// `text` with each `%XX` replaced by the byte it encodes (invalid escapes stay as they are).
@@ -79,5 +122,39 @@ mod tests {
         assert!(uri_file(dir, "https://example.invalid/a.bin")
             .unwrap_err()
             .contains("'https'"));
+    }
+
+    #[test]
+    fn data_uris_decode_as_base64() {
+        let bytes = |uri: &str| data_uri_bytes(uri);
+        // RFC 4648, section 10's test vectors, padded and not.
+        for (encoded, decoded) in [
+            ("", ""),
+            ("Zg==", "f"),
+            ("Zm8=", "fo"),
+            ("Zm9v", "foo"),
+            ("Zm9vYg==", "foob"),
+            ("Zm9vYmE=", "fooba"),
+            ("Zm9vYmFy", "foobar"),
+            ("Zm9vYg", "foob"),
+        ] {
+            let uri = format!("data:application/octet-stream;base64,{encoded}");
+            assert_eq!(bytes(&uri).unwrap(), decoded.as_bytes(), "{encoded}");
+        }
+        // All 64 digits, and the bytes they stand for.
+        let all = "data:;base64,ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        let decoded = bytes(all).unwrap();
+        assert_eq!(decoded.len(), 48);
+        assert_eq!(&decoded[..3], &[0x00, 0x10, 0x83]);
+        assert_eq!(&decoded[45..], &[0xf3, 0xdf, 0xbf]);
+        assert!(bytes("data:;base64,Zm9v!A==")
+            .unwrap_err()
+            .contains("'!' at character 4"));
+        assert!(bytes("data:;base64,Zm9vY").unwrap_err().contains("impossible length"));
+        assert!(bytes("data:;base64,Zg===").unwrap_err().contains("impossible length"));
+        assert!(bytes("data:text/plain,hello").unwrap_err().contains("only base64"));
+        // read_uri pads buffers to four bytes, as files are padded.
+        let padded = read_uri(Path::new("."), "data:;base64,Zm9vYmE=").unwrap();
+        assert_eq!(padded, b"fooba\0\0\0");
     }
 }

@@ -210,7 +210,7 @@ fn spot_cone_lights_one_half_of_the_square_and_not_the_other() {
 }
 
 #[test]
-fn glb_renders_like_gltf_and_non_triangle_primitives_are_skipped_with_one_warning() {
+fn glb_and_an_embedded_data_uri_load_like_gltf_and_non_triangle_primitives_are_skipped_with_one_warning() {
     let dir = Scratch::new("gltf-glb");
     let mut b = GltfBuilder::default();
     let mut mesh = square(&mut b, true, None);
@@ -223,9 +223,13 @@ fn glb_renders_like_gltf_and_non_triangle_primitives_are_skipped_with_one_warnin
     let rest = json!({"scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], "meshes": [mesh]});
     let glb = dir.join("square.glb");
     std::fs::write(&glb, b.glb(rest.clone())).unwrap();
+    let embedded = dir.join("embedded.gltf");
+    let uri = format!("data:application/octet-stream;base64,{}", base64(&b.bin));
+    std::fs::write(&embedded, b.document(rest.clone(), Some(&uri)).to_string()).unwrap();
     let gltf = b.write_gltf(&dir, "square", rest);
     let (a, c) = (scene::load(&glb).unwrap(), scene::load(&gltf).unwrap());
     assert_eq!(a.mesh, c.mesh);
+    assert_eq!(scene::load(&embedded).unwrap().mesh, c.mesh);
     assert_eq!(a.mesh.triangle_count(), 2);
     assert_eq!(a.warnings.len(), 1, "{:?}", a.warnings);
     assert!(a.warnings[0].contains("1 LINES, 2 POINTS"), "{}", a.warnings[0]);
@@ -233,6 +237,23 @@ fn glb_renders_like_gltf_and_non_triangle_primitives_are_skipped_with_one_warnin
     assert_eq!(a.lights.len(), 2);
     assert_eq!(a.materials[0].model_name(), "gltf-pbr");
     assert!(!a.materials[0].two_sided);
+}
+
+/// `bytes` in padded base64 (RFC 4648), written here independently of the loader's decoder.
+fn base64(bytes: &[u8]) -> String {
+    const DIGITS: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for group in bytes.chunks(3) {
+        let n = group
+            .iter()
+            .enumerate()
+            .fold(0u32, |n, (i, &b)| n | u32::from(b) << (16 - 8 * i));
+        for i in 0..4 {
+            let digit = DIGITS[(n >> (18 - 6 * i) & 63) as usize] as char;
+            out.push(if i <= group.len() { digit } else { '=' });
+        }
+    }
+    out
 }
 
 #[test]
