@@ -269,24 +269,33 @@ mod tests {
         assert!(s.distance.is_infinite());
     }
 
-    #[test]
-    fn spot_cone_is_full_inside_inner_zero_outside_outer_and_quadratic_between() {
-        let (inner, outer) = (10f32.to_radians(), 20f32.to_radians());
-        let l = Light {
+    /// A unit spot at the origin facing −y, its inner cone 10° and its outer 20° wide.
+    fn spot_between_10_and_20_degrees(profile: SpotProfile) -> Light {
+        Light {
             kind: LightKind::Spot {
                 position: Vec3::ZERO,
                 direction: Vec3::NEG_Y,
-                cos_inner: inner.cos(),
-                cos_outer: outer.cos(),
-                profile: SpotProfile::Gltf,
+                cos_inner: 10f32.to_radians().cos(),
+                cos_outer: 20f32.to_radians().cos(),
+                profile,
             },
             power: Vec3::ONE,
             falloff: Falloff::None,
-        };
-        let at = |deg: f32| {
-            l.sample(Vec3::new(deg.to_radians().tan(), -1.0, 0.0))
-                .map(|s| s.irradiance.x)
-        };
+        }
+    }
+
+    /// The irradiance of `light` at the point one unit below it and `deg` degrees off its axis.
+    fn irradiance_at_angle(light: &Light, deg: f32) -> Option<f32> {
+        light
+            .sample(Vec3::new(deg.to_radians().tan(), -1.0, 0.0))
+            .map(|s| s.irradiance.x)
+    }
+
+    #[test]
+    fn spot_cone_is_full_inside_inner_zero_outside_outer_and_quadratic_between() {
+        let (inner, outer) = (10f32.to_radians(), 20f32.to_radians());
+        let l = spot_between_10_and_20_degrees(SpotProfile::Gltf);
+        let at = |deg: f32| irradiance_at_angle(&l, deg);
         assert_eq!(at(5.0), Some(1.0));
         assert_eq!(at(25.0), None);
         let mid = 15f32.to_radians().cos();
@@ -297,21 +306,8 @@ mod tests {
     #[test]
     fn mitsuba_profile_is_linear_in_the_angle_between_the_cones() {
         let (inner, outer) = (10f32.to_radians(), 20f32.to_radians());
-        let l = Light {
-            kind: LightKind::Spot {
-                position: Vec3::ZERO,
-                direction: Vec3::NEG_Y,
-                cos_inner: inner.cos(),
-                cos_outer: outer.cos(),
-                profile: SpotProfile::Mitsuba,
-            },
-            power: Vec3::ONE,
-            falloff: Falloff::None,
-        };
-        let at = |deg: f32| {
-            l.sample(Vec3::new(deg.to_radians().tan(), -1.0, 0.0))
-                .map(|s| s.irradiance.x)
-        };
+        let l = spot_between_10_and_20_degrees(SpotProfile::Mitsuba);
+        let at = |deg: f32| irradiance_at_angle(&l, deg);
         assert_eq!(at(5.0), Some(1.0));
         assert_eq!(at(20.5), None);
         for (deg, expected) in [(12.5, 0.75), (15.0, 0.5), (17.5, 0.25)] {
