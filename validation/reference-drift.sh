@@ -59,8 +59,11 @@ fi
 changed="$out/changed/scenes"
 mkdir -p "$changed"
 change() { # NAME SCENE SED-EXPRESSION: a copy of scenes/validation/SCENE.toml with one change
-  sed -e "$3" -e "s|\"\.\./\.\./|\"$PWD/|g" "scenes/validation/$2.toml" >"$changed/$1.toml"
-  cmp -s "$changed/$1.toml" "scenes/validation/$2.toml" && { echo "error: $1 changed nothing" >&2; exit 1; }
+  local paths="s|\"\.\./\.\./|\"$PWD/|g"
+  sed -e "$3" -e "$paths" "scenes/validation/$2.toml" >"$changed/$1.toml"
+  # Against the copy with only its mesh paths made absolute: the edit itself must change a line.
+  sed -e "$paths" "scenes/validation/$2.toml" | cmp -s - "$changed/$1.toml" &&
+    { echo "error: $1: the edit '$3' changed nothing in scenes/validation/$2.toml" >&2; exit 1; }
   ./target/release/pointshade validate "$changed/$1.toml" --report "$out/changed/report" --grid 1 >/dev/null 2>&1 || true
   # validate names a scene's folder after its file: render it under the original's name.
   echo "$1 $2"
@@ -70,7 +73,7 @@ change() { # NAME SCENE SED-EXPRESSION: a copy of scenes/validation/SCENE.toml w
   change blinn-phong.shininess-41 blinn-phong 's/^shininess = 40.0/shininess = 41.0/'
   change cook-torrance-terms.roughness-0.36 cook-torrance-terms '30s/^roughness = 0.35/roughness = 0.36/'
   change conductor-sphere.roughness-0.31 conductor-sphere '24s/^roughness = 0.3/roughness = 0.31/'
-  change spot.light-1cm spot '18s/^position = \[0.0, 4.0, 0.0\]/position = [0.0, 4.01, 0.0]/'
+  change spot.light-1cm spot 's/^position = \[0.0, 4.0, 0.0\]/position = [0.0, 4.01, 0.0]/'
   change diffuse-sphere.albedo-0.5% diffuse-sphere '23s/^albedo = \[0.8,/albedo = [0.804,/'
 } >"$out/changed/list"
 
