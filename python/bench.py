@@ -43,7 +43,6 @@ REPO = os.path.dirname(HERE)
 sys.path = [p for p in sys.path if os.path.abspath(p or os.curdir) != HERE]
 sys.path.insert(0, os.path.join(REPO, "examples", "python"))
 
-import png  # noqa: E402
 import tp_numpy  # noqa: E402
 
 import pointshade  # noqa: E402
@@ -119,7 +118,7 @@ def bench_normal_image(args, repeats, warmup):
         print(f"\n{message}")
         print(message, file=sys.stderr)
         return
-    samples = png.read_png(image)
+    samples = pointshade.read_normal_image(image)
     h, w = samples.shape[:2]
     numpy_repeats = max(3, repeats // 2)
     table = Table(

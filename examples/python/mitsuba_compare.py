@@ -5,10 +5,12 @@ The scene (default scenes/validation/conductor-sphere.toml: a GGX copper sphere 
 Fresnel on a diffuse plane, one point light, one sample at each pixel centre) is exported with
 `pointshade.Scene.from_toml(path).export_mitsuba(xml)` and rendered by Mitsuba through
 validation/render.py, the script `pointshade validate` uses (it picks the variant, registers
-pointshade's BSDF plugin and writes the EXR), run by an interpreter that has Mitsuba: this one if it
-imports `mitsuba`, else validation/.venv/bin/python (validation/install.sh makes it). pointshade
-renders the same scene with Mitsuba's shadow offset (`shadow_offset="mitsuba"`, the like-for-like
-setting of docs/validation.md), and `pointshade.compare` measures the relative error per pixel.
+pointshade's BSDF plugin and writes the EXR), run by an interpreter that has Mitsuba: `--python`,
+else $POINTSHADE_MITSUBA_PYTHON, else this one if it imports `mitsuba`, else
+validation/.venv/bin/python (validation/install.sh makes it). Both sides use the like-for-like
+switch (`export_mitsuba(xml, match="mitsuba")`, `render(scene, match="mitsuba")`: the grid
+sampler and Mitsuba's shadow offset, docs/validation.md), and `pointshade.compare` measures the
+relative error per pixel. Drawing needs matplotlib (`pip install matplotlib`).
 
 The figure (default out/python-mitsuba/compare.png) has both renders, the relative-error heat map
 (log scale) and the polar lobe f_r·cos θ_i of the scene's copper at three roughnesses for ω_o at 45°,
@@ -20,7 +22,7 @@ The exported scene is one XML with every light in it: keep to scenes of one ligh
 one light per sample; for several, `pointshade export-mitsuba --per-light` writes one XML each and
 render.py sums them).
 
-    python examples/python/mitsuba_compare.py [--scene scenes/validation/conductor-sphere.toml] [--out out/python-mitsuba/compare.png]
+    python examples/python/mitsuba_compare.py [--scene scenes/validation/conductor-sphere.toml] [--out out/python-mitsuba/compare.png] [--python PATH]
 """
 
 import argparse
@@ -56,8 +58,15 @@ def skipped(what):
     return 0
 
 
-def mitsuba_python():
-    """An interpreter that imports mitsuba: this one, else the validation's virtual environment."""
+def mitsuba_python(given):
+    """An interpreter that imports mitsuba: `given` (--python, else $POINTSHADE_MITSUBA_PYTHON) if
+    set, else this one, else the validation's virtual environment."""
+    given = given or os.environ.get("POINTSHADE_MITSUBA_PYTHON")
+    if given:
+        probe = subprocess.run([given, "-c", "import mitsuba"], capture_output=True, text=True)
+        if probe.returncode != 0:
+            sys.exit(f"error: {given} cannot import mitsuba: {probe.stderr.strip().splitlines()[-1:]}")
+        return given
     candidates = [sys.executable, os.path.join(VALIDATION, ".venv", "bin", "python")]
     for python in candidates:
         if os.path.isfile(python):
@@ -131,9 +140,11 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--scene", default=DEFAULT_SCENE, help="a scene file of one light (default: the conductor-sphere validation scene)")
     parser.add_argument("--out", default=os.path.join("out", "python-mitsuba", "compare.png"), help="figure (PNG)")
+    parser.add_argument("--python", help="an interpreter that imports mitsuba (default: $POINTSHADE_MITSUBA_PYTHON, "
+                        "this one, or validation/.venv/bin/python)")
     args = parser.parse_args()
 
-    python = mitsuba_python()
+    python = mitsuba_python(args.python)
     if python is None:
         return skipped(
             "Mitsuba 3 is not installed (run validation/install.sh: this script then renders the "
@@ -150,7 +161,7 @@ def main():
     xml = os.path.join(out_dir, f"{stem}.xml")
     ref_exr = os.path.join(out_dir, f"{stem}.mitsuba.exr")
 
-    pointshade.Scene.from_toml(args.scene).export_mitsuba(xml)
+    pointshade.Scene.from_toml(args.scene).export_mitsuba(xml, match="mitsuba")
     t0 = time.perf_counter()
     run = subprocess.run(
         [python, os.path.join(VALIDATION, "render.py"), "--out", ref_exr, xml], capture_output=True, text=True
@@ -163,7 +174,7 @@ def main():
     ref = pointshade.read_image(ref_exr)
 
     t0 = time.perf_counter()
-    rendered = pointshade.render(args.scene, shadow_offset="mitsuba")
+    rendered = pointshade.render(args.scene, match="mitsuba")
     ours_s = time.perf_counter() - t0
     ours = rendered["color"]
     comparison = pointshade.compare(ours, ref, tol=1e-3)

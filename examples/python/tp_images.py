@@ -3,8 +3,8 @@ against a plain numpy implementation of the same shading (tp_numpy.py).
 
 For each BRDF, `pointshade.shade_normal_image(path, preset="tp", brdf=..., return_8bit=True)` gives
 L_o (float32, computed in float64) and the assignment's 8-bit image (the PNG `pointshade normalmap
---preset tp` writes); the 8-bit image is saved as OUT/tp-BRDF.png. The same decoded pixels go
-through tp_numpy.shade (float64) and tp_numpy.to_8bit, and the script reports
+--preset tp` writes); the 8-bit image is saved as OUT/tp-BRDF.png (pointshade.write_image). The
+same samples (pointshade.read_normal_image: as the file stores them) go through tp_numpy.shade (float64) and tp_numpy.to_8bit, and the script reports
 
 - the largest |L_o difference| relative to the peak L_o: float32 storage of a float64 value is off
   by at most 2^-24 ≈ 6e-8 of it, so anything near the 1e-5 limit is a real disagreement;
@@ -33,7 +33,6 @@ REPO = os.path.dirname(os.path.dirname(HERE))
 DEFAULT_IMAGE = os.path.join(REPO, "..", "shared", "data", "normalmaps", "normal.png")
 sys.path.insert(0, HERE)
 
-import png  # noqa: E402
 import tp_numpy  # noqa: E402
 
 import pointshade  # noqa: E402
@@ -60,7 +59,7 @@ def main():
         )
         return 0
     os.makedirs(args.out, exist_ok=True)
-    samples = png.read_png(image)
+    samples = pointshade.read_normal_image(image)
     rgb = samples[..., :3]
     h, w = rgb.shape[:2]
     print(f"{image}: {w}x{h}, {samples.shape[2]} channels, {samples.dtype}")
@@ -84,7 +83,7 @@ def main():
         value_share = differ.mean()
         pixel_share = differ.any(axis=-1).mean()
         out = os.path.join(args.out, f"tp-{brdf}.png")
-        png.write_png(out, img8)
+        pointshade.write_image(out, img8)
         print(
             f"{brdf:<14} {ours_s * 1e3:>13.1f} {numpy_s * 1e3:>9.1f} {difference:>16.1e} "
             f"{differ.sum():>8} ({value_share:>8.4%}) {pixel_share:>8.4%}  {out}"

@@ -15,6 +15,7 @@ pointshade works, and Ctrl-C stops a render within about a tile per thread.
 
 import copy as _copy
 import os as _os
+import sys as _sys
 import textwrap as _textwrap
 import warnings as _warnings
 
@@ -27,13 +28,17 @@ __version__ = _native.__version__
 
 __all__ = [
     "InputError",
+    "Rendered",
     "Scene",
     "compare",
     "eval_brdf",
     "eval_terms",
     "read_image",
+    "read_normal_image",
     "render",
     "shade_normal_image",
+    "to_srgb8",
+    "write_image",
 ]
 
 def _path(value, what):
@@ -42,7 +47,85 @@ def _path(value, what):
     raise TypeError(f"{what}: expected a path (str or os.PathLike), got {type(value).__name__}")
 
 
-def render(scene, *, confine=None, **options):
+class Rendered(dict):
+    """What :func:`render` returns: a dict (``color``, the AOVs, ``stats``) that also shows its
+    colour image in Jupyter (as the PNG ``pointshade render -o x.png`` writes, with the scene's
+    exposure) and saves it with :meth:`save`."""
+
+    def _repr_png_(self):
+        return _native.png_bytes(self["color"], exposure=self["stats"]["exposure"])
+
+    def save(self, path, aov="color"):
+        """Write the colour image (or ``aov``) to ``path`` as the CLI writes it: ``.png`` 8-bit
+        sRGB with the scene's exposure, ``.exr`` linear float32."""
+        write_image(path, self[aov], exposure=self["stats"]["exposure"])
+
+
+class _StderrBar:
+    """The progress line a render draws on stderr: percentage and units, redrawn in place."""
+
+    def __init__(self):
+        self.drawn = False
+
+    def __call__(self, done, total, unit):
+        what = "of the time budget" if unit == "ms" else f"({done}/{total} tiles)"
+        _sys.stderr.write(f"\rrendering: {100 * done // max(total, 1):3d}% {what}")
+        _sys.stderr.flush()
+        self.drawn = True
+
+    def close(self):
+        if self.drawn:
+            _sys.stderr.write("\n")
+            _sys.stderr.flush()
+
+
+class _TqdmBar:
+    """A tqdm progress bar fed by a render's (done, total) advances."""
+
+    def __init__(self, tqdm):
+        self.tqdm, self.bar = tqdm, None
+
+    def __call__(self, done, total, unit):
+        if self.bar is None:
+            self.bar = self.tqdm(total=total, unit=" tiles" if unit == "tiles" else " ms", desc="rendering")
+        self.bar.update(done - self.bar.n)
+
+    def close(self):
+        if self.bar is not None:
+            self.bar.close()
+
+
+def _in_dask_worker():
+    if "distributed" not in _sys.modules:
+        return False
+    try:
+        _sys.modules["distributed"].get_worker()
+        return True
+    except (ValueError, AttributeError):
+        return False
+
+
+def _progress_receiver(progress, quiet):
+    """What render()'s ``progress`` and ``quiet`` ask for: a callable(done, total, unit) with a
+    ``close()``, or None."""
+    if quiet or progress is False:
+        return None
+    if progress is None:  # automatic: a terminal's stderr, outside Dask workers
+        stderr = getattr(_sys, "stderr", None)
+        shown = stderr is not None and hasattr(stderr, "isatty") and stderr.isatty() and not _in_dask_worker()
+        return _StderrBar() if shown else None
+    if progress is True:
+        try:
+            from tqdm.auto import tqdm
+        except ImportError:
+            return _StderrBar()
+        return _TqdmBar(tqdm)
+    if callable(progress):
+        return progress
+    raise TypeError(f"progress: expected None, True, False or a callable(done, total, unit), got {type(progress).__name__}")
+
+
+def render(scene, *, confine=None, progress=None, quiet=False, **options):
     """Render ``scene`` and return its images as float32 (H, W, 3) arrays.
 
     ``scene`` is a path (``.toml`` scene file, ``.obj``, ``.gltf``, ``.glb``) or a :class:`Scene`.
@@ -52,9 +135,16 @@ def render(scene, *, confine=None, **options):
     resolved (for files from others: a glTF rendered on a server); a file outside is a
     ValueError, as ``pointshade render --confine DIR`` refuses it.
 
-    Returns a dict: ``color`` (linear radiance), one array per requested AOV, and ``stats``
-    (stage times in seconds, ray counts, samples per pixel, the region and frame, the triangle
-    count and the scene's warnings, which are also issued as Python warnings).
+    Returns a dict (a :class:`Rendered`, which a notebook shows as its image): ``color``
+    (linear radiance), one array per requested AOV, and ``stats`` (stage times in seconds, ray
+    counts, samples per pixel, the region and frame, the exposure, the triangle count and the
+    scene's warnings, which are also issued as Python warnings).
+
+    Progress: by default a line on stderr when stderr is a terminal (not inside a Dask worker);
+    ``progress=True`` a tqdm bar when tqdm is installed (else that line), ``progress=False`` or
+    ``quiet=True`` nothing, and a callable is called as ``progress(done, total, unit)`` (``unit``
+    ``"tiles"``, or ``"ms"`` of a time budget) on the calling thread, at most 20 times a second
+    and once at the end; an exception it raises stops the render.
 
     A value of the wrong type is a TypeError naming the keyword, one out of range a
     :class:`InputError` (a ValueError) saying what it takes.
@@ -62,15 +152,21 @@ def render(scene, *, confine=None, **options):
     Keywords:
     """
     confine = None if confine is None else _path(confine, "confine")
-    if isinstance(scene, Scene):
-        out = _native.render(
-            scene.name, text=scene.to_toml(), dir=scene.base_dir, meshes=scene.meshes, confine=confine, options=options
-        )
-    else:
-        out = _native.render(_path(scene, "scene"), confine=confine, options=options)
+    receiver = _progress_receiver(progress, quiet)
+    try:
+        if isinstance(scene, Scene):
+            out = _native.render(
+                scene.name, text=scene.to_toml(), dir=scene.base_dir, meshes=scene.meshes, confine=confine,
+                options=options, progress=receiver,
+            )
+        else:
+            out = _native.render(_path(scene, "scene"), confine=confine, options=options, progress=receiver)
+    finally:
+        if hasattr(receiver, "close"):
+            receiver.close()
     for w in out["stats"]["warnings"]:
         _warnings.warn(w, stacklevel=2)
-    return out
+    return Rendered(out)
 
 
 render.__doc__ += "".join(
@@ -95,13 +191,13 @@ def _normal_map_toml(image, preset, brdf, material, lights, camera):
         doc["light"] = [dict(light) for light in lights]
     if camera is not None:
         doc["camera"] = dict(camera)
-    return _native.to_toml(doc)
+    return _native.to_toml(doc, "shade_normal_image")
 
 
 def shade_normal_image(
     normals,
     *,
-    preset="physical",
+    preset=None,
     brdf=None,
     material=None,
     lights=None,
@@ -114,8 +210,9 @@ def shade_normal_image(
 
     ``normals`` is a PNG path or an (H, W, 3) or (H, W, 4) uint8 or uint16 array of the samples
     a PNG stores (what ``imageio.imread`` or ``PIL`` give), or a float32/float64 array of them
-    divided by full scale, in [0, 1] (unit normals n go in as (n + 1) / 2). ``preset`` is ``"tp"`` (the NPM3D TP4
-    report's conventions, exactly) or ``"physical"``. The material is the preset's of model
+    divided by full scale, in [0, 1] (unit normals n go in as (n + 1) / 2). ``preset`` is
+    required: ``"tp"`` (the NPM3D TP4 assignment's conventions, exactly: its images) or
+    ``"physical"`` (radiometric units and pointshade's physical defaults). The material is the preset's of model
     ``brdf`` (lambert, blinn-phong, cook-torrance), or ``material``, a dict of scene-file
     material keys (``{"model": "cook-torrance", "roughness": 0.3}``) with the preset's defaults.
     ``lights`` (a list of dicts of ``[[light]]`` keys) and ``camera`` (a dict of the normal-map
@@ -123,6 +220,11 @@ def shade_normal_image(
     a tuple ``(L_o, image)``, ``image`` the uint8 (H, W, 3) PNG ``normalmap --preset tp`` writes.
     With ``confine`` (a folder), a PNG path must lie inside it (links and ``..`` resolved).
     """
+    if preset is None:
+        raise TypeError(
+            "shade_normal_image: preset is required: preset='tp' for the NPM3D TP4 assignment's "
+            "images, or preset='physical' for radiometric units"
+        )
     if isinstance(normals, (str, _os.PathLike)):
         image, array = _os.path.abspath(_os.fspath(normals)), None
     else:
@@ -140,7 +242,7 @@ def shade_normal_image(
 def _material_toml(material):
     if not isinstance(material, dict):
         raise TypeError(f"material: expected a dict of scene-file material keys, got {type(material).__name__}")
-    return _native.to_toml(material)
+    return _native.to_toml(material, "material")
 
 
 def eval_brdf(material, n, wi, wo, *, precision="float32", defaults="scene"):
@@ -148,10 +250,15 @@ def eval_brdf(material, n, wi, wo, *, precision="float32", defaults="scene"):
 
     The very function the renderer's shader multiplies by E·cos θ_i: a two-sided material turns
     ``n`` towards ``wo``; rows where ``wi`` or ``wo`` is below the surface give 0. ``wi`` and
-    ``wo`` are unit directions towards the light and the viewer; ``n`` may have any length.
+    ``wo`` are unit directions towards the light and the viewer (a row whose length is off 1 by
+    more than 1e-4 is a ValueError naming it: normalise them); ``n`` may have any length but
+    zero.
     ``material`` is a dict of scene-file material keys; ``defaults`` ``"scene"`` (scene files')
     or ``"tp"`` (the tp preset's) fills the rest. ``precision``: ``"float32"`` (the renderer's)
-    or ``"float64"`` (for checking).
+    or ``"float64"`` (for checking): double-precision arithmetic on the material's parameters
+    as pointshade stores them, in float32 (roughness 0.3 is 0.30000001192...). So at α = 0.3,
+    D and G differ from a float64 evaluation at exactly 0.3 by up to 8e-8 and 3e-8 relative,
+    and agree with one at float32(0.3) to 1e-14 (docs/python.md).
     """
     return _native.eval_brdf(_material_toml(material), n, wi, wo, precision=precision, defaults=defaults)
 
@@ -167,6 +274,27 @@ def eval_terms(material, n, wi, wo, *, defaults="scene"):
 def read_image(path):
     """A linear image file (EXR as pointshade writes it) as float32 (H, W, 3)."""
     return _native.read_image(_path(path, "path"))
+
+
+def read_normal_image(path):
+    """A PNG normal image's samples exactly as the file stores them: uint8 or uint16, (H, W, 3),
+    or (H, W, 4) with alpha; what :func:`shade_normal_image` takes as an array."""
+    return _native.read_normal_image(_path(path, "path"))
+
+
+def write_image(path, array, exposure=0.0):
+    """Write a float (H, W, 3) image to ``path`` as ``pointshade render -o`` writes one:
+    ``.png`` 8-bit sRGB after scaling by 2^``exposure`` and clamping to [0, 1] (the same bytes
+    as the CLI's file of the same render), ``.exr`` linear float32 (exposure not applied). A
+    uint8 (H, W, 3) array, 8-bit sRGB already, is written to a ``.png`` as it is. A NaN or
+    infinite pixel is a ValueError naming it; nothing is written on an error."""
+    _native.write_image(_path(path, "path"), array, exposure=exposure)
+
+
+def to_srgb8(array, exposure=0.0):
+    """The uint8 (H, W, 3) sRGB pixels of a float (H, W, 3) image, as a PNG of it holds them:
+    scaled by 2^``exposure``, clamped to [0, 1], encoded with the sRGB curve, rounded."""
+    return _native.to_srgb8(array, exposure=exposure)
 
 
 def compare(ours, ref, tol=1e-3, worst=10, count_non_finite=False):
@@ -241,34 +369,42 @@ class Scene:
             obj["material"] = material
         if transform is not None:
             obj["transform"] = dict(transform)
+        _native.to_toml(obj, "object")  # a value no scene file can hold fails here, named
         self._section("object", []).append(obj)
 
     def add_material(self, name, model="lambert", **params):
         """Add material ``name`` of ``model`` (lambert, blinn-phong, cook-torrance) with
         scene-file keys (albedo, kd, two_sided, ks, shininess, specular_color, roughness,
         metallic, ior, d, g, fresnel, eta, k)."""
-        self._section("material", {})[name] = {"model": model, **params}
+        material = {"model": model, **params}
+        _native.to_toml(material, f"add_material('{name}')")
+        self._section("material", {})[name] = material
 
     def add_light(self, type="point", **params):
         """Add a light of ``type`` (point, directional, spot) with its ``[[light]]`` keys
         (position, direction, look_at, intensity, irradiance, color, angles, range, ...)."""
-        self._section("light", []).append({"type": type, **params})
+        light = {"type": type, **params}
+        _native.to_toml(light, "add_light")
+        self._section("light", []).append(light)
 
     def set_camera(self, **params):
         """Set the camera's ``[camera]`` keys (position, look_at, up, fov, type, ...)."""
+        _native.to_toml(params, "set_camera")
         self.doc["camera"] = dict(params)
 
     def set_film(self, **params):
         """Set the ``[film]`` keys (width, height, spp, sampler, seed, exposure, ...)."""
+        _native.to_toml(params, "set_film")
         self._section("film", {}).update(params)
 
     def set_render(self, **params):
-        """Set the ``[render]`` keys (shadows, shadow_offset, shadow_terminator)."""
+        """Set the ``[render]`` keys (shadows, shadow_offset, shadow_terminator, match)."""
+        _native.to_toml(params, "set_render")
         self._section("render", {}).update(params)
 
     def to_toml(self):
         """The scene file of this scene (array meshes named ``NAME.obj``; see :meth:`save`)."""
-        return _native.to_toml(self.doc)
+        return _native.to_toml(self.doc, "Scene")
 
     def save(self, path):
         """Write the scene file to ``path`` and each array mesh beside it as ``NAME.obj``;
@@ -282,14 +418,17 @@ class Scene:
         for file, (vertices, faces, normals, uvs) in self.meshes.items():
             _native.write_obj(_os.path.join(folder, file), vertices, faces, normals, uvs)
         with open(path, "w", encoding="utf-8") as f:
-            f.write(_native.to_toml(doc))
+            f.write(_native.to_toml(doc, "Scene"))
 
-    def export_mitsuba(self, path, *, spp=None, sampler=None, per_light=False):
-        """Write the scene as Mitsuba 3 XML at ``path`` (meshes Mitsuba cannot read as PLY
-        beside it), as ``pointshade export-mitsuba`` does; returns its notes and differences."""
+    def export_mitsuba(self, path, *, spp=None, sampler=None, match=None, per_light=False):
+        """Write the scene as Mitsuba 3 XML at ``path``, as ``pointshade export-mitsuba`` does:
+        meshes Mitsuba cannot read, and every mesh given as arrays, are written beside it as
+        PLY files. With ``match="mitsuba"`` it samples as ``render(scene, match="mitsuba")``
+        does (the grid sampler), so the two images compare pixel by pixel. Returns the export's
+        notes and what has no Mitsuba equivalent."""
         return _native.export_mitsuba(
             self.name, _path(path, "path"), text=self.to_toml(), dir=self.base_dir, meshes=self.meshes,
-            spp=spp, sampler=sampler, per_light=per_light,
+            spp=spp, sampler=sampler, matching=match, per_light=per_light,
         )
 
     def __repr__(self):

@@ -1,7 +1,7 @@
 """Type stubs of pointshade's Python module (the reference is docs/python.md)."""
 
 import os
-from typing import Any, Literal, Mapping, Optional, Sequence, Tuple, Union, overload
+from typing import Any, Callable, Literal, Mapping, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -15,10 +15,18 @@ __version__: str
 class InputError(ValueError):
     """A problem with a file's contents or a parameter; the message is the CLI's one line."""
 
+class Rendered(dict[str, Any]):
+    """render()'s result: color, the AOVs and stats; shows its image in Jupyter."""
+
+    def _repr_png_(self) -> bytes: ...
+    def save(self, path: PathLike, aov: str = ...) -> None: ...
+
 def render(
     scene: Union[PathLike, "Scene"],
     *,
     confine: Optional[PathLike] = ...,
+    progress: Union[None, bool, Callable[[int, int, str], Any]] = ...,
+    quiet: bool = ...,
     width: Optional[int] = ...,
     height: Optional[int] = ...,
     spp: Optional[int] = ...,
@@ -30,6 +38,7 @@ def render(
     exposure: Optional[float] = ...,
     shadow_offset: Optional[Literal["error-bound", "mitsuba"]] = ...,
     shadow_terminator: Optional[Literal["smooth", "flat"]] = ...,
+    match: Optional[Literal["mitsuba"]] = ...,
     view: Optional[Sequence[float]] = ...,
     look_from: Optional[Vec3] = ...,
     look_at: Optional[Vec3] = ...,
@@ -37,14 +46,14 @@ def render(
     aovs: Optional[Union[AovName, Sequence[AovName]]] = ...,
     threads: Optional[int] = ...,
     camera: Optional[int] = ...,
-) -> dict[str, Any]:
+) -> Rendered:
     """Render a scene file, mesh, glTF file or Scene; float32 (H, W, 3) arrays and stats."""
 
 @overload
 def shade_normal_image(
     normals: Union[PathLike, npt.NDArray[np.uint8], npt.NDArray[np.uint16], npt.NDArray[np.floating]],
     *,
-    preset: Literal["tp", "physical"] = ...,
+    preset: Literal["tp", "physical"],
     brdf: Optional[Literal["lambert", "blinn-phong", "cook-torrance"]] = ...,
     material: Optional[Mapping[str, Any]] = ...,
     lights: Optional[Sequence[Mapping[str, Any]]] = ...,
@@ -57,7 +66,7 @@ def shade_normal_image(
 def shade_normal_image(
     normals: Union[PathLike, npt.NDArray[np.uint8], npt.NDArray[np.uint16], npt.NDArray[np.floating]],
     *,
-    preset: Literal["tp", "physical"] = ...,
+    preset: Literal["tp", "physical"],
     brdf: Optional[Literal["lambert", "blinn-phong", "cook-torrance"]] = ...,
     material: Optional[Mapping[str, Any]] = ...,
     lights: Optional[Sequence[Mapping[str, Any]]] = ...,
@@ -89,6 +98,17 @@ def eval_terms(
 
 def read_image(path: PathLike) -> npt.NDArray[np.float32]:
     """A linear EXR as float32 (H, W, 3)."""
+
+def read_normal_image(path: PathLike) -> Union[npt.NDArray[np.uint8], npt.NDArray[np.uint16]]:
+    """A PNG normal image's samples as stored: (H, W, 3) or (H, W, 4), uint8 or uint16."""
+
+def write_image(
+    path: PathLike, array: Union[npt.NDArray[np.floating], npt.NDArray[np.uint8]], exposure: float = ...
+) -> None:
+    """Write an image as the CLI does: .png 8-bit sRGB (exposure, clamp), .exr linear float32."""
+
+def to_srgb8(array: npt.NDArray[np.floating], exposure: float = ...) -> npt.NDArray[np.uint8]:
+    """The 8-bit sRGB pixels a PNG of the image holds, uint8 (H, W, 3)."""
 
 def compare(
     ours: Union[PathLike, npt.NDArray[np.floating]],
@@ -133,5 +153,11 @@ class Scene:
     def to_toml(self) -> str: ...
     def save(self, path: PathLike) -> None: ...
     def export_mitsuba(
-        self, path: PathLike, *, spp: Optional[int] = ..., sampler: Optional[str] = ..., per_light: bool = ...
+        self,
+        path: PathLike,
+        *,
+        spp: Optional[int] = ...,
+        sampler: Optional[str] = ...,
+        match: Optional[Literal["mitsuba"]] = ...,
+        per_light: bool = ...,
     ) -> list[str]: ...

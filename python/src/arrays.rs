@@ -2,7 +2,7 @@
 //! `TypeError` (wrong dtype or not an array) or `ValueError` (shape, layout, NaN) naming the
 //! argument. Arrays are read in place: nothing is copied to convert a layout or a dtype.
 
-use numpy::{Element, PyArrayDyn, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
+use numpy::{Element, PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -27,9 +27,14 @@ fn array<'a, 'py>(
         .cast::<PyUntypedArray>()
         .map_err(|_| PyTypeError::new_err(format!("{name}: expected a numpy array, got {}", type_name(value))))?;
     let shape = a.shape();
+    // Images are (H, W, C), lists of rows (N, C).
+    let letters: &[&str] = if ndim == 3 { &["H", "W", "C"] } else { &["N", "C"] };
     let wanted = || {
-        let dims: Vec<String> = std::iter::repeat_n("N".to_string(), ndim - trailing.len())
-            .chain(trailing.iter().map(|t| t.map_or("N".into(), |n| n.to_string())))
+        let free = std::iter::repeat_n(None, ndim - trailing.len());
+        let dims: Vec<String> = free
+            .chain(trailing.iter().copied())
+            .enumerate()
+            .map(|(i, t)| t.map_or(letters.get(i).unwrap_or(&"N").to_string(), |n| n.to_string()))
             .collect();
         format!("({})", dims.join(", "))
     };
@@ -193,6 +198,21 @@ pub fn normal_samples(value: &Bound<'_, PyAny>) -> PyResult<(u32, u32, Samples, 
     Ok((w32, h32, samples, c == 4))
 }
 
+/// An (H, W, 3) uint8 array's width, height and bytes (8-bit sRGB, as a PNG stores them), or
+/// `None` when `value` is an array of another dtype.
+pub fn rgb8_of(name: &str, value: &Bound<'_, PyAny>) -> PyResult<Option<(u32, u32, Vec<u8>)>> {
+    let is_u8 = value
+        .cast::<PyUntypedArray>()
+        .is_ok_and(|a| a.dtype().is_equiv_to(&numpy::dtype::<u8>(value.py())));
+    if !is_u8 {
+        return Ok(None);
+    }
+    let a = array(name, value, 3, &[None, None, Some(3)])?;
+    let size = |v: usize| u32::try_from(v).map_err(|_| value_error(name, "too large"));
+    let (height, width) = (size(a.shape()[0])?, size(a.shape()[1])?);
+    Ok(elements::<u8>(a).map(|bytes| (width, height, bytes)))
+}
+
 /// An (H, W, 3) float array as an image (NaN and infinity kept: the comparison counts them).
 pub fn image_of(name: &str, value: &Bound<'_, PyAny>) -> PyResult<Image> {
     let a = array(name, value, 3, &[None, None, Some(3)])?;
@@ -226,6 +246,17 @@ impl DirectionArray {
         self.0.len() / 3
     }
 
+    /// The first row whose length is not within `tolerance` of `length` (`None`: any length but
+    /// zero), and that length.
+    fn first_off(&self, length: Option<f64>, tolerance: f64) -> Option<(usize, f64)> {
+        (0..self.rows())
+            .map(|i| (i, glam::DVec3::from_array(self.row::<f64>(i)).length()))
+            .find(|&(_, l)| match length {
+                Some(unit) => (l - unit).abs() > tolerance,
+                None => l == 0.0,
+            })
+    }
+
     /// Row `i` in precision `R`.
     pub fn row<R: Scalar>(&self, i: usize) -> [R; 3] {
         [
@@ -236,7 +267,12 @@ impl DirectionArray {
     }
 }
 
-/// `n`, `wi` and `wo` as (N, 3) direction arrays of one length, finite.
+/// How far from 1 the length of a `wi` or `wo` row may be: well above the rounding of a float32
+/// normalisation (about 1e-7), well below any length given by mistake.
+pub const UNIT_TOLERANCE: f64 = 1e-4;
+
+/// `n`, `wi` and `wo` as (N, 3) direction arrays of one length, finite; `wi` and `wo` unit
+/// (to [`UNIT_TOLERANCE`]), `n` of any length but zero.
 pub fn directions(
     n: &Bound<'_, PyAny>,
     wi: &Bound<'_, PyAny>,
@@ -246,6 +282,20 @@ pub fn directions(
         Ok(DirectionArray(finite_floats(name, array(name, v, 2, &[Some(3)])?)?))
     };
     let (n, wi, wo) = (read("n", n)?, read("wi", wi)?, read("wo", wo)?);
+    for (name, d) in [("wi", &wi), ("wo", &wo)] {
+        if let Some((row, length)) = d.first_off(Some(1.0), UNIT_TOLERANCE) {
+            return Err(value_error(
+                name,
+                format!("row {row} has length {length} (directions must be unit vectors, to {UNIT_TOLERANCE:e}): normalise the rows"),
+            ));
+        }
+    }
+    if let Some((row, _)) = n.first_off(None, 0.0) {
+        return Err(value_error(
+            "n",
+            format!("row {row} is zero: a normal needs a direction (any length)"),
+        ));
+    }
     if n.rows() != wi.rows() || n.rows() != wo.rows() {
         return Err(value_error(
             "wi",

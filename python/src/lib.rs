@@ -9,6 +9,7 @@
 //! raised before anything is copied. The GIL is released while loading, rendering and shading.
 
 mod arrays;
+mod images;
 mod interrupt;
 mod options;
 mod toml_values;
@@ -31,7 +32,6 @@ use pointshade::normal_map::formats::min_max_8bit;
 use pointshade::normal_map::image::NormalImage;
 use pointshade::normal_map::scene_file::{NormalMapScene, Preset};
 use pointshade::render::options::Spelling;
-use pointshade::render::progress::Silent;
 use pointshade::render::request::RenderRequest;
 use pointshade::scene::file::{material_from_toml, MaterialDefaults};
 use pointshade::scene::{LoadOptions, SceneSource};
@@ -50,7 +50,7 @@ pyo3::create_exception!(
 
 /// The Python exception of a library error: `FileNotFoundError` when the file is missing, else
 /// `pointshade.InputError`; the message is what the CLI prints after `error: `.
-fn py_err(e: LibError) -> PyErr {
+pub(crate) fn py_err(e: LibError) -> PyErr {
     let missing = e.problem == "file not found" || e.problem.contains("No such file or directory");
     match missing {
         true => PyFileNotFoundError::new_err(e.to_string()),
@@ -116,7 +116,8 @@ fn scene_source(
 /// Renders a scene; `options` holds `pointshade.render`'s keywords (`RENDER_OPTIONS`). Returns
 /// a dict: `color`, one entry per AOV, and `stats`.
 #[pyfunction]
-#[pyo3(signature = (path, *, text=None, dir=None, meshes=None, confine=None, options=None))]
+#[pyo3(signature = (path, *, text=None, dir=None, meshes=None, confine=None, options=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
     path: PathBuf,
@@ -125,15 +126,17 @@ fn render<'py>(
     meshes: Option<Bound<'py, PyDict>>,
     confine: Option<PathBuf>,
     options: Option<Bound<'py, PyDict>>,
+    progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let confinement = confinement(confine)?;
     let request = RenderRequest {
         source: scene_source(path, text, dir, meshes.as_ref())?,
         options: options::render_options("render", options.as_ref())?,
     };
-    let outcome = run_interruptible(py, |stop| -> Result<_, LibError> {
+    let progress = progress.map(Bound::unbind);
+    let outcome = run_interruptible(py, progress, |stop, latest| -> Result<_, LibError> {
         let prepared = confinement.run(|| request.prepare(Spelling::Keyword))?;
-        let rendered = prepared.render(&Silent, Some(stop))?;
+        let rendered = prepared.render(latest, Some(stop))?;
         Ok((prepared, rendered))
     })?;
     let (prepared, rendered) = outcome.map_err(py_err)?;
@@ -307,7 +310,7 @@ fn eval_brdf<'py>(
 
 /// The Cook-Torrance terms D, G and F of `material` for each row, with f_r: the functions its
 /// `d`, `g` and `fresnel` keys name, of the dot products the shader forms (two-sided materials
-/// turn n towards ω_o first). Rows without a shading frame (ω_i = −ω_o, n = 0) give 0.
+/// turn n towards ω_o first). Rows without a shading frame (ω_i = −ω_o) give 0.
 #[pyfunction]
 #[pyo3(signature = (material, n, wi, wo, *, defaults="scene"))]
 fn eval_terms<'py>(
@@ -435,7 +438,7 @@ fn read_image<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyArra
 /// arrays) as Mitsuba 3 XML at `output`, as `pointshade export-mitsuba` does, with the meshes
 /// Mitsuba cannot read beside it; returns the lines the CLI prints (material notes, differences).
 #[pyfunction]
-#[pyo3(signature = (path, output, *, text=None, dir=None, meshes=None, spp=None, sampler=None, per_light=false))]
+#[pyo3(signature = (path, output, *, text=None, dir=None, meshes=None, spp=None, sampler=None, matching=None, per_light=false))]
 #[allow(clippy::too_many_arguments)]
 fn export_mitsuba<'py>(
     py: Python<'py>,
@@ -446,12 +449,14 @@ fn export_mitsuba<'py>(
     meshes: Option<Bound<'py, PyDict>>,
     spp: Option<u32>,
     sampler: Option<String>,
+    matching: Option<String>,
     per_light: bool,
 ) -> PyResult<Vec<String>> {
     let source = scene_source(path, text, dir, meshes.as_ref())?;
     let options = ExportOptions {
         spp,
         sampler,
+        matching,
         per_light,
         plugin_everywhere: false,
     };
@@ -488,18 +493,19 @@ fn write_obj(
         .map_err(py_err)
 }
 
-/// A TOML document's text from a dict of str, bool, int, float, lists and dicts.
+/// A TOML document's text from a dict of str, bool, int, float, lists and dicts; errors name
+/// `context` (the call the values came from) and the key.
 #[pyfunction]
-fn to_toml(value: Bound<'_, PyDict>) -> PyResult<String> {
-    let table = toml_values::table_of(&value)?;
+#[pyo3(signature = (value, context=""))]
+fn to_toml(value: Bound<'_, PyDict>, context: &str) -> PyResult<String> {
+    let table = toml_values::table_of(&value, context)?;
     toml::to_string(&table).map_err(|e| value_error("to_toml", e))
 }
 
 /// A TOML document as a dict; errors name `name` and the line.
 #[pyfunction]
 fn parse_toml<'py>(py: Python<'py>, text: &str, name: &str) -> PyResult<Bound<'py, PyAny>> {
-    let table: toml::Table =
-        toml::from_str(text).map_err(|e| InputError::new_err(format!("{name}: {}", e.message())))?;
+    let table = pointshade::scene::file::parse_toml_table(Path::new(name), text.to_string()).map_err(py_err)?;
     toml_values::py_of(py, &toml::Value::Table(table))
 }
 
@@ -513,6 +519,10 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(eval_terms, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;
     m.add_function(wrap_pyfunction!(read_image, m)?)?;
+    m.add_function(wrap_pyfunction!(images::write_image, m)?)?;
+    m.add_function(wrap_pyfunction!(images::to_srgb8, m)?)?;
+    m.add_function(wrap_pyfunction!(images::png_bytes, m)?)?;
+    m.add_function(wrap_pyfunction!(images::read_normal_image, m)?)?;
     m.add_function(wrap_pyfunction!(export_mitsuba, m)?)?;
     m.add_function(wrap_pyfunction!(to_toml, m)?)?;
     m.add_function(wrap_pyfunction!(write_obj, m)?)?;

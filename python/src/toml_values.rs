@@ -6,55 +6,100 @@ use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
-/// A dict of str keys as a TOML table.
-pub fn table_of(dict: &Bound<'_, PyDict>) -> PyResult<toml::Table> {
+/// A dict of str keys as a TOML table. An error names the key path of the value at fault
+/// (`light[0].intensity`) after `context` (the call that gave it): a `ValueError` for a value
+/// no scene file can hold (NaN, infinity), a `TypeError` for a type it cannot.
+pub fn table_of(dict: &Bound<'_, PyDict>, context: &str) -> PyResult<toml::Table> {
+    table(dict, "").map_err(|u| u.into_py_err(context))
+}
+
+/// Why a value cannot be written, and where.
+struct Unwritable {
+    path: String,
+    problem: String,
+    /// The value's type is wrong (else the value itself).
+    wrong_type: bool,
+}
+
+impl Unwritable {
+    fn into_py_err(self, context: &str) -> PyErr {
+        let message = [context, &self.path, &self.problem]
+            .into_iter()
+            .filter(|s| !s.is_empty())
+            .collect::<Vec<_>>()
+            .join(": ");
+        match self.wrong_type {
+            true => PyTypeError::new_err(message),
+            false => PyValueError::new_err(message),
+        }
+    }
+}
+
+fn table(dict: &Bound<'_, PyDict>, path: &str) -> Result<toml::Table, Unwritable> {
     let mut table = toml::Table::new();
     for (key, value) in dict.iter() {
-        let key: String = key
-            .extract()
-            .map_err(|_| PyTypeError::new_err(format!("TOML keys are strings, got {key}")))?;
+        let Ok(key) = key.extract::<String>() else {
+            return Err(Unwritable {
+                path: path.to_string(),
+                problem: format!("keys are strings, got {key}"),
+                wrong_type: true,
+            });
+        };
         if value.is_none() {
             continue; // an unset key
         }
-        let v = value_of(&value).map_err(|e| PyTypeError::new_err(format!("{key}: {e}")))?;
-        table.insert(key, v);
+        let child = match path.is_empty() {
+            true => key.clone(),
+            false => format!("{path}.{key}"),
+        };
+        table.insert(key, value_of(&value, &child)?);
     }
     Ok(table)
 }
 
 /// A Python value as a TOML value: bool, int, finite float, str, list or tuple, dict, or
 /// anything with `tolist()` (numpy arrays and scalars).
-fn value_of(value: &Bound<'_, PyAny>) -> PyResult<toml::Value> {
+fn value_of(value: &Bound<'_, PyAny>, path: &str) -> Result<toml::Value, Unwritable> {
+    let fail = |problem: String, wrong_type: bool| Unwritable {
+        path: path.to_string(),
+        problem,
+        wrong_type,
+    };
+    let python = |e: PyErr| fail(e.to_string(), true);
     if value.is_instance_of::<PyBool>() {
-        return Ok(toml::Value::Boolean(value.extract()?));
+        return Ok(toml::Value::Boolean(value.extract().map_err(python)?));
     }
     if value.is_instance_of::<PyInt>() {
-        return Ok(toml::Value::Integer(value.extract()?));
+        let i: i64 = value
+            .extract()
+            .map_err(|_| fail(format!("{value} does not fit a 64-bit integer"), false))?;
+        return Ok(toml::Value::Integer(i));
     }
     if value.is_instance_of::<PyFloat>() {
-        let v: f64 = value.extract()?;
+        let v: f64 = value.extract().map_err(python)?;
         if !v.is_finite() {
-            return Err(PyValueError::new_err(format!("{v} is not a finite number")));
+            return Err(fail(format!("{v} is not a finite number"), false));
         }
         return Ok(toml::Value::Float(v));
     }
     if value.is_instance_of::<PyString>() {
-        return Ok(toml::Value::String(value.extract()?));
+        return Ok(toml::Value::String(value.extract().map_err(python)?));
     }
     if let Ok(dict) = value.cast::<PyDict>() {
-        return Ok(toml::Value::Table(table_of(dict)?));
+        return Ok(toml::Value::Table(table(dict, path)?));
     }
     if value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>() {
-        let items: PyResult<Vec<toml::Value>> = value.try_iter()?.map(|item| value_of(&item?)).collect();
-        return Ok(toml::Value::Array(items?));
+        let mut items = Vec::new();
+        for (i, item) in value.try_iter().map_err(python)?.enumerate() {
+            items.push(value_of(&item.map_err(python)?, &format!("{path}[{i}]"))?);
+        }
+        return Ok(toml::Value::Array(items));
     }
-    if value.hasattr("tolist")? {
-        return value_of(&value.call_method0("tolist")?);
+    if value.hasattr("tolist").unwrap_or(false) {
+        return value_of(&value.call_method0("tolist").map_err(python)?, path);
     }
-    Err(PyTypeError::new_err(format!(
-        "cannot write a {} in a scene file",
-        value.get_type().name()?
-    )))
+    let type_name = value.get_type().name().map_or_else(|_| "?".into(), |n| n.to_string());
+    Err(fail(format!("cannot write a {type_name} in a scene file"), true))
 }
 
 /// A TOML value as a Python value (datetimes as their text).

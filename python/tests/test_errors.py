@@ -11,7 +11,7 @@ def test_a_missing_file_is_file_not_found_with_the_cli_message(cli):
     with pytest.raises(FileNotFoundError, match=r"^/nonexistent/mesh\.obj: file not found$"):
         pointshade.render("/nonexistent/mesh.obj")
     with pytest.raises(FileNotFoundError):
-        pointshade.shade_normal_image("/nonexistent.png", brdf="lambert")
+        pointshade.shade_normal_image("/nonexistent.png", preset="physical", brdf="lambert")
 
 
 def test_a_malformed_scene_file_is_an_input_error_naming_file_and_line(tmp_path):
@@ -97,23 +97,23 @@ def test_wrong_mesh_arrays_are_clear_exceptions():
 
 def test_wrong_normal_images_are_clear_exceptions():
     with pytest.raises(TypeError, match="uint8, uint16 or float"):
-        pointshade.shade_normal_image(np.zeros((4, 4, 3), np.int32), brdf="lambert")
+        pointshade.shade_normal_image(np.zeros((4, 4, 3), np.int32), preset="physical", brdf="lambert")
     with pytest.raises(ValueError, match=r"row 0, column 1, channel 2 is 1.5: float samples .* in \[0, 1\]"):
-        pointshade.shade_normal_image(np.array([[[0.5, 0.5, 1.0], [0.2, 0.3, 1.5]]]), brdf="lambert")
+        pointshade.shade_normal_image(np.array([[[0.5, 0.5, 1.0], [0.2, 0.3, 1.5]]]), preset="physical", brdf="lambert")
     with pytest.raises(ValueError, match="row 0, column 0, channel 0 is NaN"):
-        pointshade.shade_normal_image(np.full((2, 2, 3), np.nan, np.float32), brdf="lambert")
+        pointshade.shade_normal_image(np.full((2, 2, 3), np.nan, np.float32), preset="physical", brdf="lambert")
     with pytest.raises(ValueError, match=r"\(H, W, 3\) or \(H, W, 4\)"):
-        pointshade.shade_normal_image(np.zeros((4, 4, 2), np.uint8), brdf="lambert")
+        pointshade.shade_normal_image(np.zeros((4, 4, 2), np.uint8), preset="physical", brdf="lambert")
     with pytest.raises(ValueError, match="C-contiguous"):
-        pointshade.shade_normal_image(np.zeros((4, 6, 3), np.uint8)[:, ::2], brdf="lambert")
+        pointshade.shade_normal_image(np.zeros((4, 6, 3), np.uint8)[:, ::2], preset="physical", brdf="lambert")
     with pytest.raises(ValueError, match="empty"):
-        pointshade.shade_normal_image(np.zeros((0, 4, 3), np.uint8), brdf="lambert")
+        pointshade.shade_normal_image(np.zeros((0, 4, 3), np.uint8), preset="physical", brdf="lambert")
     with pytest.raises(ValueError, match="brdf"):
-        pointshade.shade_normal_image(np.zeros((4, 4, 3), np.uint8))
+        pointshade.shade_normal_image(np.zeros((4, 4, 3), np.uint8), preset="physical")
     with pytest.raises(pointshade.InputError, match="unknown variant `pt`, expected `tp` or `physical`"):
         pointshade.shade_normal_image(np.zeros((4, 4, 3), np.uint8), preset="pt", brdf="lambert")
     with pytest.raises(ValueError, match="tp preset"):
-        pointshade.shade_normal_image(np.zeros((4, 4, 3), np.uint8), brdf="lambert", return_8bit=True)
+        pointshade.shade_normal_image(np.zeros((4, 4, 3), np.uint8), preset="physical", brdf="lambert", return_8bit=True)
 
 
 def test_wrong_brdf_inputs_are_clear_exceptions():
@@ -122,8 +122,17 @@ def test_wrong_brdf_inputs_are_clear_exceptions():
         pointshade.eval_brdf({"model": "cook-torrance", "rougness": 0.2}, n, n, n)
     with pytest.raises(pointshade.InputError, match="roughness"):
         pointshade.eval_brdf({"model": "cook-torrance", "roughness": -1.0}, n, n, n)
-    with pytest.raises(TypeError, match="not a finite number"):
+    with pytest.raises(ValueError, match="^material: roughness: NaN is not a finite number$"):
         pointshade.eval_brdf({"model": "cook-torrance", "roughness": float("nan")}, n, n, n)
+    with pytest.raises(ValueError, match=r"^wi: row 1 has length 2 \(directions must be unit vectors, to 1e-4\)"):
+        pointshade.eval_brdf({"model": "lambert"}, np.tile(n, (2, 1)), np.array([n[0], 2 * n[0]]), np.tile(n, (2, 1)))
+    with pytest.raises(ValueError, match="^wo: row 0 has length 0.5"):
+        pointshade.eval_brdf({"model": "lambert"}, n, n, 0.5 * n)
+    with pytest.raises(ValueError, match="^n: row 0 is zero"):
+        pointshade.eval_brdf({"model": "lambert"}, 0 * n, n, n)
+    # n may have any other length; wi and wo within 1e-4 of unit length pass.
+    tilted = np.array([[0.6, 0.0, 0.8 * (1 + 5e-5)]])
+    assert pointshade.eval_brdf({"model": "lambert"}, 3 * n, tilted, n).shape == (1, 3)
     with pytest.raises(ValueError, match="one row each"):
         pointshade.eval_brdf({"model": "lambert"}, n, np.tile(n, (2, 1)), n)
     with pytest.raises(ValueError, match="is NaN"):
@@ -167,4 +176,35 @@ def test_confine_refuses_files_outside_the_folder(tmp_path):
     with pytest.raises(ValueError, match=r"^confine: .*folder not found"):
         pointshade.render(inside / "own.toml", confine=inside / "nowhere", **small)
     with pytest.raises(pointshade.InputError, match="confined to"):
-        pointshade.shade_normal_image(outside / "n.png", brdf="lambert", confine=inside)
+        pointshade.shade_normal_image(outside / "n.png", preset="physical", brdf="lambert", confine=inside)
+
+
+def test_values_of_a_built_scene_are_named_by_call_and_key():
+    s = pointshade.Scene()
+    with pytest.raises(ValueError, match=r"^add_light: intensity: NaN is not a finite number$") as e:
+        s.add_light("point", position=[0, 1, 0], intensity=float("nan"))
+    assert not isinstance(e.value, TypeError)
+    with pytest.raises(ValueError, match=r"^add_light: position\[2\]: inf is not a finite number$"):
+        s.add_light("point", position=[0, 1, float("inf")])
+    with pytest.raises(TypeError, match="^set_film: width: cannot write a object in a scene file$"):
+        s.set_film(width=object())
+    assert "light" not in s.doc and "film" not in s.doc  # nothing of a refused call is kept
+
+
+def test_documents_written_from_python_values_name_keys_not_lines(tmp_path):
+    s = pointshade.Scene(tmp_path)
+    s.add_object(REPO / "meshes" / "torus.obj")
+    s.add_light("point", positon=[1.0, 2.0, 3.0])
+    with pytest.raises(pointshade.InputError, match=r"light\[0\]\.positon: unknown field `positon`") as e:
+        pointshade.render(s, width=8, height=6)
+    assert "line" not in str(e.value)
+    with pytest.raises(pointshade.InputError, match=r"light\[1\]: missing field `type`") as e:
+        pointshade.shade_normal_image(np.full((4, 4, 3), 128, np.uint8), preset="physical", brdf="lambert",
+                                      lights=[{"type": "directional"}, {"position": [0.0, 0.0, 1.0]}])
+    assert "line" not in str(e.value)
+    # A file someone wrote is named by line and column, in one line.
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[film]\nwidth = [\n")
+    with pytest.raises(pointshade.InputError, match=r"bad\.toml: line 3, column 1: ") as e:
+        pointshade.Scene.from_toml(bad)
+    assert "\n" not in str(e.value)

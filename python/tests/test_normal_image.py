@@ -136,3 +136,29 @@ def test_eval_terms_are_zero_where_f_r_is():
     assert plain["G"][0] > 0
     for k in ("D", "G", "F", "f_r"):
         assert np.array_equal(flipped[k], plain[k])
+
+
+def test_float64_evaluates_the_float32_parameters_the_renderer_stores():
+    # GGX D and separable Smith G at α = 0.3, ω_o at 45°, ω_i swept through the plane of incidence.
+    angles = np.radians(np.linspace(-85, 85, 341))
+    count = len(angles)
+    n = np.tile([0.0, 0.0, 1.0], (count, 1))
+    wo = np.tile([np.sin(np.pi / 4), 0.0, np.cos(np.pi / 4)], (count, 1))
+    wi = np.stack([np.sin(angles), np.zeros(count), np.cos(angles)], axis=-1)
+    material = {"model": "cook-torrance", "roughness": 0.3, "d": "ggx", "g": "smith-ggx"}
+    t = pointshade.eval_terms(material, n, wi, wo)
+    h = (wi + wo) / np.linalg.norm(wi + wo, axis=1)[:, None]
+
+    def d_and_g(a):
+        d = a * a / (np.pi * (h[:, 2] ** 2 * (a * a - 1) + 1) ** 2)
+        g1 = lambda c: 2 * c / (c + np.sqrt(a * a + (1 - a * a) * c * c))  # noqa: E731
+        return d, g1(wi[:, 2]) * g1(wo[:, 2])
+
+    def worst(a):
+        d, g = d_and_g(a)
+        return np.max(np.abs(t["D"] / d - 1)), np.max(np.abs(t["G"] / g - 1))
+
+    exact, stored = worst(0.3), worst(float(np.float32(0.3)))
+    print(f"D, G relative to float64 at 0.3: {exact[0]:.1e}, {exact[1]:.1e}; at float32(0.3): {stored[0]:.0e}, {stored[1]:.0e}")
+    assert max(stored) < 1e-13  # the documented behaviour: float32 parameters, float64 arithmetic
+    assert 1e-8 < exact[0] < 2e-7 and 1e-9 < exact[1] < 1e-7

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import pointshade
-from conftest import REPO
+from conftest import REPO, sphere
 
 CORNELL = REPO / "scenes" / "cornell-box.toml"
 
@@ -46,19 +46,6 @@ def test_a_crop_is_that_part_of_the_frame():
     crop = pointshade.render(CORNELL, width=48, height=32, spp=2, crop=(8, 4, 40, 20))
     assert crop["stats"]["region"] == (8, 4, 40, 20)
     assert same_bits(crop["color"], np.ascontiguousarray(full[4:20, 8:40]))
-
-
-def sphere(rows=12, cols=16):
-    """A UV sphere as arrays: vertices, faces, normals, uvs."""
-    theta = np.linspace(0, np.pi, rows + 1)
-    phi = np.linspace(0, 2 * np.pi, cols + 1)
-    t, p = np.meshgrid(theta, phi, indexing="ij")
-    v = np.stack([np.sin(t) * np.cos(p), np.cos(t), np.sin(t) * np.sin(p)], axis=-1).reshape(-1, 3)
-    uv = np.stack([p / (2 * np.pi), 1 - t / np.pi], axis=-1).reshape(-1, 2)
-    idx = np.arange((rows + 1) * (cols + 1)).reshape(rows + 1, cols + 1)
-    a, b, c, d = idx[:-1, :-1], idx[:-1, 1:], idx[1:, 1:], idx[1:, :-1]
-    faces = np.concatenate([np.stack([a, c, b], -1).reshape(-1, 3), np.stack([a, d, c], -1).reshape(-1, 3)])
-    return v, faces, v.copy(), uv
 
 
 def write_obj(path, v, f, n=None, uv=None):
@@ -127,11 +114,7 @@ def test_export_mitsuba_writes_the_cli_xml(cli, tmp_path):
     scene.export_mitsuba(tmp_path / "py.xml", spp=4)
     cli("export-mitsuba", REPO / "scenes" / "validation" / "diffuse-sphere.toml", "-o", tmp_path / "cli.xml", "--spp", 4)
     assert (tmp_path / "py.xml").read_text() == (tmp_path / "cli.xml").read_text()
-    v, f, _, _ = sphere()
-    built = lit_scene(tmp_path)
-    built.add_mesh(v, f, material="glossy")
-    built.export_mitsuba(tmp_path / "built.xml")
-    assert "<scene" in (tmp_path / "built.xml").read_text()
+    # A scene built from arrays: test_mitsuba.py renders its export in Mitsuba.
 
 
 def test_two_threads_render_at_once_and_give_what_one_thread_gives():
@@ -175,6 +158,43 @@ def test_the_stub_lists_every_render_keyword_of_the_library():
     render = next(f for f in stub.body if isinstance(f, ast.FunctionDef) and f.name == "render")
     keywords = [a.arg for a in render.args.kwonlyargs]
     table = [name for name, _, _ in pointshade._native.render_option_table()]
-    assert keywords == ["confine", *table]
+    assert keywords == ["confine", "progress", "quiet", *table]
     for name in table:
         assert f"``{name}``" in pointshade.render.__doc__
+
+
+def test_progress_reaches_a_callable_on_the_calling_thread_up_to_the_whole_render():
+    calls = []
+    caller = threading.get_ident()
+
+    def record(done, total, unit):
+        calls.append((done, total, unit, threading.get_ident()))
+
+    out = pointshade.render(CORNELL, width=160, height=120, spp=16, threads=1, progress=record)
+    assert out["color"].std() > 0
+    assert calls, "no progress reported"
+    assert all(t == caller for *_, t in calls)
+    dones = [d for d, *_ in calls]
+    assert dones == sorted(dones) and len(set(dones)) == len(dones)
+    done, total, unit, _ = calls[-1]
+    assert (done, unit) == (total, "tiles") and total > 1
+    # Off: quiet, progress=False, and by default where stderr is no terminal (pytest captures it).
+    for quiet in ({"quiet": True}, {"progress": False}, {}):
+        calls.clear()
+        pointshade.render(CORNELL, width=16, height=12, spp=1, **quiet)
+        assert calls == []
+    with pytest.raises(TypeError, match="^progress: expected None, True, False or a callable"):
+        pointshade.render(CORNELL, width=16, height=12, progress="yes")
+
+
+def test_an_exception_raised_by_the_progress_callable_stops_the_render():
+    class Enough(Exception):
+        pass
+
+    def stop(done, total, unit):
+        raise Enough()
+
+    start = time.monotonic()
+    with pytest.raises(Enough):
+        pointshade.render(CORNELL, width=640, height=480, spp=4096, threads=1, progress=stop)
+    assert time.monotonic() - start < 5.0

@@ -10,7 +10,7 @@
 use std::io::Cursor;
 
 use glam::Vec3;
-use image::{ImageFormat, RgbImage, RgbaImage};
+use image::{ImageFormat, RgbaImage};
 
 use crate::film::Image;
 
@@ -59,10 +59,7 @@ pub fn min_max_8bit(image: &Image) -> (Vec<u8>, Range) {
 /// [`min_max_8bit`] encoded as an RGB PNG.
 pub fn encode_min_max_png(image: &Image) -> Result<(Vec<u8>, Range), String> {
     let (raw, range) = min_max_8bit(image);
-    let img = RgbImage::from_raw(image.width, image.height, raw).expect("buffer size matches");
-    let mut bytes = Cursor::new(Vec::new());
-    img.write_to(&mut bytes, ImageFormat::Png).map_err(|e| e.to_string())?;
-    Ok((bytes.into_inner(), range))
+    Ok((crate::output::encode_png8(image.width, image.height, raw)?, range))
 }
 
 /// A unit normal's 8-bit colour: round((n·0.5 + 0.5)·255) per component (clamped, so a

@@ -71,9 +71,17 @@ pub fn to_srgb8(linear: f32, exposure_scale: f32) -> u8 {
     (srgb_encode(v) * 255.0).round() as u8
 }
 
+/// An 8-bit RGB PNG of `rgb` (three bytes a pixel, rows top to bottom), as every PNG render
+/// is written.
+pub fn encode_png8(width: u32, height: u32, rgb: Vec<u8>) -> Result<Vec<u8>, String> {
+    let img = RgbImage::from_raw(width, height, rgb).ok_or("the pixels do not fill the image")?;
+    let mut bytes = Cursor::new(Vec::new());
+    img.write_to(&mut bytes, ImageFormat::Png).map_err(|e| e.to_string())?;
+    Ok(bytes.into_inner())
+}
+
 /// Encodes `image` in `format`.
 pub fn encode(image: &Image, format: Format, exposure: f32) -> Result<Vec<u8>, String> {
-    let mut bytes = Cursor::new(Vec::new());
     match format {
         Format::Png => {
             let scale = exposure.exp2();
@@ -82,15 +90,13 @@ pub fn encode(image: &Image, format: Format, exposure: f32) -> Result<Vec<u8>, S
                 .iter()
                 .flat_map(|p| p.to_array().map(|c| to_srgb8(c, scale)))
                 .collect();
-            let img = RgbImage::from_raw(image.width, image.height, raw).expect("buffer size matches");
-            img.write_to(&mut bytes, ImageFormat::Png).map_err(|e| e.to_string())?;
+            encode_png8(image.width, image.height, raw)
         }
         Format::Exr => {
             let full = crate::film::PixelRect::full(image.width, image.height);
-            return exr::encode_exr(image, full, (image.width, image.height));
+            exr::encode_exr(image, full, (image.width, image.height))
         }
     }
-    Ok(bytes.into_inner())
 }
 
 /// Reads a linear RGB image (EXR, or any format the image crate decodes, taken as is) for

@@ -10,6 +10,7 @@ pub mod file;
 pub mod framing;
 pub mod gltf;
 mod load;
+pub mod matching;
 pub mod mesh;
 pub mod obj;
 pub mod procedural;
@@ -100,6 +101,7 @@ impl Scene {
         }));
         let objects = vec![SceneObject {
             mesh: source.clone(),
+            from_arrays: false,
             transform: glam::Mat4::IDENTITY,
             triangles: 0..mesh.triangle_count(),
         }];
@@ -126,8 +128,11 @@ impl Scene {
 /// One object of a scene: a mesh file placed by a transform, with the triangles it became.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneObject {
-    /// The mesh file.
+    /// The mesh file (for a mesh given as arrays, the name the scene file gives it).
     pub mesh: PathBuf,
+    /// Whether the mesh was given as arrays (the Python module's `Scene`) rather than read from
+    /// `mesh`: there is no file to refer to, and exports write the geometry out.
+    pub from_arrays: bool,
     /// Object-to-world transform applied to it.
     pub transform: glam::Mat4,
     /// Its triangles in the scene mesh.

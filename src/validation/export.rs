@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{InputError, InputResult};
 use crate::film::SamplerKind;
+use crate::scene::matching::Match;
 use crate::scene::Scene;
 use crate::validation::mitsuba::{export, BsdfChoice};
 
@@ -18,6 +19,8 @@ pub struct ExportOptions {
     pub spp: Option<u32>,
     /// Sampler name (default: the scene's).
     pub sampler: Option<String>,
+    /// A renderer to match (`mitsuba`: the grid sampler, as `render`'s `match` samples).
+    pub matching: Option<String>,
     /// Also one file per light and the emission pass.
     pub per_light: bool,
     /// The pointshade BSDF plugin for every material.
@@ -33,8 +36,19 @@ pub fn export_files(
     options: &ExportOptions,
     name: &dyn Fn(&str) -> String,
 ) -> InputResult<(Vec<OutputFile>, Vec<String>)> {
-    if let Some(sampler) = &options.sampler {
-        scene.film.sampler = SamplerKind::parse(sampler).map_err(|e| InputError::new(name("sampler"), e))?;
+    let sampler = match &options.sampler {
+        Some(s) => Some(SamplerKind::parse(s).map_err(|e| InputError::new(name("sampler"), e))?),
+        None => None,
+    };
+    scene.film.sampler = sampler.unwrap_or(scene.film.sampler);
+    if let Some(m) = &options.matching {
+        let m = Match::parse(m).map_err(|e| InputError::new(name("match"), e))?;
+        let keys = (name("sampler"), name("shadow_offset"));
+        let problem = m.contradiction(sampler, None, (keys.0.as_str(), keys.1.as_str()));
+        if let Some(problem) = problem {
+            return Err(InputError::new(name("match"), problem));
+        }
+        m.apply(&mut scene);
     }
     if let Some(spp) = options.spp {
         scene.film.spp = spp;

@@ -182,3 +182,54 @@ fn materials_written_with_mitsubas_keys_only_are_mitsubas_bsdfs() {
         .scene
         .contains("<bsdf type=\"diffuse\"><rgb name=\"reflectance\" value=\"0.5, 0.5, 0.5\"/></bsdf>"));
 }
+
+/// `--match mitsuba` is the grid sampler and Mitsuba's shadow offset, from the command line, a
+/// scene file and the export alike; a contradicting setting beside it is refused.
+#[test]
+fn match_mitsuba_is_the_grid_sampler_and_mitsubas_offset_everywhere() {
+    use crate::support::{assert_input_error, pointshade, render_png, Scratch};
+
+    let scene = root().join("scenes/cook-torrance.toml");
+    let size = ["--width", "48", "--height", "36", "--spp", "4"];
+    let matched = render_png(&scene, &[&size[..], &["--match", "mitsuba"]].concat());
+    let explicit = render_png(
+        &scene,
+        &[&size[..], &["--sampler", "grid", "--shadow-offset", "mitsuba"]].concat(),
+    );
+    assert!(matched == explicit, "--match mitsuba differs from its two settings");
+    let default = render_png(&scene, &size);
+    assert!(matched != default, "the default sampler renders the same image");
+
+    let dir = Scratch::new("match-mitsuba");
+    let meshes = format!("\"{}/meshes/", root().display());
+    let text = std::fs::read_to_string(&scene)
+        .unwrap()
+        .replace("\"../meshes/", &meshes);
+    let in_file = dir.write("matched.toml", &format!("{text}\n[render]\nmatch = \"mitsuba\"\n"));
+    assert!(
+        render_png(&in_file, &size) == matched,
+        "[render] match differs from --match"
+    );
+
+    let out = dir.path("x.png");
+    let r = pointshade(&[
+        "render".as_ref(),
+        scene.as_os_str(),
+        "--match".as_ref(),
+        "mitsuba".as_ref(),
+        "--sampler".as_ref(),
+        "sobol".as_ref(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_input_error(&r, &["--match", "grid sampler, but --sampler is sobol"], &[&out]);
+    let r = pointshade(&[
+        "export-mitsuba".as_ref(),
+        in_file.as_os_str(),
+        "--match".as_ref(),
+        "pbrt".as_ref(),
+        "-o".as_ref(),
+        dir.path("x.xml").as_os_str(),
+    ]);
+    assert_input_error(&r, &["--match", "expected mitsuba"], &[&dir.path("x.xml")]);
+}

@@ -22,6 +22,10 @@ pub struct ExportArgs {
     /// Sampler (default: the scene's): grid → Mitsuba's stratified without jitter, independent.
     #[arg(long)]
     sampler: Option<String>,
+    /// Export the scene as `render --match RENDERER` renders it (mitsuba: the grid sampler), so
+    /// that the two images compare pixel by pixel.
+    #[arg(long = "match", value_name = "RENDERER")]
+    matching: Option<String>,
     /// Also write one file per light (OUTPUT with .lightK.xml) and, if some material emits, the
     /// emission pass (.emission.xml): their renders sum to a deterministic reference.
     #[arg(long)]
@@ -37,6 +41,7 @@ pub fn run(args: ExportArgs) -> Result<(), InputError> {
     let options = ExportOptions {
         spp: args.spp,
         sampler: args.sampler,
+        matching: args.matching,
         per_light: args.per_light,
         plugin_everywhere: args.plugin_everywhere,
     };

@@ -20,6 +20,7 @@ use crate::material::Material;
 use crate::scene::camera::{CameraSpec, FovAxis, Projection};
 use crate::scene::framing::{default_lights, default_material, frame_bounds};
 use crate::scene::gltf::load_gltf;
+use crate::scene::matching::Match;
 use crate::scene::mesh::DerivedNormals;
 use crate::scene::mesh::{placed_origin, TriangleMesh};
 use crate::scene::obj::{load_mesh_arrays, load_obj_underived, MeshArrays, ObjContents, NO_MATERIAL};
@@ -27,6 +28,7 @@ use crate::scene::shadows::{ShadowOffset, ShadowTerminator};
 use crate::scene::textures::{decode_used_images, offset_images, PendingImage};
 use crate::scene::{extension, Scene, SceneObject};
 
+mod key_path;
 mod lights;
 mod materials;
 use values::{point3, resolve, three, vec3};
@@ -119,6 +121,8 @@ struct RenderSection {
     shadows: Option<bool>,
     shadow_offset: Option<Spanned<String>>,
     shadow_terminator: Option<Spanned<String>>,
+    #[serde(rename = "match")]
+    matching: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -198,6 +202,7 @@ fn load_scene_source(source: &TomlSource, dir: &Path, arrays: &MeshTable) -> Inp
     for object in &file.object {
         let o = object.get_ref();
         let mesh_path = resolve(dir, &o.mesh);
+        let from_arrays = arrays.contains_key(&o.mesh);
         let contents = match arrays.get(&o.mesh) {
             Some(a) => load_mesh_arrays(Path::new(&o.mesh), a)
                 .map(ObjectContents::of_obj)
@@ -266,6 +271,7 @@ fn load_scene_source(source: &TomlSource, dir: &Path, arrays: &MeshTable) -> Inp
         mesh.append(part, 0);
         objects.push(SceneObject {
             mesh: mesh_path,
+            from_arrays,
             transform,
             triangles: first..mesh.triangle_count(),
         });
@@ -303,6 +309,26 @@ fn load_scene_source(source: &TomlSource, dir: &Path, arrays: &MeshTable) -> Inp
     }
     if let Some(name) = render.and_then(|r| r.shadow_terminator.as_ref()) {
         scene.shadow_terminator = ShadowTerminator::parse(name.get_ref()).map_err(|m| at(name.span(), m))?;
+    }
+    if let Some(name) = render.and_then(|r| r.matching.as_ref()) {
+        let matching = Match::parse(name.get_ref()).map_err(|m| at(name.span(), m))?;
+        let sampler = file
+            .film
+            .as_ref()
+            .and_then(|f| f.get_ref().sampler.as_ref())
+            .map(|_| scene.film.sampler);
+        let keys = ("[film] sampler", "[render] shadow_offset");
+        if let Some(problem) = matching.contradiction(
+            sampler,
+            render
+                .and_then(|r| r.shadow_offset.as_ref())
+                .map(|_| scene.shadow_offset),
+            keys,
+        ) {
+            return Err(at(name.span(), problem));
+        }
+        matching.apply(&mut scene);
+        scene.film.validate().map_err(|m| at(name.span(), m))?;
     }
     scene.objects = objects;
     scene.origin = origin;
@@ -398,18 +424,30 @@ fn load_object(path: &Path) -> Result<ObjectContents, ObjectError> {
 pub(crate) struct TomlSource<'a> {
     pub(crate) path: &'a Path,
     text: String,
+    /// Errors name keys (`light[0].intensity`) rather than lines and columns: the text was
+    /// written by a program from its user's values (the Python module), not by the user.
+    by_key: bool,
 }
 
 impl<'a> TomlSource<'a> {
     /// Reads `path`; a missing or unreadable file is an error naming it.
     pub(crate) fn read(path: &'a Path) -> InputResult<Self> {
         let text = crate::input_files::read_to_string(path).map_err(|e| InputError::new(path, e))?;
-        Ok(TomlSource { path, text })
+        Ok(TomlSource {
+            path,
+            text,
+            by_key: false,
+        })
     }
 
-    /// `text`, named `path` in messages.
+    /// `text`, named `path` in messages, which locate errors by key: a document written from
+    /// values its user gave (the Python module's dicts), whose lines the user never saw.
     pub(crate) fn from_text(path: &'a Path, text: String) -> Self {
-        TomlSource { path, text }
+        TomlSource {
+            path,
+            text,
+            by_key: true,
+        }
     }
 
     /// The file parsed as `T` (strictly, as the sections' serde attributes say), or the parser's
@@ -421,11 +459,30 @@ impl<'a> TomlSource<'a> {
         })
     }
 
-    /// `problem` at the start of byte range `span`: "FILE: line L, column C: problem".
+    /// `problem` at the start of byte range `span`: "FILE: line L, column C: problem", or for
+    /// text given in memory "NAME: light[0].intensity: problem".
     pub(crate) fn at(&self, span: std::ops::Range<usize>, problem: String) -> InputError {
+        if let Some(key) = self
+            .by_key
+            .then(|| key_path::key_path_at(&self.text, span.start))
+            .flatten()
+        {
+            return InputError::new(self.path, format!("{key}: {problem}"));
+        }
         let (line, col) = line_col(&self.text, span.start);
         InputError::new(self.path, format!("line {line}, column {col}: {problem}"))
     }
+}
+
+/// A TOML document as a table, without a scene's checks; a syntax error is named at its line
+/// and column of `text`, read from the file `name` (the Python module's `Scene.from_toml`).
+pub fn parse_toml_table(name: &Path, text: String) -> InputResult<toml::Table> {
+    TomlSource {
+        path: name,
+        text,
+        by_key: false,
+    }
+    .parse()
 }
 
 /// 1-based line and column of byte `offset`.

@@ -4,7 +4,7 @@
 //! orthographic sensor, `direct` integrator with one emitter sample and no BSDF samples, box
 //! filter, float32 `hdrfilm`, `stratified` sampler without jitter for the grid sampler. OBJ meshes
 //! of one material are referenced, not copied; every other object (glTF meshes, OBJ files whose
-//! faces use several materials) is written as one binary PLY per material ([`super::ply`]), the
+//! faces use several materials, meshes given as arrays) is written as one binary PLY per material ([`super::ply`]), the
 //! world-space triangles and normals pointshade renders. Materials map to Mitsuba's own BSDFs where one computes exactly
 //! pointshade's model (Lambert → `diffuse`; Cook-Torrance with GGX, separable Smith and conductor
 //! or constant Fresnel and no diffuse part → `roughconductor`), and to the `pointshade` BSDF
@@ -142,13 +142,13 @@ pub fn export(scene: &Scene, spp: u32, bsdfs: BsdfChoice, mesh_prefix: &str) -> 
         let used = object.materials(&scene.mesh);
         let is_obj = crate::scene::extension(&object.mesh).as_deref() == Some("obj");
         let plain = used.iter().all(|&m| attributes(m) == VertexAttributes::default());
-        if is_obj && used.len() <= 1 && plain {
+        if is_obj && !object.from_arrays && used.len() <= 1 && plain {
             let material = used.first().copied().unwrap_or(0);
             add(&|e| shape(&object.mesh, object.transform, material, e), material);
             continue;
         }
-        // Mitsuba cannot read the file, would give all of an OBJ's faces one BSDF, or the
-        // plugin needs texture coordinates and tangents.
+        // Mitsuba cannot read the file (or there is none: a mesh given as arrays), would give
+        // all of an OBJ's faces one BSDF, or the plugin needs texture coordinates and tangents.
         for &m in used
             .iter()
             .filter(|&&m| albedo_bitmap(&scene.materials[m as usize], bsdfs).is_some())
