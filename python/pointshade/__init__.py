@@ -33,6 +33,7 @@ __all__ = [
     "compare",
     "eval_brdf",
     "eval_terms",
+    "material_keys",
     "read_image",
     "read_normal_image",
     "render",
@@ -245,6 +246,41 @@ def _material_toml(material):
     return _native.to_toml(material, "material")
 
 
+# What each material key takes and means (docs/scene-format.md, "Every material key"); the
+# defaults come from the library itself (_native.material_defaults).
+_MATERIAL_KEYS = {
+    "model": ("'lambert', 'blinn-phong' or 'cook-torrance'", "the BRDF: f_r = kd·albedo/π + f_s"),
+    "albedo": ("3 finite numbers ≥ 0", "diffuse colour"),
+    "kd": ("a finite number ≥ 0", "weight of the diffuse term (0 by default for a conductor)"),
+    "two_sided": ("bool", "shade the back of a surface as its front"),
+    "ks": ("a finite number ≥ 0", "weight of the Blinn-Phong lobe"),
+    "shininess": ("a finite number ≥ 0", "Blinn-Phong exponent of n·ω_h"),
+    "specular_color": ("3 finite numbers ≥ 0", "specular tint (Schlick's F0 when metallic)"),
+    "roughness": ("a number in [0, 1]", "GGX or Beckmann α, used directly"),
+    "d": ("'ggx' or 'beckmann'", "microfacet distribution D"),
+    "g": ("'schlick-smith', 'schlick-karis', 'smith-ggx' or 'smith-ggx-correlated'", "masking-shadowing G"),
+    "fresnel": ("'schlick', 'schlick-sg', 'conductor' or 'constant'", "Fresnel term F ('conductor' when eta or k is written)"),
+    "metallic": ("bool (Schlick Fresnel only)", "F0 = specular_color instead of the dielectric's"),
+    "ior": ("a finite number > 0 (Schlick Fresnel, not metallic)", "F0 = ((ior − 1)/(ior + 1))²"),
+    "eta": ("3 finite numbers ≥ 0 (conductor Fresnel)", "real part of the conductor's index per channel"),
+    "k": ("3 finite numbers ≥ 0 (conductor Fresnel)", "imaginary part (absorption) per channel"),
+}
+
+
+def material_keys(model, defaults="scene"):
+    """Every key a ``model`` material takes (``"lambert"``, ``"blinn-phong"``,
+    ``"cook-torrance"``), as a dict of key → ``{"default", "takes", "meaning"}``: what it
+    defaults to (the scene files' defaults, or the tp preset's with ``defaults="tp"``, read from
+    the library), the values it accepts and what it does. The keys of :func:`eval_brdf`'s
+    ``material``, :meth:`Scene.add_material` and ``shade_normal_image(material=...)``; the
+    formulas are in docs/scene-format.md."""
+    values = _native.material_defaults(model, defaults)
+    return {
+        key: {"default": default, "takes": _MATERIAL_KEYS[key][0], "meaning": _MATERIAL_KEYS[key][1]}
+        for key, default in values.items()
+    }
+
+
 def eval_brdf(material, n, wi, wo, *, precision="float32", defaults="scene"):
     """f_r of ``material`` for each row of the (N, 3) arrays ``n``, ``wi``, ``wo``: (N, 3).
 
@@ -253,7 +289,8 @@ def eval_brdf(material, n, wi, wo, *, precision="float32", defaults="scene"):
     ``wo`` are unit directions towards the light and the viewer (a row whose length is off 1 by
     more than 1e-4 is a ValueError naming it: normalise them); ``n`` may have any length but
     zero.
-    ``material`` is a dict of scene-file material keys; ``defaults`` ``"scene"`` (scene files')
+    ``material`` is a dict of scene-file material keys (:func:`material_keys` lists a model's,
+    with their defaults and ranges); ``defaults`` ``"scene"`` (scene files')
     or ``"tp"`` (the tp preset's) fills the rest. ``precision``: ``"float32"`` (the renderer's)
     or ``"float64"`` (for checking): double-precision arithmetic on the material's parameters
     as pointshade stores them, in float32 (roughness 0.3 is 0.30000001192...). So at α = 0.3,

@@ -96,6 +96,11 @@ def eval_terms(
 ) -> dict[str, npt.NDArray[np.float64]]:
     """D (N,), G (N,), F (N, 3) and f_r (N, 3) of a Cook-Torrance material, float64."""
 
+def material_keys(
+    model: Literal["lambert", "blinn-phong", "cook-torrance"], defaults: Literal["scene", "tp"] = ...
+) -> dict[str, dict[str, Any]]:
+    """A model's material keys: default (scene files' or the tp preset's), accepted values, meaning."""
+
 def read_image(path: PathLike) -> npt.NDArray[np.float32]:
     """A linear EXR as float32 (H, W, 3)."""
 

@@ -11,6 +11,7 @@
 mod arrays;
 mod images;
 mod interrupt;
+mod material_keys;
 mod options;
 mod toml_values;
 
@@ -245,7 +246,7 @@ fn shade_normal_image<'py>(
 
 /// A material from a `[material.NAME]` section's text, with the scene files' defaults or the
 /// tp preset's.
-fn material_of(text: &str, defaults: &str) -> PyResult<Material> {
+pub(crate) fn material_of(text: &str, defaults: &str) -> PyResult<Material> {
     let defaults = match defaults {
         "scene" => MaterialDefaults::SCENE,
         "tp" => Preset::Tp.material_defaults(),
@@ -528,5 +529,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(write_obj, m)?)?;
     m.add_function(wrap_pyfunction!(parse_toml, m)?)?;
     m.add_function(wrap_pyfunction!(options::render_option_table, m)?)?;
+    m.add_function(wrap_pyfunction!(material_keys::material_defaults, m)?)?;
     Ok(())
 }
