@@ -246,15 +246,9 @@ impl DirectionArray {
         self.0.len() / 3
     }
 
-    /// The first row whose length is not within `tolerance` of `length` (`None`: any length but
-    /// zero), and that length.
-    fn first_off(&self, length: Option<f64>, tolerance: f64) -> Option<(usize, f64)> {
-        (0..self.rows())
-            .map(|i| (i, glam::DVec3::from_array(self.row::<f64>(i)).length()))
-            .find(|&(_, l)| match length {
-                Some(unit) => (l - unit).abs() > tolerance,
-                None => l == 0.0,
-            })
+    /// Each row's index and length.
+    fn lengths(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        (0..self.rows()).map(|i| (i, glam::DVec3::from_array(self.row::<f64>(i)).length()))
     }
 
     /// Row `i` in precision `R`.
@@ -283,14 +277,14 @@ pub fn directions(
     };
     let (n, wi, wo) = (read("n", n)?, read("wi", wi)?, read("wo", wo)?);
     for (name, d) in [("wi", &wi), ("wo", &wo)] {
-        if let Some((row, length)) = d.first_off(Some(1.0), UNIT_TOLERANCE) {
+        if let Some((row, length)) = d.lengths().find(|(_, l)| (l - 1.0).abs() > UNIT_TOLERANCE) {
             return Err(value_error(
                 name,
                 format!("row {row} has length {length} (directions must be unit vectors, to {UNIT_TOLERANCE:e}): normalise the rows"),
             ));
         }
     }
-    if let Some((row, _)) = n.first_off(None, 0.0) {
+    if let Some((row, _)) = n.lengths().find(|&(_, l)| l == 0.0) {
         return Err(value_error(
             "n",
             format!("row {row} is zero: a normal needs a direction (any length)"),

@@ -10,7 +10,7 @@ use numpy::PyArrayDyn;
 use pointshade::film::Image;
 use pointshade::input_files::Confinement;
 use pointshade::normal_map::image::{NormalImage, Samples};
-use pointshade::output::{encode, encode_png8, write_all_or_nothing, Format};
+use pointshade::output::{encode, encode_png8, srgb8_pixels, write_all_or_nothing, Format};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
@@ -72,12 +72,7 @@ pub fn write_image(py: Python<'_>, path: PathBuf, array: Bound<'_, PyAny>, expos
 #[pyo3(signature = (array, *, exposure=0.0))]
 pub fn to_srgb8<'py>(py: Python<'py>, array: Bound<'py, PyAny>, exposure: f64) -> PyResult<Bound<'py, PyArrayDyn<u8>>> {
     let image = finite_image(&array, exposure)?;
-    let scale = (exposure as f32).exp2();
-    let bytes: Vec<u8> = image
-        .pixels
-        .iter()
-        .flat_map(|p| p.to_array().map(|c| pointshade::output::to_srgb8(c, scale)))
-        .collect();
+    let bytes = srgb8_pixels(&image, exposure as f32);
     let shape = (image.height as usize, image.width as usize, 3);
     Ok(Array3::from_shape_vec(shape, bytes)
         .expect("three bytes a pixel")
@@ -109,7 +104,7 @@ pub fn read_normal_image<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<
         shape: (usize, usize, usize),
         pixels: &[[T; 4]],
     ) -> Bound<'py, PyAny> {
-        let values = pixels.iter().flat_map(|p| p[..shape.2].to_vec()).collect();
+        let values = pixels.iter().flat_map(|p| p[..shape.2].iter().copied()).collect();
         let a = Array3::from_shape_vec(shape, values).expect("one pixel per width × height");
         a.into_dyn().into_pyarray(py).into_any()
     }

@@ -71,6 +71,17 @@ pub fn to_srgb8(linear: f32, exposure_scale: f32) -> u8 {
     (srgb_encode(v) * 255.0).round() as u8
 }
 
+/// The 8-bit sRGB bytes of `image` as a PNG of it holds them: three a pixel, after scaling by
+/// 2^`exposure` ([`to_srgb8`]).
+pub fn srgb8_pixels(image: &Image, exposure: f32) -> Vec<u8> {
+    let scale = exposure.exp2();
+    image
+        .pixels
+        .iter()
+        .flat_map(|p| p.to_array().map(|c| to_srgb8(c, scale)))
+        .collect()
+}
+
 /// An 8-bit RGB PNG of `rgb` (three bytes a pixel, rows top to bottom), as every PNG render
 /// is written.
 pub fn encode_png8(width: u32, height: u32, rgb: Vec<u8>) -> Result<Vec<u8>, String> {
@@ -83,15 +94,7 @@ pub fn encode_png8(width: u32, height: u32, rgb: Vec<u8>) -> Result<Vec<u8>, Str
 /// Encodes `image` in `format`.
 pub fn encode(image: &Image, format: Format, exposure: f32) -> Result<Vec<u8>, String> {
     match format {
-        Format::Png => {
-            let scale = exposure.exp2();
-            let raw = image
-                .pixels
-                .iter()
-                .flat_map(|p| p.to_array().map(|c| to_srgb8(c, scale)))
-                .collect();
-            encode_png8(image.width, image.height, raw)
-        }
+        Format::Png => encode_png8(image.width, image.height, srgb8_pixels(image, exposure)),
         Format::Exr => {
             let full = crate::film::PixelRect::full(image.width, image.height);
             exr::encode_exr(image, full, (image.width, image.height))

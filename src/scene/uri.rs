@@ -27,18 +27,12 @@ pub fn uri_file(dir: &Path, uri: &str) -> Result<Option<PathBuf>, String> {
 /// errors name the URI (file URIs: the file). Buffers come back padded with zeros to a multiple
 /// of four bytes, as the gltf crate pads them.
 pub fn read_uri(dir: &Path, uri: &str) -> Result<Vec<u8>, String> {
-    match uri_file(dir, uri)? {
-        None => {
-            let mut bytes = data_uri_bytes(uri).map_err(|e| format!("cannot read an embedded data: URI: {e}"))?;
-            bytes.resize(bytes.len().next_multiple_of(4), 0);
-            Ok(bytes)
-        }
-        Some(path) => {
-            let mut bytes = crate::input_files::read(&path).map_err(|e| format!("'{}': {e}", path.display()))?;
-            bytes.resize(bytes.len().next_multiple_of(4), 0);
-            Ok(bytes)
-        }
-    }
+    let mut bytes = match uri_file(dir, uri)? {
+        None => data_uri_bytes(uri).map_err(|e| format!("cannot read an embedded data: URI: {e}"))?,
+        Some(path) => crate::input_files::read(&path).map_err(|e| format!("'{}': {e}", path.display()))?,
+    };
+    bytes.resize(bytes.len().next_multiple_of(4), 0);
+    Ok(bytes)
 }
 
 /// The bytes of a `data:[MEDIA TYPE];base64,DATA` URI (RFC 2397), the form glTF embeds buffers
