@@ -186,11 +186,10 @@ def test_progress_reaches_a_callable_on_the_calling_thread_up_to_the_whole_rende
     assert dones == sorted(dones) and len(set(dones)) == len(dones)
     done, total, unit, _ = calls[-1]
     assert (done, unit) == (total, "tiles") and total > 1
-    # Off: quiet, progress=False, and by default where stderr is no terminal (pytest captures it).
-    for quiet in ({"quiet": True}, {"progress": False}, {}):
-        calls.clear()
-        pointshade.render(CORNELL, width=16, height=12, spp=1, **quiet)
-        assert calls == []
+    # quiet wins over a callable.
+    calls.clear()
+    pointshade.render(CORNELL, width=16, height=12, spp=1, progress=record, quiet=True)
+    assert calls == []
     with pytest.raises(TypeError, match="^progress: expected None, True, False or a callable"):
         pointshade.render(CORNELL, width=16, height=12, progress="yes")
 
@@ -206,3 +205,35 @@ def test_an_exception_raised_by_the_progress_callable_stops_the_render():
     with pytest.raises(Enough):
         pointshade.render(CORNELL, width=640, height=480, spp=4096, threads=1, progress=stop)
     assert time.monotonic() - start < 5.0
+
+
+def test_the_default_progress_line_is_drawn_on_a_terminal_only(monkeypatch):
+    drawn = []
+
+    class Line:
+        def __call__(self, done, total, unit):
+            drawn.append(done)
+
+        def close(self):
+            pass
+
+    class Terminal:
+        def isatty(self):
+            return True
+
+        def write(self, text):
+            pass
+
+        def flush(self):
+            pass
+
+    monkeypatch.setattr(pointshade, "_StderrBar", Line)
+    small = {"width": 32, "height": 24, "spp": 1}
+    pointshade.render(CORNELL, **small)  # pytest captures stderr: no terminal
+    assert drawn == []
+    monkeypatch.setattr(pointshade._sys, "stderr", Terminal())
+    for off in ({"quiet": True}, {"progress": False}):
+        pointshade.render(CORNELL, **small, **off)
+        assert drawn == []
+    pointshade.render(CORNELL, **small)
+    assert drawn, "no progress line on a terminal"
