@@ -2,7 +2,9 @@
 //! `TypeError` (wrong dtype or not an array) or `ValueError` (shape, layout, NaN) naming the
 //! argument. Arrays are read in place: nothing is copied to convert a layout or a dtype.
 
-use numpy::{Element, PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
+use numpy::{
+    Element, PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArray, PyUntypedArrayMethods,
+};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -12,6 +14,7 @@ use pointshade::lanes::Scalar;
 use pointshade::normal_map::image::{Samples, UnitSample};
 use pointshade::scene::file::MeshTable;
 use pointshade::scene::obj::MeshArrays;
+use pointshade::shading::shader::rows::FloatRows;
 
 use crate::value_error;
 
@@ -82,12 +85,7 @@ fn finite_floats(name: &str, a: &Bound<'_, PyUntypedArray>) -> PyResult<Vec<f64>
         Some(v) => v,
         None => match elements::<f32>(a) {
             Some(v) => v.into_iter().map(f64::from).collect(),
-            None => {
-                return Err(PyTypeError::new_err(format!(
-                    "{name}: expected a float32 or float64 array, got dtype {}",
-                    dtype_name(a)
-                )))
-            }
+            None => return Err(not_float(name, a)),
         },
     };
     if let Some(i) = values.iter().position(|v| !v.is_finite()) {
@@ -97,6 +95,43 @@ fn finite_floats(name: &str, a: &Bound<'_, PyUntypedArray>) -> PyResult<Vec<f64>
         ));
     }
     Ok(values)
+}
+
+fn not_float(name: &str, a: &Bound<'_, PyUntypedArray>) -> PyErr {
+    PyTypeError::new_err(format!(
+        "{name}: expected a float32 or float64 array, got dtype {}",
+        dtype_name(a)
+    ))
+}
+
+/// A float32 or float64 numpy array borrowed for reading in place (numpy's borrow flag is
+/// held until it drops).
+pub enum ReadFloats<'py> {
+    F32(PyReadonlyArrayDyn<'py, f32>),
+    F64(PyReadonlyArrayDyn<'py, f64>),
+}
+
+impl ReadFloats<'_> {
+    /// The (N, 3) array `value` of `name`, shape and dtype checked (its values are not).
+    pub fn rows3<'py>(name: &str, value: &Bound<'py, PyAny>) -> PyResult<ReadFloats<'py>> {
+        let a = array(name, value, 2, &[Some(3)])?;
+        if let Ok(typed) = a.cast::<PyArrayDyn<f32>>() {
+            return Ok(ReadFloats::F32(typed.readonly()));
+        }
+        match a.cast::<PyArrayDyn<f64>>() {
+            Ok(typed) => Ok(ReadFloats::F64(typed.readonly())),
+            Err(_) => Err(not_float(name, a)),
+        }
+    }
+
+    /// The elements, in place.
+    pub fn rows(&self) -> FloatRows<'_> {
+        const CHECKED: &str = "C-contiguous: checked by `array`";
+        match self {
+            ReadFloats::F32(a) => FloatRows::F32(a.as_slice().expect(CHECKED)),
+            ReadFloats::F64(a) => FloatRows::F64(a.as_slice().expect(CHECKED)),
+        }
+    }
 }
 
 /// Integer elements of any integer dtype as u32 indices, each checked in range of u32.
@@ -221,12 +256,7 @@ pub fn image_of(name: &str, value: &Bound<'_, PyAny>) -> PyResult<Image> {
         Some(v) => v,
         None => match elements::<f64>(a) {
             Some(v) => v.into_iter().map(|x| x as f32).collect(),
-            None => {
-                return Err(PyTypeError::new_err(format!(
-                    "{name}: expected a float32 or float64 array, got dtype {}",
-                    dtype_name(a)
-                )))
-            }
+            None => return Err(not_float(name, a)),
         },
     };
     let size = |v: usize| u32::try_from(v).map_err(|_| value_error(name, "too large"));

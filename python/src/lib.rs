@@ -36,10 +36,11 @@ use pointshade::render::options::Spelling;
 use pointshade::render::request::RenderRequest;
 use pointshade::scene::file::{material_from_toml, MaterialDefaults};
 use pointshade::scene::{LoadOptions, SceneSource};
-use pointshade::shading::shader::{brdf_value, shading_dots};
+use pointshade::shading::shader::rows::{brdf_rows, FloatRows, RowDomain, RowPrecision};
+use pointshade::shading::shader::shading_dots;
 use pointshade::validation::export::{export_files, ExportOptions};
 
-use arrays::{directions, image_of, DirectionArray};
+use arrays::{directions, image_of, ReadFloats};
 use interrupt::run_interruptible;
 
 pyo3::create_exception!(
@@ -261,7 +262,8 @@ pub(crate) fn material_of(text: &str, defaults: &str) -> PyResult<Material> {
 }
 
 /// f_r of `material` (a material section's TOML text) for each row of the (N, 3) arrays, in
-/// float32 or float64 (`precision`): `pointshade::shading::shader::brdf_value`, the shader's own.
+/// float32 or float64 (`precision`): `pointshade::shading::shader::brdf_value`, the shader's own,
+/// on the arrays in place (`rows::brdf_rows`), without the GIL.
 #[pyfunction]
 #[pyo3(signature = (material, n, wi, wo, *, precision="float32", defaults="scene"))]
 fn eval_brdf<'py>(
@@ -274,39 +276,46 @@ fn eval_brdf<'py>(
     defaults: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let material = material_of(material, defaults)?;
-    let (n, wi, wo) = directions(&n, &wi, &wo)?;
-    fn rows<R: pointshade::lanes::Scalar + numpy::Element>(
-        py: Python<'_>,
-        m: &Material,
-        d: &[DirectionArray; 3],
-    ) -> Vec<R> {
-        use rayon::prelude::*;
-        py.detach(|| {
-            let mut out = vec![R::zero(); 3 * d[0].rows()];
-            out.par_chunks_mut(3).enumerate().for_each(|(i, f)| {
-                f.copy_from_slice(&brdf_value::<R>(m, d[0].row(i), d[1].row(i), d[2].row(i)));
-            });
-            out
-        })
+    let arrays = [
+        ReadFloats::rows3("n", &n)?,
+        ReadFloats::rows3("wi", &wi)?,
+        ReadFloats::rows3("wo", &wo)?,
+    ];
+    let rows = [arrays[0].rows(), arrays[1].rows(), arrays[2].rows()];
+    let count = rows[0].rows();
+    if rows.iter().any(|r| r.rows() != count) {
+        // Raises, naming the first problem of the arrays as the checks meet it.
+        directions(&n, &wi, &wo)?;
     }
-    let d = [n, wi, wo];
-    let count = d[0].rows();
-    Ok(match precision {
-        "float32" => Array2::from_shape_vec((count, 3), rows::<f32>(py, &material, &d))
-            .expect("3 a row")
-            .into_pyarray(py)
-            .into_any(),
-        "float64" => Array2::from_shape_vec((count, 3), rows::<f64>(py, &material, &d))
-            .expect("3 a row")
-            .into_pyarray(py)
-            .into_any(),
-        other => {
-            return Err(value_error(
-                "precision",
-                format!("expected 'float32' or 'float64', got '{other}'"),
-            ))
+    fn eval<'py, T: RowPrecision + numpy::Element>(
+        py: Python<'py>,
+        material: &Material,
+        rows: [FloatRows; 3],
+        check: impl FnOnce() -> PyResult<()>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let domain = RowDomain {
+            unit_tolerance: arrays::UNIT_TOLERANCE,
+        };
+        let count = rows[0].rows();
+        let (out, inside) = py.detach(|| brdf_rows::<T>(material, rows, domain));
+        if !inside {
+            // Some row was near or past a limit: the exact checks name it, or pass it.
+            check()?;
         }
-    })
+        Ok(Array2::from_shape_vec((count, 3), out)
+            .expect("3 a row")
+            .into_pyarray(py)
+            .into_any())
+    }
+    let check = || directions(&n, &wi, &wo).map(|_| ());
+    match precision {
+        "float32" => eval::<f32>(py, &material, rows, check),
+        "float64" => eval::<f64>(py, &material, rows, check),
+        other => Err(value_error(
+            "precision",
+            format!("expected 'float32' or 'float64', got '{other}'"),
+        )),
+    }
 }
 
 /// The Cook-Torrance terms D, G and F of `material` for each row, with f_r: the functions its

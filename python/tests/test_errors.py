@@ -143,6 +143,28 @@ def test_wrong_brdf_inputs_are_clear_exceptions():
         pointshade.eval_terms({"model": "lambert"}, n, n, n)
 
 
+def test_eval_brdf_names_a_bad_row_deep_in_a_large_array_and_reads_mixed_dtypes():
+    # Rows are checked as they are evaluated, many at a time on every core: the error still
+    # names the first bad row, and a row just inside the 1e-4 limit still passes.
+    count = 50_000
+    n = np.tile([0.0, 0.0, 2.0], (count, 1))
+    wi = np.tile([0.6, 0.0, 0.8], (count, 1))
+    wi[31_337] *= 1 + 9e-5
+    f = pointshade.eval_brdf({"model": "cook-torrance"}, n, wi, wi, precision="float64")
+    assert f.shape == (count, 3) and np.all(np.delete(f, 31_337, axis=0) == f[0]) and np.all(f[31_337] > 0)
+    wi[40_001] = [0.0, 0.0, np.inf]
+    wi[45_000] *= 2
+    with pytest.raises(ValueError, match="^wi: element 120005 is inf"):
+        pointshade.eval_brdf({"model": "lambert"}, n, wi, wi)
+    wi[40_001] = [0.6, 0.0, 0.8]
+    with pytest.raises(ValueError, match="^wi: row 45000 has length 2"):
+        pointshade.eval_brdf({"model": "lambert"}, n, wi, wi, precision="float64")
+    wi[45_000] /= 2
+    # float32 and float64 arrays may be mixed: each value is rounded once to the precision.
+    mixed = pointshade.eval_brdf({"model": "cook-torrance"}, n.astype(np.float32), wi, wi, precision="float64")
+    assert np.array_equal(mixed, pointshade.eval_brdf({"model": "cook-torrance"}, n, wi, wi, precision="float64"))
+
+
 def test_compare_gives_the_cli_metrics_and_a_per_pixel_error():
     ref = np.full((4, 5, 3), 0.5, np.float32)
     ours = ref.copy()

@@ -26,6 +26,7 @@ use crate::surface::{SurfaceLanes, SurfacePoint};
 use crate::texture::TextureImage;
 
 mod lanes;
+pub mod rows;
 
 /// Most points of a [`Shader::shade_batch`] whose shadow rays go to the occluder at once (the
 /// samples of a pixel: as many as a BVH packet holds).
@@ -318,25 +319,43 @@ fn clamped_term<R: Real>(
 /// ω_o or ω_i is not in front of it, or there is no shading frame, the light adds nothing and
 /// there are none. (The Python module's `eval_terms` evaluates D, G and F of them.)
 pub fn shading_dots<R: Scalar>(material: &Material, n: [R; 3], wi: [R; 3], wo: [R; 3]) -> Option<LocalDots<R>> {
-    let n = match material.two_sided && dot3(n, wo) < R::zero() {
-        true => n.map(|c| -c),
+    let (dots, lit) = shading_dots_masked(material, n, wi, wo);
+    lit.then_some(dots)
+}
+
+/// [`shading_dots`] in any [`Real`]: the products, and where they exist (elsewhere they are
+/// finite placeholders that must not be used).
+#[inline(always)]
+fn shading_dots_masked<R: Real>(material: &Material, n: [R; 3], wi: [R; 3], wo: [R; 3]) -> (LocalDots<R>, R::Mask) {
+    let n = match material.two_sided {
+        true => {
+            let flip = dot3(n, wo).lt(R::zero());
+            map3(n, |c| R::select(flip, -c, c))
+        }
         false => n,
     };
     let (cos_i, cos_o) = (dot3(n, wi), dot3(n, wo));
-    if !(cos_i > R::zero() && cos_o > R::zero()) {
-        return None;
-    }
+    let lit = cos_i.gt(R::zero()) & cos_o.gt(R::zero());
     match material.has_specular() {
-        true => LocalDots::from_unit_vectors(n, wi, wo),
-        false => Some(LocalDots::from_cosines(cos_i, cos_o, R::zero(), R::zero())),
+        true => {
+            let (dots, frame) = LocalDots::from_unit_vectors_masked(n, wi, wo);
+            (dots, lit & frame)
+        }
+        false => (LocalDots::from_cosines(cos_i, cos_o, R::zero(), R::zero()), lit),
     }
 }
 
 /// f_r(ω_i, ω_o) as the physical shader forms it: [`Material::eval`] of the [`shading_dots`]
 /// `Shader::shade` gives it, 0 where there are none, so that a light of irradiance E adds
-/// f_r · E · cos θ_i there. (The Python module's `eval_brdf`.)
-pub fn brdf_value<R: Scalar>(material: &Material, n: [R; 3], wi: [R; 3], wo: [R; 3]) -> [R; 3] {
-    shading_dots(material, n, wi, wo).map_or([R::zero(); 3], |d| material.eval(&d))
+/// f_r · E · cos θ_i there. In any [`Real`]: lanes give what each lane's scalar call gives. (The
+/// Python module's `eval_brdf`, through [`rows::brdf_rows`].)
+#[inline(always)]
+pub fn brdf_value<R: Real>(material: &Material, n: [R; 3], wi: [R; 3], wo: [R; 3]) -> [R; 3] {
+    let (dots, lit) = shading_dots_masked(material, n, wi, wo);
+    if !lit.any() {
+        return [R::zero(); 3];
+    }
+    map3(material.eval(&dots), |c| R::select(lit, c, R::zero()))
 }
 
 /// What one light adds: L = f_r(ω_i, ω_o) · E · cos θ_i per channel, E the light's irradiance
