@@ -296,6 +296,8 @@ def eval_brdf(material, n, wi, wo, *, precision="float32", defaults="scene"):
     as pointshade stores them, in float32 (roughness 0.3 is 0.30000001192...). So at α = 0.3,
     D and G differ from a float64 evaluation at exactly 0.3 by up to 8e-8 and 3e-8 relative,
     and agree with one at float32(0.3) to 1e-14 (docs/python.md).
+    The arrays (float32 or float64, C-contiguous) are read in place on every core without the
+    GIL: do not write to them from another thread during the call.
     """
     return _native.eval_brdf(_material_toml(material), n, wi, wo, precision=precision, defaults=defaults)
 
