@@ -207,22 +207,26 @@ pub fn normal_samples(value: &Bound<'_, PyAny>) -> PyResult<(u32, u32, Samples, 
     }
     let size = |v: usize| u32::try_from(v).map_err(|_| value_error("normals", format!("{w}×{h} is too large")));
     let (w32, h32) = (size(w)?, size(h)?);
-    fn floats(v: impl Iterator<Item = f32>, c: usize) -> Vec<[UnitSample; 4]> {
-        let v: Vec<UnitSample> = v.map(UnitSample).collect();
-        rgba(&v, c, UnitSample(1.0))
-    }
-    fn rgba<T: Copy>(v: &[T], c: usize, full: T) -> Vec<[T; 4]> {
-        v.chunks_exact(c)
-            .map(|p| [p[0], p[1], p[2], if c == 4 { p[3] } else { full }])
+    /// Each pixel's samples as RGBA (`full` for a missing alpha), converted by `to`, in parallel.
+    fn rgba<S: Copy + Sync, T: Copy + Send + Sync>(
+        v: &[S],
+        c: usize,
+        full: T,
+        to: impl Fn(S) -> T + Sync,
+    ) -> Vec<[T; 4]> {
+        use rayon::prelude::*;
+        v.par_chunks_exact(c)
+            .map(|p| [to(p[0]), to(p[1]), to(p[2]), if c == 4 { to(p[3]) } else { full }])
             .collect()
     }
-    let samples = if let Some(s) = with_elements(a, |v| rgba(v, c, u8::MAX)) {
+    let unit = UnitSample(1.0);
+    let samples = if let Some(s) = with_elements(a, |v| rgba(v, c, u8::MAX, |x| x)) {
         Samples::Eight(s)
-    } else if let Some(s) = with_elements(a, |v| rgba(v, c, u16::MAX)) {
+    } else if let Some(s) = with_elements(a, |v| rgba(v, c, u16::MAX, |x| x)) {
         Samples::Sixteen(s)
-    } else if let Some(s) = with_elements(a, |v: &[f32]| floats(v.iter().copied(), c)) {
+    } else if let Some(s) = with_elements(a, |v: &[f32]| rgba(v, c, unit, UnitSample)) {
         Samples::Float(s)
-    } else if let Some(s) = with_elements(a, |v: &[f64]| floats(v.iter().map(|&x| x as f32), c)) {
+    } else if let Some(s) = with_elements(a, |v: &[f64]| rgba(v, c, unit, |x| UnitSample(x as f32))) {
         Samples::Float(s)
     } else {
         return Err(PyTypeError::new_err(format!(

@@ -294,6 +294,7 @@ impl NormalImage {
     }
 
     /// Colour and alpha of pixel `index` (row-major), each in [0, 1].
+    #[inline(always)]
     pub fn pixel(&self, index: usize) -> ([f32; 3], f32) {
         match &self.samples {
             Samples::Eight(s) => unit_rgba(s[index]),

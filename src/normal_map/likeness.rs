@@ -7,6 +7,8 @@
 //! length and direction. The check looks at the foreground as both presets define it loosely
 //! (alpha > 0 and some channel above 4/255) and counts the pixels that fail each test.
 
+use rayon::prelude::*;
+
 use crate::normal_map::image::NormalImage;
 
 /// Decoded lengths outside [1 − this, 1 + this] count as far from unit length.
@@ -26,25 +28,46 @@ pub struct NormalLikeness {
 }
 
 impl NormalLikeness {
-    /// Counts `image`'s pixels.
+    /// Counts `image`'s pixels, in blocks on every core (the counts are integers: the sum is
+    /// the same in any order).
     pub fn of(image: &NormalImage) -> Self {
-        let mut counts = NormalLikeness {
+        const BLOCK: usize = 8192;
+        let none = NormalLikeness {
             foreground: 0,
             off_unit: 0,
             facing_away: 0,
         };
-        for i in 0..image.pixel_count() {
-            let (rgb, alpha) = image.pixel(i);
-            if !(alpha > 0.0 && rgb.iter().any(|&c| c > 4.0 / 255.0)) {
-                continue;
-            }
-            let n = rgb.map(|c| 2.0 * c - 1.0);
-            let length = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-            counts.foreground += 1;
-            counts.off_unit += usize::from((length - 1.0).abs() > LENGTH_TOLERANCE);
-            counts.facing_away += usize::from(n[2] < 0.0);
+        let blocks = image.pixel_count().div_ceil(BLOCK);
+        (0..blocks)
+            .into_par_iter()
+            .map(|b| {
+                let mut counts = none;
+                for i in b * BLOCK..((b + 1) * BLOCK).min(image.pixel_count()) {
+                    counts.count(image.pixel(i));
+                }
+                counts
+            })
+            .reduce(
+                || none,
+                |a, b| NormalLikeness {
+                    foreground: a.foreground + b.foreground,
+                    off_unit: a.off_unit + b.off_unit,
+                    facing_away: a.facing_away + b.facing_away,
+                },
+            )
+    }
+
+    /// Counts one pixel of colour `rgb` and `alpha`.
+    #[inline(always)]
+    fn count(&mut self, (rgb, alpha): ([f32; 3], f32)) {
+        if !(alpha > 0.0 && rgb.iter().any(|&c| c > 4.0 / 255.0)) {
+            return;
         }
-        counts
+        let n = rgb.map(|c| 2.0 * c - 1.0);
+        let length = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        self.foreground += 1;
+        self.off_unit += usize::from((length - 1.0).abs() > LENGTH_TOLERANCE);
+        self.facing_away += usize::from(n[2] < 0.0);
     }
 
     fn share(&self, n: usize) -> f64 {
