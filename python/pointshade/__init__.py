@@ -246,8 +246,17 @@ def _material_toml(material):
     return _native.to_toml(material, "material")
 
 
+def _one_of(names):
+    quoted = [f"'{n}'" for n in names]
+    return quoted[0] if len(quoted) == 1 else ", ".join(quoted[:-1]) + " or " + quoted[-1]
+
+
+# The names of the D, G and F terms, from the library.
+_TERM_NAMES = _native.term_names()
+
 # What each material key takes and means (docs/scene-format.md, "Every material key"); the
-# defaults come from the library itself (_native.material_defaults).
+# defaults and the terms' names come from the library itself (_native.material_defaults,
+# _native.term_names).
 _MATERIAL_KEYS = {
     "model": ("'lambert', 'blinn-phong' or 'cook-torrance'", "the BRDF: f_r = kd·albedo/π + f_s"),
     "albedo": ("3 finite numbers ≥ 0", "diffuse colour"),
@@ -257,9 +266,9 @@ _MATERIAL_KEYS = {
     "shininess": ("a finite number ≥ 0", "Blinn-Phong exponent of n·ω_h"),
     "specular_color": ("3 finite numbers ≥ 0", "specular tint (Schlick's F0 when metallic)"),
     "roughness": ("a number in [0, 1]", "GGX or Beckmann α, used directly"),
-    "d": ("'ggx' or 'beckmann'", "microfacet distribution D"),
-    "g": ("'schlick-smith', 'schlick-karis', 'smith-ggx' or 'smith-ggx-correlated'", "masking-shadowing G"),
-    "fresnel": ("'schlick', 'schlick-sg', 'conductor' or 'constant'", "Fresnel term F ('conductor' when eta or k is written)"),
+    "d": (_one_of(_TERM_NAMES["d"]), "microfacet distribution D"),
+    "g": (_one_of(_TERM_NAMES["g"]), "masking-shadowing G"),
+    "fresnel": (_one_of(_TERM_NAMES["fresnel"]), "Fresnel term F ('conductor' when eta or k is written)"),
     "metallic": ("bool (Schlick Fresnel only)", "F0 = specular_color instead of the dielectric's"),
     "ior": ("a finite number > 0 (Schlick Fresnel, not metallic)", "F0 = ((ior − 1)/(ior + 1))²"),
     "eta": ("3 finite numbers ≥ 0 (conductor Fresnel)", "real part of the conductor's index per channel"),

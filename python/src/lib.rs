@@ -539,5 +539,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(parse_toml, m)?)?;
     m.add_function(wrap_pyfunction!(options::render_option_table, m)?)?;
     m.add_function(wrap_pyfunction!(material_keys::material_defaults, m)?)?;
+    m.add_function(wrap_pyfunction!(material_keys::term_names, m)?)?;
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! A model's material keys with the values they default to, read from the library's own
 //! defaults (not a copy of them), for `pointshade.material_keys`.
 
+use pointshade::brdf::{FresnelTerm, MaskingShadowing, MicrofacetDistribution};
 use pointshade::material::BrdfModel;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -39,5 +40,16 @@ pub fn material_defaults<'py>(py: Python<'py>, model: &str, defaults: &str) -> P
         }
         BrdfModel::Lambert | BrdfModel::GltfPbr(_) => {}
     }
+    Ok(out)
+}
+
+/// The names the `d`, `g` and `fresnel` keys take, in the library's order: read from the terms
+/// themselves, so a new term reaches `material_keys` without an edit here.
+#[pyfunction]
+pub fn term_names(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let out = PyDict::new(py);
+    out.set_item("d", MicrofacetDistribution::ALL.iter().map(|t| t.name()).collect::<Vec<_>>())?;
+    out.set_item("g", MaskingShadowing::ALL.iter().map(|t| t.name()).collect::<Vec<_>>())?;
+    out.set_item("fresnel", FresnelTerm::ALL.iter().map(|t| t.name()).collect::<Vec<_>>())?;
     Ok(out)
 }

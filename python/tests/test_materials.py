@@ -51,3 +51,22 @@ def test_the_keys_are_the_ones_scene_files_accept():
         pointshade.eval_brdf({"model": "cook-torrance", "roughness": 1.5}, n, n, n)
     with pytest.raises(pointshade.InputError, match="unknown variant"):
         pointshade.material_keys("phong")
+
+
+@pytest.mark.parametrize("key", ["d", "g", "fresnel"])
+def test_each_term_name_listed_is_one_a_material_takes_and_no_other_is(key):
+    takes = pointshade.material_keys("cook-torrance")[key]["takes"]
+    names = re.findall(r"'([a-z-]+)'", takes)
+    assert len(names) >= 2, takes
+    n, wi, wo = directions(8)
+    values = set()
+    for name in names:
+        material = {"model": "cook-torrance", key: name}
+        if key == "fresnel" and name == "conductor":
+            material.update(eta=[0.2, 0.9, 1.1], k=[3.9, 2.4, 2.2])
+        values.add(pointshade.eval_brdf(material, n, wi, wo, precision="float64").tobytes())
+    assert len(values) == len(names), "each term gives its own values"
+    # The library's error for a name it does not know lists the same names.
+    with pytest.raises(pointshade.InputError) as e:
+        pointshade.eval_brdf({"model": "cook-torrance", key: "no-such-term"}, n, wi, wo)
+    assert all(name in str(e.value) for name in names), str(e.value)
