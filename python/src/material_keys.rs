@@ -48,7 +48,10 @@ pub fn material_defaults<'py>(py: Python<'py>, model: &str, defaults: &str) -> P
 #[pyfunction]
 pub fn term_names(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     let out = PyDict::new(py);
-    out.set_item("d", MicrofacetDistribution::ALL.iter().map(|t| t.name()).collect::<Vec<_>>())?;
+    out.set_item(
+        "d",
+        MicrofacetDistribution::ALL.iter().map(|t| t.name()).collect::<Vec<_>>(),
+    )?;
     out.set_item("g", MaskingShadowing::ALL.iter().map(|t| t.name()).collect::<Vec<_>>())?;
     out.set_item("fresnel", FresnelTerm::ALL.iter().map(|t| t.name()).collect::<Vec<_>>())?;
     Ok(out)
