@@ -1,6 +1,6 @@
-//! [`brdf_value`] of many rows at once: the (N, 3) arrays of normals and
-//! directions a caller holds (the Python module's `eval_brdf` passes numpy's buffers), read in
-//! place, evaluated in lanes on every core, each row giving the bits the scalar call gives.
+//! [`brdf_value`] of many rows at once: the (N, 3) arrays of normals and directions a caller
+//! holds (the Python module's `eval_brdf` passes numpy's buffers), read in place, evaluated in
+//! lanes on every core, each row giving the bits the scalar call gives.
 //!
 //! The rows are checked in the same pass that evaluates them (a second pass over arrays of
 //! 10⁶ rows would cost as much as the evaluation): [`brdf_rows`] reports whether every row was
@@ -73,7 +73,8 @@ impl FloatRows<'_> {
 const CHUNK_ROWS: usize = 8192;
 
 /// What the one-pass check of [`brdf_rows`] accepts: ω_i and ω_o whose squared length is
-/// within `unit_tolerance / 2` of 1 (so their length is too), n with a finite, normal |n|², every component finite.
+/// within `unit_tolerance / 2` of 1 (so their length is too), and n with a finite, normal |n|²
+/// (so every component of n is finite too).
 #[derive(Clone, Copy, Debug)]
 pub struct RowDomain {
     /// How far from 1 the caller lets |ω_i| and |ω_o| be; rows within half of it pass.
