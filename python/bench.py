@@ -21,10 +21,11 @@ Medians of --repeats runs (default 5) after a warm-up; the header names the CPU 
 Without ../shared/data/normalmaps/normal.png beside the repository, (a) says SKIPPED; without the
 CLI binary, (c) does. Exits 1 if a correctness check fails (timings never fail it).
 
-    python python/bench.py [--repeats 5] [--quick] [--cli target/release/pointshade] [--image PATH]
+    python python/bench.py [--repeats 5] [--quick] [--cli target/release/pointshade] [--image PATH] [--csv PATH]
 """
 
 import argparse
+import csv
 import os
 import platform
 import re
@@ -57,6 +58,8 @@ MAX_SHADE_DIFFERENCE = 1e-5  # of the peak L_o, (a)
 MAX_BRDF_DIFFERENCE_F64 = 1e-8
 
 failures = []
+# Every printed row, for --csv: (section title, what, median ms, ratio, note).
+printed_rows = []
 
 
 def cpu_model():
@@ -107,6 +110,7 @@ class Table:
         for what, ms, ratio, note in self.rows:
             line = f"{what:<{widths[0]}}  {ms:>{widths[1]}}  {ratio:>{widths[2]}}"
             print(f"{line}  {note}".rstrip())
+            printed_rows.append((self.title, what, ms, ratio, note))
 
 
 def bench_normal_image(args, repeats, warmup):
@@ -352,6 +356,7 @@ def main():
     parser.add_argument("--quick", action="store_true", help="fewer repeats and smaller sizes (CI)")
     parser.add_argument("--cli", default=os.path.join("target", "release", "pointshade"), help="the pointshade binary, relative to the repository or absolute")
     parser.add_argument("--image", help="normal image for (a) (default: ../shared/data/normalmaps/normal.png)")
+    parser.add_argument("--csv", help="also write every row to this CSV file (cpu, section, what, median_ms, ratio, note)")
     args = parser.parse_args()
     repeats = min(args.repeats, 3) if args.quick else args.repeats
     repeats = max(1, repeats)
@@ -366,6 +371,11 @@ def main():
     bench_eval_brdf(args, repeats, warmup)
     bench_render(args, repeats, warmup)
     bench_threads(args, repeats, warmup)
+    if args.csv:
+        with open(args.csv, "w", newline="") as f:
+            out = csv.writer(f)
+            out.writerow(["cpu", "section", "what", "median_ms", "ratio", "note"])
+            out.writerows((cpu_model(), *row) for row in printed_rows)
     if failures:
         print()
         for f in failures:
