@@ -21,6 +21,13 @@ const fn closed(low: f64, high: f64) -> Values {
     }
 }
 
+/// Three numbers: a point in world coordinates.
+const POINT: Values = Values::Numbers {
+    min: 3,
+    max: 3,
+    whole: false,
+};
+
 const fn open(low: f64, high: f64) -> Values {
     Values::Number {
         low: End {
@@ -238,11 +245,7 @@ pub static RENDER_OPTIONS: &[RenderOption] = &[
     RenderOption {
         name: "look_from",
         alias: None,
-        values: Values::Numbers {
-            min: 3,
-            max: 3,
-            whole: false,
-        },
+        values: POINT,
         placeholder: "x,y,z",
         help: "Put the camera at this point (world coordinates, as a scene file writes them).",
         store: |o, v| {
@@ -253,11 +256,7 @@ pub static RENDER_OPTIONS: &[RenderOption] = &[
     RenderOption {
         name: "look_at",
         alias: None,
-        values: Values::Numbers {
-            min: 3,
-            max: 3,
-            whole: false,
-        },
+        values: POINT,
         placeholder: "x,y,z",
         help: "Aim the camera at this point (world coordinates).",
         store: |o, v| {

@@ -12,7 +12,7 @@ use std::mem::MaybeUninit;
 use rayon::prelude::*;
 
 use super::brdf_value;
-use crate::lanes::{dot3, LaneInstructions, LaneMask, Lanes, Mask, Real, Scalar};
+use crate::lanes::{dot3, LaneInstructions, Lanes, Mask, Real, Scalar};
 use crate::material::Material;
 
 /// A caller's (N, 3) array of float32 or float64 values, row-major, read in place.
@@ -137,7 +137,7 @@ impl Job<'_> {
     #[inline(always)]
     fn eval<T: Scalar, const N: usize>(&self, out: &mut [MaybeUninit<T>]) -> bool
     where
-        Lanes<T, N>: Real<Mask = LaneMask<N>>,
+        Lanes<T, N>: Real,
     {
         let half = Lanes::<T, N>::splat(T::lit(self.domain.unit_tolerance / 2.0));
         let mut inside = true;
@@ -155,9 +155,9 @@ impl Job<'_> {
             let n2 = dot3(n, n);
             let ok = unit(wi) & unit(wo) & n2.ge(Lanes::<T, N>::min_positive_value()) & n2.is_finite();
             let f = brdf_value(self.material, n, wi, wo);
-            let count = N.min(self.end - row);
-            inside &= LaneMaskAll::all_first(ok, count);
-            for l in 0..count {
+            // Lanes past the end repeat the last row, so they change nothing here.
+            inside &= ok.all();
+            for l in 0..N.min(self.end - row) {
                 let o = &mut out[3 * (row - self.first + l)..][..3];
                 for c in 0..3 {
                     o[c].write(f[c].0[l]);
@@ -166,21 +166,6 @@ impl Job<'_> {
             row += N;
         }
         inside
-    }
-}
-
-/// The first `count` lanes of a mask all true.
-trait LaneMaskAll {
-    fn all_first(self, count: usize) -> bool;
-}
-
-impl<const N: usize> LaneMaskAll for LaneMask<N> {
-    #[inline(always)]
-    fn all_first(self, count: usize) -> bool {
-        match count {
-            c if c >= N => self.all(),
-            c => (0..c).all(|l| self.test(l)),
-        }
     }
 }
 
