@@ -99,6 +99,58 @@ pub struct LightSamples<R: Real> {
 }
 
 impl Light {
+    /// Checks a light made in code as a scene file's are checked when read: power finite and
+    /// ≥ 0, a finite position, a unit direction, ordered spot cones (cos θ_inner > cos θ_outer
+    /// ≥ 0), a finite range > 0. Positions beyond what the scene's f32 coordinates resolve are
+    /// the scene's business (`scene::extent::check_lights`).
+    pub fn validate(&self) -> Result<(), String> {
+        if !(self.power.is_finite() && self.power.min_element() >= 0.0) {
+            return Err(format!(
+                "power (color × intensity) must be finite and ≥ 0, got {}",
+                self.power
+            ));
+        }
+        let unit = |d: Vec3| {
+            if d.is_finite() && (d.length() - 1.0).abs() <= 1e-4 {
+                Ok(())
+            } else {
+                Err(format!("direction must be a unit vector, got {d}"))
+            }
+        };
+        let finite = |p: Vec3| {
+            if p.is_finite() {
+                Ok(())
+            } else {
+                Err(format!("position must be finite, got {p}"))
+            }
+        };
+        match self.kind {
+            LightKind::Point { position } => finite(position)?,
+            LightKind::Directional { direction } => unit(direction)?,
+            LightKind::Spot {
+                position,
+                direction,
+                cos_inner,
+                cos_outer,
+                ..
+            } => {
+                finite(position)?;
+                unit(direction)?;
+                if !(cos_outer >= 0.0 && cos_outer < cos_inner && cos_inner <= 1.0) {
+                    return Err(format!(
+                        "spot cones must satisfy 1 ≥ cos(inner) > cos(outer) ≥ 0, got {cos_inner} and {cos_outer}"
+                    ));
+                }
+            }
+        }
+        if let Falloff::InverseSquareWithin { range } = self.falloff {
+            if !(range > 0.0 && range.is_finite()) {
+                return Err(format!("range must be finite and > 0, got {range}"));
+            }
+        }
+        Ok(())
+    }
+
     /// Where a point or spot light is; `None` for a directional light.
     pub fn position(&self) -> Option<Vec3> {
         match self.kind {

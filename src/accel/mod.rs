@@ -178,6 +178,11 @@ impl Bvh {
         self.alpha = Some(Box::new(mask));
     }
 
+    /// Replaces the cut-outs hits are filtered by (`None`: none), as [`Self::set_alpha_mask`].
+    pub fn replace_alpha_mask(&mut self, mask: Option<AlphaMask>) {
+        self.alpha = mask.map(Box::new);
+    }
+
     /// Whether hits are filtered by cut-outs ([`Self::set_alpha_mask`]).
     pub fn has_alpha_mask(&self) -> bool {
         self.alpha.is_some()

@@ -61,7 +61,7 @@ impl SceneExtent {
 }
 
 /// Answers "is anything between these two points?" (the BVH, or nothing in normal-map mode).
-pub trait Occluder: Sync {
+pub trait Occluder {
     /// True if the segment is blocked.
     fn occluded(&self, ray: &ShadowRay) -> bool;
 

@@ -11,6 +11,8 @@
 
 mod adaptive;
 mod budget;
+pub mod preview;
+mod retained;
 pub use budget::threshold_ladder;
 pub mod options;
 pub mod progress;
@@ -42,10 +44,17 @@ pub struct RenderStats {
     pub primary_rays: u64,
     /// Shadow rays traced.
     pub shadow_rays: u64,
+    /// Shadow rays whose verdict a preview's re-shading took from its last render instead of
+    /// tracing them ([`preview::Preview`]); zero for every other render.
+    pub shadow_rays_reused: u64,
     /// Time summed over threads spent making surface points (camera rays and BVH traversal).
     pub surface_time: Duration,
     /// Time summed over threads spent shading (BRDFs, lights, shadow rays).
     pub shading_time: Duration,
+    /// Of `shading_time`, the time spent tracing shadow rays, where it was measured apart (a
+    /// preview's renders, [`preview::Preview`]; the others do not pay for two more clock
+    /// readings per packet and light).
+    pub shadow_time: Option<Duration>,
     /// Wall-clock time of the whole render stage.
     pub wall_time: Duration,
     /// Time spent building the BVH (zero when the plan needs none).
@@ -170,6 +179,35 @@ fn render_from(
         }
         (Some(sequence), None) => (fixed(&ctx, sequence, region, on_tile), None, film.spp, None),
     };
+    let sampled = Sampled {
+        sums,
+        counts,
+        spp,
+        threshold,
+    };
+    finish(&ctx, start, region, sampled)
+}
+
+/// What a sampler took: per-pixel sums, per-pixel sample counts (adaptive), and the sample
+/// count and threshold reached.
+struct Sampled {
+    sums: PixelSums,
+    counts: Option<Vec<u32>>,
+    spp: u32,
+    threshold: Option<f32>,
+}
+
+/// The image, AOVs and statistics of a render of `region` that took `sampled`, started at
+/// `start`; the error [`INTERRUPTED`] if the caller stopped it, an overflow error if a pixel is
+/// not finite.
+fn finish(ctx: &Context, start: Instant, region: PixelRect, sampled: Sampled) -> Result<Rendered, String> {
+    let Sampled {
+        sums,
+        counts,
+        spp,
+        threshold,
+    } = sampled;
+    let plan = ctx.plan;
     if ctx.stopped() {
         return Err(INTERRUPTED.into());
     }
@@ -205,6 +243,8 @@ fn render_from(
         shading_time: Duration::from_nanos(c.shading_ns.load(Ordering::Relaxed)),
         wall_time: start.elapsed(),
         bvh_time: Duration::ZERO,
+        shadow_rays_reused: 0,
+        shadow_time: None,
     };
     Ok(Rendered {
         image,

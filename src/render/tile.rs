@@ -12,7 +12,7 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 use crate::accel::packet::PACKET;
-use crate::accel::shadow::SceneExtent;
+use crate::accel::shadow::{Occluder, SceneExtent};
 use crate::accel::Bvh;
 use crate::film::sampler::Sequence;
 use crate::film::{sampler::pixel_offsets, PixelRect};
@@ -177,6 +177,11 @@ impl<'a> Context<'a> {
         })
     }
 
+    /// The tree camera and shadow rays are traced in (none without geometry).
+    pub(super) fn bvh(&self) -> Option<&'a Bvh> {
+        self.bvh
+    }
+
     /// Whether the caller asked the render to stop.
     pub fn stopped(&self) -> bool {
         self.stop.is_some_and(|s| s.load(Ordering::Relaxed))
@@ -190,81 +195,138 @@ impl<'a> Context<'a> {
         if self.stopped() {
             return;
         }
-        let scene = self.scene;
-        let plan = self.plan;
-        scratch.clear();
         let t0 = Instant::now();
-        if let (true, Some(bvh)) = (plan.trace_rays, self.bvh) {
-            // Consecutive samples of one pixel block go through the tree as packets: one walk
-            // for up to PACKET nearly parallel rays (exactly the hits of one walk per ray).
-            let mut rays = [(Vec3::ZERO, Vec3::ZERO, 0.0); PACKET];
-            let mut hits = [None; PACKET];
-            let options = plan.point_options();
-            let blocks = jobs.chunk_by(|a, b| block_of(a.film) == block_of(b.film));
-            for (packet, group) in blocks.flat_map(|block| block.chunks(PACKET)).enumerate() {
-                let n = group.len();
-                for (ray, job) in rays.iter_mut().zip(group) {
-                    let uv = job.film / self.size;
-                    let r = self.camera.ray(uv.x, uv.y);
-                    *ray = (r.origin, r.direction, r.t_max);
-                }
-                bvh.intersect_packet(&rays[..n], &mut hits[..n]);
-                for ((job, &(origin, direction, _)), hit) in group.iter().zip(&rays).zip(&hits) {
-                    let Some(hit) = hit else { continue };
-                    let mut point = surface_point(&scene.mesh, hit, direction, options);
-                    if plan.normal_textures {
-                        apply_normal_texture(&mut point, &scene.mesh, hit, &scene.materials, &scene.textures);
-                    }
-                    // Decided once per render: no square root per hit unless the AOV is written.
-                    let depth = if self.depth_aov {
-                        hit.t + (origin - scene.camera.position).length()
-                    } else {
-                        0.0
-                    };
-                    scratch.push(SurfaceSample(Sample {
-                        slot: job.slot,
-                        packet: packet as u32,
-                        point,
-                        depth,
-                    }));
-                }
-            }
-            self.counters
-                .primary_rays
-                .fetch_add(jobs.len() as u64, Ordering::Relaxed);
-        }
+        self.surface_samples(jobs, scratch);
         let t1 = Instant::now();
-        let mut rays = 0u64;
-        // The points of a camera-ray packet are shaded together: their shadow rays towards each
-        // light are nearly parallel and go through the tree as one packet (each point's value
-        // is the same, bit for bit, and each slot adds its samples in the same order).
-        let mut radiance = [Vec3::ZERO; PACKET];
-        for group in scratch.chunk_by(|SurfaceSample(a), SurfaceSample(b)| a.packet == b.packet) {
-            self.shader.shade_batch(group, &mut radiance[..group.len()], &mut rays);
-            for (SurfaceSample(s), radiance) in group.iter().zip(&radiance) {
-                sums.radiance[s.slot as usize] += *radiance;
-            }
-        }
-        if self.record_surface {
-            for SurfaceSample(s) in scratch.iter() {
-                sums.surface[s.slot as usize] = s.point.material + 1;
-            }
-        }
-        for (k, aov) in plan.aovs.iter().filter(|a| a.per_sample()).enumerate() {
-            for SurfaceSample(s) in scratch.iter() {
-                sums.aovs[k][s.slot as usize] += aov_value(*aov, scene, s);
-            }
-        }
+        let rays = self.shade_samples(&self.shader, scratch, sums);
         let t2 = Instant::now();
         let c = &self.counters;
         c.surface_ns.fetch_add((t1 - t0).as_nanos() as u64, Ordering::Relaxed);
         c.shading_ns.fetch_add((t2 - t1).as_nanos() as u64, Ordering::Relaxed);
         c.shadow_rays.fetch_add(rays, Ordering::Relaxed);
     }
+
+    /// Stage 1: the surface point of every job's camera ray that hits, in job order, into
+    /// `scratch` (cleared first). Counts the camera rays.
+    pub(super) fn surface_samples(&self, jobs: &[SampleJob], scratch: &mut Vec<SurfaceSample>) {
+        let scene = self.scene;
+        let plan = self.plan;
+        scratch.clear();
+        let (true, Some(bvh)) = (plan.trace_rays, self.bvh) else {
+            return;
+        };
+        // Consecutive samples of one pixel block go through the tree as packets: one walk
+        // for up to PACKET nearly parallel rays (exactly the hits of one walk per ray).
+        let mut rays = [(Vec3::ZERO, Vec3::ZERO, 0.0); PACKET];
+        let mut hits = [None; PACKET];
+        let options = plan.point_options();
+        let blocks = jobs.chunk_by(|a, b| block_of(a.film) == block_of(b.film));
+        for (packet, group) in blocks.flat_map(|block| block.chunks(PACKET)).enumerate() {
+            let n = group.len();
+            for (ray, job) in rays.iter_mut().zip(group) {
+                let uv = job.film / self.size;
+                let r = self.camera.ray(uv.x, uv.y);
+                *ray = (r.origin, r.direction, r.t_max);
+            }
+            bvh.intersect_packet(&rays[..n], &mut hits[..n]);
+            for ((job, &(origin, direction, _)), hit) in group.iter().zip(&rays).zip(&hits) {
+                let Some(hit) = hit else { continue };
+                let mut point = surface_point(&scene.mesh, hit, direction, options);
+                if plan.normal_textures {
+                    apply_normal_texture(&mut point, &scene.mesh, hit, &scene.materials, &scene.textures);
+                }
+                // Decided once per render: no square root per hit unless the AOV is written.
+                let depth = if self.depth_aov {
+                    hit.t + (origin - scene.camera.position).length()
+                } else {
+                    0.0
+                };
+                scratch.push(SurfaceSample(Sample {
+                    slot: job.slot,
+                    packet: packet as u32,
+                    point,
+                    depth,
+                }));
+            }
+        }
+        self.counters
+            .primary_rays
+            .fetch_add(jobs.len() as u64, Ordering::Relaxed);
+    }
+
+    /// Stage 2: shades `samples` with `shader` (this context's, or one with another occluder)
+    /// and adds their radiance and AOV values to their slots of `sums`, each slot's samples in
+    /// order. Returns the shadow rays the shader asked for.
+    pub(super) fn shade_samples<O: Occluder>(
+        &self,
+        shader: &Shader<O>,
+        samples: &[SurfaceSample],
+        sums: &mut PixelSums,
+    ) -> u64 {
+        let mut rays = 0u64;
+        // The points of a camera-ray packet are shaded together: their shadow rays towards each
+        // light are nearly parallel and go through the tree as one packet (each point's value
+        // is the same, bit for bit, and each slot adds its samples in the same order).
+        let mut radiance = [Vec3::ZERO; PACKET];
+        for group in samples.chunk_by(SurfaceSample::same_packet) {
+            shader.shade_batch(group, &mut radiance[..group.len()], &mut rays);
+            for (SurfaceSample(s), radiance) in group.iter().zip(&radiance) {
+                sums.radiance[s.slot as usize] += *radiance;
+            }
+        }
+        if self.record_surface {
+            for SurfaceSample(s) in samples {
+                sums.surface[s.slot as usize] = s.point.material + 1;
+            }
+        }
+        for (k, aov) in self.plan.aovs.iter().filter(|a| a.per_sample()).enumerate() {
+            for SurfaceSample(s) in samples {
+                sums.aovs[k][s.slot as usize] += aov_value(*aov, self.scene, s);
+            }
+        }
+        rays
+    }
+
+    /// This context's shader with another occluder (same scene, plan and materials).
+    pub(super) fn shader_with<'o, O: Occluder>(&self, occluder: Option<&'o O>) -> Shader<'o, O>
+    where
+        'a: 'o,
+    {
+        let s = &self.shader;
+        Shader {
+            materials: s.materials,
+            lights: s.lights,
+            occluder: occluder.filter(|_| s.occluder.is_some()),
+            extent: s.extent,
+            convention: s.convention,
+            textures: s.textures,
+            emission: s.emission,
+            shadow_offset: s.shadow_offset,
+        }
+    }
 }
 
-/// A traced sample waiting for shading (opaque: only [`Context::trace`] reads it).
+/// A traced sample waiting for shading (opaque: only [`Context`] reads it).
 pub struct SurfaceSample(Sample);
+
+impl SurfaceSample {
+    /// Whether two samples came from the same camera-ray packet (they are shaded together).
+    pub(super) fn same_packet(a: &Self, b: &Self) -> bool {
+        a.0.packet == b.0.packet
+    }
+
+    /// The same sample, its packet number moved by `by` (to keep packets apart when batches
+    /// are joined).
+    pub(super) fn packet_moved(mut self, by: u32) -> Self {
+        self.0.packet += by;
+        self
+    }
+
+    /// One past the packet number of the last of `samples` (0 for none).
+    pub(super) fn packets(samples: &[Self]) -> u32 {
+        samples.last().map_or(0, |s| s.0.packet + 1)
+    }
+}
 
 impl Borrow<SurfacePoint> for SurfaceSample {
     fn borrow(&self) -> &SurfacePoint {
@@ -355,10 +417,26 @@ pub(super) fn tile_samples(
     count: u32,
     sums: &mut PixelSums,
 ) {
+    let mut scratch = Vec::new();
+    tile_jobs(ctx, sequence, t, first, count, &mut |jobs| {
+        ctx.trace(jobs, sums, &mut scratch)
+    });
+}
+
+/// The sample jobs of [`tile_samples`], handed to `trace` in runs of up to about
+/// [`JOBS_PER_TRACE`] (whole pixels), in order. Stops early once the caller asked the render
+/// to stop.
+pub(super) fn tile_jobs(
+    ctx: &Context,
+    sequence: Sequence,
+    t: PixelRect,
+    first: u32,
+    count: u32,
+    trace: &mut dyn FnMut(&[SampleJob]),
+) {
     let film = &ctx.scene.film;
     let mut offsets = vec![Vec2::ZERO; count as usize];
     let mut jobs = Vec::with_capacity(((t.width() * t.height() * count) as usize).min(2 * JOBS_PER_TRACE));
-    let mut scratch = Vec::new();
     for (x, y) in block_order(t) {
         if ctx.stopped() {
             return; // not even the sample positions: they cost as much as tracing at high spp
@@ -368,12 +446,12 @@ pub(super) fn tile_samples(
         let corner = Vec2::new(x as f32, y as f32);
         jobs.extend(offsets.iter().map(|&o| SampleJob { slot, film: corner + o }));
         if jobs.len() >= JOBS_PER_TRACE {
-            ctx.trace(&jobs, sums, &mut scratch);
+            trace(&jobs);
             jobs.clear();
         }
     }
     if !jobs.is_empty() {
-        ctx.trace(&jobs, sums, &mut scratch);
+        trace(&jobs);
     }
 }
 

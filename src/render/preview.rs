@@ -1,0 +1,230 @@
+//! A scene held for repeated renders while its materials and lights are edited — what an
+//! interactive front end does between two frames (an explorer's sliders, a notebook's loop).
+//!
+//! The first render traces the view and keeps its surface points and shadow verdicts
+//! (`render/retained.rs`); after an edit that leaves them valid, the next render shades the kept
+//! points again and traces only the shadow rays that changed. Each image is the one
+//! [`super::render_scene`] gives for the edited scene, byte for byte. What would change the
+//! surface points themselves (a material's normal texture or cut-out, the stages the plan keeps)
+//! makes the next render trace the view again.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use super::retained::{RayCounts, RetainedFrame};
+use super::tile::Context;
+use super::{check_film_memory, finish, Rendered, Sampled, INTERRUPTED};
+use crate::accel::alpha::AlphaMask;
+use crate::accel::Bvh;
+use crate::light::Light;
+use crate::material::{Cutout, Material, NormalTexture};
+use crate::plan::{Aov, RenderPlan};
+use crate::scene::Scene;
+use crate::surface::primary::PointOptions;
+use crate::texture::TextureRef;
+
+/// A scene, its BVH and the surface points of its last render (see the module's comment).
+pub struct Preview {
+    scene: Scene,
+    aovs: Vec<Aov>,
+    plan: RenderPlan,
+    bvh: Option<Bvh>,
+    /// The last render's frame, and what its surface points depend on.
+    frame: Option<(SurfaceKey, RetainedFrame)>,
+}
+
+/// What the surface points of a frame depend on besides the mesh, the camera and the film
+/// (which a preview never changes): the plan's stages that make them, and what the surface
+/// stage and the tree read of each material.
+#[derive(Clone, Debug, PartialEq)]
+struct SurfaceKey {
+    trace_rays: bool,
+    points: PointOptions,
+    normal_textures: bool,
+    cutouts: bool,
+    aovs: Vec<Aov>,
+    materials: Vec<MaterialSurface>,
+}
+
+/// What the surface stage (the normal texture) and the tree (the cut-out) read of a material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct MaterialSurface {
+    normal: Option<NormalTexture>,
+    cutout: Option<(Cutout, Option<TextureRef>)>,
+}
+
+impl SurfaceKey {
+    fn of(scene: &Scene, plan: &RenderPlan) -> Self {
+        Self {
+            trace_rays: plan.trace_rays,
+            points: plan.point_options(),
+            normal_textures: plan.normal_textures,
+            cutouts: plan.cutouts,
+            aovs: plan.aovs.clone(),
+            materials: (scene.materials.iter())
+                .map(|m| MaterialSurface {
+                    normal: m.textures.normal,
+                    cutout: m.cutout(),
+                })
+                .collect(),
+        }
+    }
+}
+
+impl Preview {
+    /// Holds `scene` for renders with the AOVs `aovs`, and builds its BVH (when it has
+    /// geometry). The film must take a fixed number of samples per pixel (the `sobol` or
+    /// `stratified` samplers, no time budget): an adaptive sampler's samples depend on the
+    /// shading they follow, so there would be nothing to keep.
+    pub fn new(scene: Scene, aovs: &[Aov]) -> Result<Self, String> {
+        let film = &scene.film;
+        if film.sampler.fixed_sequence().is_none() || film.time_budget.is_some() {
+            return Err(format!(
+                "{}: a preview renders a fixed number of samples per pixel; the film's {} sampler{} does not",
+                scene.source.display(),
+                film.sampler.name(),
+                if film.time_budget.is_some() {
+                    " with a time budget"
+                } else {
+                    ""
+                }
+            ));
+        }
+        let plan = RenderPlan::new(&scene, aovs);
+        check_film_memory(film.region(), &plan)?;
+        let bvh = plan.trace_rays.then(|| Bvh::for_scene(&scene));
+        Ok(Self {
+            scene,
+            aovs: aovs.to_vec(),
+            plan,
+            bvh,
+            frame: None,
+        })
+    }
+
+    /// The scene as edited so far.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The plan the next render follows.
+    pub fn plan(&self) -> &RenderPlan {
+        &self.plan
+    }
+
+    /// Time the BVH took to build (zero without geometry).
+    pub fn bvh_time(&self) -> Duration {
+        self.bvh.as_ref().map_or(Duration::ZERO, |b| b.build_time)
+    }
+
+    /// Replaces the scene's materials (as many as it has: the mesh refers to them by index).
+    /// Each is checked as a scene file's would be, and its textures must be the scene's; on an
+    /// error nothing changes.
+    pub fn set_materials(&mut self, materials: Vec<Material>) -> Result<(), String> {
+        let count = self.scene.materials.len();
+        if materials.len() != count {
+            return Err(format!("the scene has {count} material(s), got {}", materials.len()));
+        }
+        let images = self.scene.textures.len();
+        for m in &materials {
+            m.validate().map_err(|e| format!("material '{}': {e}", m.name))?;
+            let mut textures = m.textures;
+            let outside = textures.refs_mut().map(|r| r.image).find(|&i| i as usize >= images);
+            if let Some(image) = outside {
+                return Err(format!(
+                    "material '{}': texture {image} is not one of the scene's {images} image(s)",
+                    m.name
+                ));
+            }
+        }
+        let cutouts_before: Vec<_> = self.scene.materials.iter().map(Material::cutout).collect();
+        self.scene.materials = materials;
+        if self.scene.materials.iter().map(Material::cutout).ne(cutouts_before) {
+            if let Some(bvh) = &mut self.bvh {
+                bvh.replace_alpha_mask(AlphaMask::new(
+                    &self.scene.mesh,
+                    &self.scene.materials,
+                    &self.scene.textures,
+                ));
+            }
+            // The kept points and verdicts were found with the old cut-outs.
+            self.frame = None;
+        }
+        self.plan = RenderPlan::new(&self.scene, &self.aovs);
+        Ok(())
+    }
+
+    /// Replaces the scene's lights. Each is checked ([`Light::validate`], and positions within
+    /// the range the scene's coordinates allow); on an error nothing changes.
+    pub fn set_lights(&mut self, lights: Vec<Light>) -> Result<(), String> {
+        for (k, light) in lights.iter().enumerate() {
+            light.validate().map_err(|e| format!("light {}: {e}", k + 1))?;
+        }
+        let before = std::mem::replace(&mut self.scene.lights, lights);
+        let default_before = std::mem::replace(&mut self.scene.default_lights, false);
+        if let Err(e) = crate::scene::extent::check_lights(&self.scene) {
+            self.scene.lights = before;
+            self.scene.default_lights = default_before;
+            return Err(e);
+        }
+        self.plan = RenderPlan::new(&self.scene, &self.aovs);
+        Ok(())
+    }
+
+    /// Renders the scene as edited: shades the last render's surface points again where they
+    /// are still valid (the statistics then count no camera rays, and shadow rays only where
+    /// they changed: [`super::RenderStats::shadow_rays_reused`]), else traces the view.
+    pub fn render(&mut self) -> Result<Rendered, String> {
+        self.render_until(None)
+    }
+
+    /// [`Self::render`], ended early with the error [`INTERRUPTED`] once `stop` is set (an
+    /// edit that makes the image in flight moot). The kept frame is then dropped.
+    pub fn render_until(&mut self, stop: Option<&AtomicBool>) -> Result<Rendered, String> {
+        let start = Instant::now();
+        let key = SurfaceKey::of(&self.scene, &self.plan);
+        let region = self.scene.film.region();
+        let ctx = Context::new(&self.scene, &self.plan, self.bvh.as_ref(), stop)?;
+        let counts = RayCounts::default();
+        let sums = match self.frame.take() {
+            Some((kept, mut frame)) if kept == key => {
+                let sums = frame.shade(&ctx, &counts);
+                self.frame = Some((key, frame));
+                sums
+            }
+            _ => {
+                let sequence = self
+                    .scene
+                    .film
+                    .sampler
+                    .fixed_sequence()
+                    .expect("checked by Preview::new");
+                let (frame, sums) = RetainedFrame::trace(&ctx, sequence, region, &counts);
+                self.frame = Some((key, frame));
+                sums
+            }
+        };
+        if ctx.stopped() {
+            self.frame = None;
+            return Err(INTERRUPTED.into());
+        }
+        let sampled = Sampled {
+            sums,
+            counts: None,
+            spp: self.scene.film.spp,
+            threshold: None,
+        };
+        let mut rendered = finish(&ctx, start, region, sampled)?;
+        let (asked, traced) = (
+            counts.asked.load(Ordering::Relaxed),
+            counts.traced.load(Ordering::Relaxed),
+        );
+        rendered.stats.shadow_rays = traced;
+        rendered.stats.shadow_rays_reused = asked - traced;
+        rendered.stats.shadow_time = Some(Duration::from_nanos(counts.trace_ns.load(Ordering::Relaxed)));
+        Ok(rendered)
+    }
+}
+
+#[cfg(test)]
+mod tests;
