@@ -42,6 +42,7 @@ struct Round {
     shadows: f64,
     shading: f64,
     from_scratch: f64,
+    first_render: f64,
     render_scene: f64,
     reshade_material: f64,
     reshade_light: f64,
@@ -136,12 +137,13 @@ fn main() {
     }
     let _ = writeln!(
         table,
-        "\npreview, wall ms on {threads} thread(s): from scratch = BVH + trace + shade; re-shade = after the edit, same view"
+        "\npreview, wall ms on {threads} thread(s): from scratch = BVH build + trace + shade (render_scene: the same \
+         without keeping anything); trace + shade = the BVH already built (a new view); re-shade = after the edit"
     );
     let _ = writeln!(
         table,
-        "{:<16} {:>13} {:>13} {:>19} {:>19} {:>12}",
-        "scene", "from scratch", "render_scene", "re-shade material", "re-shade light", "light rays"
+        "{:<16} {:>13} {:>13} {:>14} {:>18} {:>15} {:>11}",
+        "scene", "from scratch", "render_scene", "trace + shade", "re-shade material", "re-shade light", "light rays"
     );
     for (name, result) in &results {
         let Ok(r) = result else {
@@ -152,11 +154,13 @@ fn main() {
             continue;
         }
         let (scratch, whole) = (med(r, |r| r.from_scratch), med(r, |r| r.render_scene));
+        let first = med(r, |r| r.first_render);
         let (material, light) = (med(r, |r| r.reshade_material), med(r, |r| r.reshade_light));
         let goals = if *name == "dragon-copper" {
             format!(
-                "  goals ≤ 60 / ≤ 20 ms: {} / {}",
+                "  goals ≤ 60 / ≤ 20 ms: from scratch {}, trace + shade {}; re-shade {}",
                 if scratch <= 60.0 { "met" } else { "NOT met" },
+                if first <= 60.0 { "met" } else { "NOT met" },
                 if material <= 20.0 { "met" } else { "NOT met" }
             )
         } else {
@@ -164,12 +168,13 @@ fn main() {
         };
         let _ = writeln!(
             table,
-            "{name:<16} {scratch:>13.2} {whole:>13.2} {material:>19.2} {light:>19.2} {:>12}{goals}",
+            "{name:<16} {scratch:>13.2} {whole:>13.2} {first:>14.2} {material:>18.2} {light:>15.2} {:>11}{goals}",
             r[0].light_rays_traced
         );
         for (what, v) in [
             ("from scratch", scratch),
             ("render_scene", whole),
+            ("trace + shade", first),
             ("re-shade after a material edit", material),
             ("re-shade after a light moved", light),
         ] {
@@ -210,8 +215,9 @@ fn round(path: &Path) -> Result<Round, String> {
 
     let t = Instant::now();
     let mut preview = Preview::new(scene, &[])?;
+    let t_first = Instant::now();
     let first = preview.render()?;
-    let from_scratch = ms(t.elapsed());
+    let (from_scratch, first_render) = (ms(t.elapsed()), ms(t_first.elapsed()));
     let s = &first.stats;
     let shadows = ms(s.shadow_time.unwrap_or_default());
 
@@ -258,6 +264,7 @@ fn round(path: &Path) -> Result<Round, String> {
         shadows,
         shading: ms(s.shading_time) - shadows,
         from_scratch,
+        first_render,
         render_scene: render_scene_ms,
         reshade_material,
         reshade_light,
@@ -265,17 +272,21 @@ fn round(path: &Path) -> Result<Round, String> {
     })
 }
 
-/// The CPU's model name (/proc/cpuinfo), or "unknown CPU".
+/// The CPU's model name with its family and model numbers (/proc/cpuinfo), which tell
+/// machines of one marketing name apart ("AMD EPYC" covers Zen 1 to Zen 5).
 fn cpu_name() -> String {
-    std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|t| {
-            t.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1))
-                .map(|n| n.trim().to_string())
-        })
-        .unwrap_or_else(|| "unknown CPU".into())
+    let info = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+    let field = |key: &str| {
+        info.lines()
+            .find(|l| l.split(':').next().is_some_and(|k| k.trim() == key))
+            .and_then(|l| l.split(':').nth(1))
+            .map(|v| v.trim().to_string())
+    };
+    match (field("model name"), field("cpu family"), field("model")) {
+        (Some(name), Some(family), Some(model)) => format!("{name} (family {family}, model {model})"),
+        (Some(name), ..) => name,
+        _ => "unknown CPU".into(),
+    }
 }
 
 /// The widest vector instructions the CPU has that pointshade can use.
