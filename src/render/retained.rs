@@ -192,14 +192,20 @@ impl Occluder for KeptVerdicts<'_> {
 
     fn occluded_batch(&self, rays: &[ShadowRay], occluded: &mut [bool]) {
         for (rays, occluded) in rays.chunks(PACKET).zip(occluded.chunks_mut(PACKET)) {
-            // The rays without a kept verdict go to the tree together (as one packet).
+            // The rays without a kept verdict go to the tree together (as one packet). A call
+            // asks for one light's rays from one packet's points: when its first ray is new, the
+            // light moved (or was added) and the others are new too, so they are not searched
+            // for. Either way the answers are exact: tracing a ray gives its verdict.
             let mut missing = [0; PACKET];
             let mut subset = [rays[0]; PACKET];
             let mut n = 0;
+            let mut search = true;
             for (k, ray) in rays.iter().enumerate() {
-                match self.kept(ray) {
+                let found = if search { self.kept(ray) } else { None };
+                match found {
                     Some(blocked) => occluded[k] = blocked,
                     None => {
+                        search &= k > 0;
                         (missing[n], subset[n]) = (k, *ray);
                         n += 1;
                     }
