@@ -88,43 +88,43 @@ fn main() {
         let _ = writeln!(table, "\n{title}");
         let _ = writeln!(table, "{:<16} {:>12} {:>14} {:>22}", "scene", head[0], head[1], head[2]);
     };
-    type Column = fn(&[Round]) -> (f64, f64, f64);
-    let stages: [(&str, [&str; 3], Column); 5] = [
-        ("load", ["triangles", "ms", "Mtriangles/s"], |r| {
-            let m = med(r, |r| r.load);
-            (r[0].triangles as f64, m, r[0].triangles as f64 / (m * 1e3))
-        }),
-        ("build (BVH)", ["triangles", "ms", "Mtriangles/s"], |r| {
-            let m = med(r, |r| r.build);
-            (r[0].triangles as f64, m, r[0].triangles as f64 / (m * 1e3))
-        }),
+    // Per stage: its title, column heads, what it counts and how long it took (median).
+    type Count = fn(&Round) -> u64;
+    type Millis = fn(&Round) -> f64;
+    let stages: [(&str, [&str; 3], Count, Millis); 5] = [
+        ("load", ["triangles", "ms", "Mtriangles/s"], |r| r.triangles, |r| r.load),
+        (
+            "build (BVH)",
+            ["triangles", "ms", "Mtriangles/s"],
+            |r| r.triangles,
+            |r| r.build,
+        ),
         (
             "primary visibility",
             ["rays", "ms (threads)", "Mrays/s per core"],
-            |r| {
-                let m = med(r, |r| r.primary);
-                (r[0].primary_rays as f64, m, r[0].primary_rays as f64 / (m * 1e3))
-            },
+            |r| r.primary_rays,
+            |r| r.primary,
         ),
-        ("shadow rays", ["rays", "ms (threads)", "Mrays/s per core"], |r| {
-            let m = med(r, |r| r.shadows);
-            (r[0].shadow_rays as f64, m, r[0].shadow_rays as f64 / (m * 1e3))
-        }),
+        (
+            "shadow rays",
+            ["rays", "ms (threads)", "Mrays/s per core"],
+            |r| r.shadow_rays,
+            |r| r.shadows,
+        ),
         (
             "shading (without shadow rays)",
             ["samples", "ms (threads)", "Msamples/s per core"],
-            |r| {
-                let m = med(r, |r| r.shading);
-                (r[0].primary_rays as f64, m, r[0].primary_rays as f64 / (m * 1e3))
-            },
+            |r| r.primary_rays,
+            |r| r.shading,
         ),
     ];
-    for (title, head, column) in stages {
+    for (title, head, count, millis) in stages {
         stage(&mut table, title, head);
         for (name, result) in &results {
             match result {
                 Ok(r) if !r.is_empty() => {
-                    let (count, m, rate) = column(r);
+                    let (count, m) = (count(&r[0]) as f64, med(r, millis));
+                    let rate = count / (m * 1e3);
                     let _ = writeln!(table, "{name:<16} {count:>12} {m:>14.2} {rate:>22.2}");
                     rows.push(format!("{title},{name},{},{count},{m:.4},{rate:.4}", head[2]));
                 }

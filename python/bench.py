@@ -16,6 +16,10 @@
 (d) two Python threads each calling render(threads=1) at the same time, against the same two
     calls one after the other: sequential / concurrent wall time is ~2 on two free cores when the
     GIL is released during the render, ~1 if it were held.
+(e) pointshade.Preview on scenes/mixed-lights.toml (three lights, shadows) at 512x384, 1 spp:
+    render() of the edited scene against Preview.render() after set_material (the kept surface
+    points shaded again, no camera ray) and after set_lights with one light moved; the images
+    must be render()'s bit for bit.
 
 Medians of --repeats runs (default 5) after a warm-up; the header names the CPU (/proc/cpuinfo).
 Without ../shared/data/normalmaps/normal.png beside the repository, (a) says SKIPPED; without the
@@ -350,6 +354,52 @@ def bench_threads(args, repeats, warmup):
     table.print()
 
 
+PREVIEW_SCENE = os.path.join(REPO, "scenes", "mixed-lights.toml")
+
+
+def bench_preview(args, repeats, warmup):
+    options = dict(width=512, height=384, spp=1)
+    preview = pointshade.Preview(PREVIEW_SCENE, **options)
+    preview.render()
+    scene = pointshade.Scene.from_toml(PREVIEW_SCENE)
+    lights = scene.doc["light"]
+    roughness = [0.2]
+
+    def edit_material():
+        roughness[0] = 0.5 - roughness[0]  # 0.2 and 0.3 in turn: every call an edit
+        preview.set_material("teal", "cook-torrance", roughness=roughness[0])
+        return preview.render()
+
+    moved = [0.0]
+
+    def move_light():
+        moved[0] = 0.5 - moved[0]
+        first = dict(lights[0], position=[lights[0]["position"][0] + moved[0], *lights[0]["position"][1:]])
+        preview.set_lights([first, *lights[1:]])
+        return preview.render()
+
+    def whole():
+        return pointshade.render(scene, **options)
+
+    t_whole = median(measure(whole, repeats, warmup))
+    t_material = median(measure(edit_material, repeats, warmup))
+    t_light = median(measure(move_light, repeats, warmup))
+    # The last edits' images against render() of the same scene.
+    scene.add_material("teal", "cook-torrance", roughness=roughness[0])
+    scene.doc["light"] = [dict(lights[0], position=[lights[0]["position"][0] + moved[0], *lights[0]["position"][1:]]),
+                          *lights[1:]]
+    got, want = preview.render(), pointshade.render(scene, **options)
+    if not np.array_equal(got["color"].view(np.uint32), want["color"].view(np.uint32)):
+        failures.append("(e) a preview's image differs from render() of the edited scene")
+    table = Table(f"(e) pointshade.Preview, {os.path.relpath(PREVIEW_SCENE, REPO)} 512x384 1 spp", "render() / this")
+    table.row("render() of the edited scene (load, BVH, trace, shade)", t_whole, "1.00x")
+    table.row("Preview: set_material + render()", t_material, f"{t_whole / t_material:.1f}x",
+              "the kept points shaded again: no camera ray, no shadow ray")
+    table.row("Preview: set_lights (one moved) + render()", t_light, f"{t_whole / t_light:.1f}x",
+              "that light's shadow rays traced again")
+    table.print()
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5, help="timed runs per measurement (default 5)")
@@ -371,6 +421,7 @@ def main():
     bench_eval_brdf(args, repeats, warmup)
     bench_render(args, repeats, warmup)
     bench_threads(args, repeats, warmup)
+    bench_preview(args, repeats, warmup)
     if args.csv:
         with open(args.csv, "w", newline="") as f:
             out = csv.writer(f)

@@ -28,6 +28,7 @@ __version__ = _native.__version__
 
 __all__ = [
     "InputError",
+    "Preview",
     "Rendered",
     "Scene",
     "compare",
@@ -174,6 +175,62 @@ render.__doc__ += "".join(
     f"\n    ``{name}`` ({placeholder})\n" + _textwrap.fill(help, 96, initial_indent=" " * 8, subsequent_indent=" " * 8) + "\n"
     for name, placeholder, help in _native.render_option_table()
 )
+
+
+class Preview:
+    """A scene held for renders while its materials and lights change: a notebook's sliders.
+
+    ``Preview(scene, **options)`` loads ``scene`` as :func:`render` does (a path or a
+    :class:`Scene`; the same keywords) and builds its BVH once. The first :meth:`render` traces
+    the view and keeps its surface points and shadow verdicts; after :meth:`set_material` or
+    :meth:`set_lights` the next one shades the kept points again and traces only the shadow rays
+    that changed (a moved light's), so it takes a fraction of a render's time (``stats`` counts
+    ``primary_rays`` 0 and ``shadow_rays_reused``). Every image is the one :func:`render` gives
+    for the edited scene, bit for bit. The film must take a fixed number of samples per pixel
+    (``sampler`` sobol, grid or independent, no ``time_budget``): anything else is an
+    :class:`InputError` here. A bad edit is an :class:`InputError` naming the key, and changes
+    nothing. One preview renders on one thread of Python at a time.
+    """
+
+    def __init__(self, scene, *, confine=None, **options):
+        confine = None if confine is None else _path(confine, "confine")
+        if isinstance(scene, Scene):
+            self._native = _native.Preview(
+                scene.name, text=scene.to_toml(), dir=scene.base_dir, meshes=scene.meshes, confine=confine,
+                options=options,
+            )
+        else:
+            self._native = _native.Preview(_path(scene, "scene"), confine=confine, options=options)
+
+    @property
+    def materials(self):
+        """The scene's material names (what :meth:`set_material` takes)."""
+        return self._native.material_names()
+
+    def render(self):
+        """The image of the scene as edited so far: what :func:`render` returns."""
+        return Rendered(self._native.render())
+
+    def set_material(self, name, model="lambert", **params):
+        """Replace material ``name`` by a ``model`` material with scene-file keys, as
+        :meth:`Scene.add_material` takes them (:func:`material_keys` lists them); keys left out
+        take the scene files' defaults."""
+        self._native.set_material(name, _material_toml({"model": model, **params}))
+
+    def set_lights(self, lights):
+        """Replace every light by ``lights``, a list of dicts of ``[[light]]`` keys, as
+        :meth:`Scene.add_light` takes them (``{"type": "point", "position": [...], ...}``)."""
+        if not isinstance(lights, (list, tuple)):
+            raise TypeError(f"lights: expected a list of dicts of [[light]] keys, got {type(lights).__name__}")
+        texts = []
+        for k, light in enumerate(lights):
+            if not isinstance(light, dict):
+                raise TypeError(f"lights[{k}]: expected a dict of [[light]] keys, got {type(light).__name__}")
+            texts.append(_native.to_toml(light, f"set_lights: light {k + 1}"))
+        self._native.set_lights(texts)
+
+    def __repr__(self):
+        return f"<pointshade.Preview of {len(self.materials)} material(s)>"
 
 
 def _normal_map_toml(image, preset, brdf, material, lights, camera):

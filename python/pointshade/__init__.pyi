@@ -49,6 +49,18 @@ def render(
 ) -> Rendered:
     """Render a scene file, mesh, glTF file or Scene; float32 (H, W, 3) arrays and stats."""
 
+class Preview:
+    """A scene held for renders while its materials and lights change (re-shades kept points)."""
+
+    def __init__(self, scene: Union[PathLike, "Scene"], *, confine: Optional[PathLike] = ..., **options: Any) -> None: ...
+    @property
+    def materials(self) -> list[str]: ...
+    def render(self) -> Rendered: ...
+    def set_material(
+        self, name: str, model: Literal["lambert", "blinn-phong", "cook-torrance"] = ..., **params: Any
+    ) -> None: ...
+    def set_lights(self, lights: Sequence[Mapping[str, Any]]) -> None: ...
+
 @overload
 def shade_normal_image(
     normals: Union[PathLike, npt.NDArray[np.uint8], npt.NDArray[np.uint16], npt.NDArray[np.floating]],

@@ -13,9 +13,11 @@ mod images;
 mod interrupt;
 mod material_keys;
 mod options;
+mod preview;
 mod toml_values;
 
 use std::path::{Path, PathBuf};
+use std::time::Duration;
 
 use numpy::ndarray::{Array2, Array3};
 use numpy::{IntoPyArray, PyArrayDyn};
@@ -34,8 +36,9 @@ use pointshade::normal_map::image::NormalImage;
 use pointshade::normal_map::scene_file::{NormalMapScene, Preset};
 use pointshade::render::options::Spelling;
 use pointshade::render::request::RenderRequest;
+use pointshade::render::Rendered;
 use pointshade::scene::file::{material_from_toml, MaterialDefaults};
-use pointshade::scene::{LoadOptions, SceneSource};
+use pointshade::scene::{LoadOptions, Scene, SceneSource};
 use pointshade::shading::shader::rows::{brdf_rows, FloatRows, RowDomain, RowPrecision};
 use pointshade::shading::shader::shading_dots;
 use pointshade::validation::export::{export_files, ExportOptions};
@@ -96,6 +99,25 @@ fn confinement(dir: Option<PathBuf>) -> PyResult<Confinement> {
     })
 }
 
+/// The confinement and the request of a call that renders (`function`: its name in errors),
+/// from the arguments `render` and `Preview` share.
+pub(crate) fn render_request(
+    function: &str,
+    path: PathBuf,
+    text: Option<String>,
+    dir: Option<PathBuf>,
+    meshes: Option<Bound<'_, PyDict>>,
+    confine: Option<PathBuf>,
+    options: Option<Bound<'_, PyDict>>,
+) -> PyResult<(Confinement, RenderRequest)> {
+    let confinement = confinement(confine)?;
+    let request = RenderRequest {
+        source: scene_source(path, text, dir, meshes.as_ref())?,
+        options: options::render_options(function, options.as_ref())?,
+    };
+    Ok((confinement, request))
+}
+
 /// The scene a call names: a file at `path`, or a scene file's `text` (named `path` in
 /// messages) whose relative paths start at `dir` and whose meshes `meshes` may give as arrays.
 fn scene_source(
@@ -130,11 +152,7 @@ fn render<'py>(
     options: Option<Bound<'py, PyDict>>,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let confinement = confinement(confine)?;
-    let request = RenderRequest {
-        source: scene_source(path, text, dir, meshes.as_ref())?,
-        options: options::render_options("render", options.as_ref())?,
-    };
+    let (confinement, request) = render_request("render", path, text, dir, meshes, confine, options)?;
     let progress = progress.map(Bound::unbind);
     let outcome = run_interruptible(py, progress, |stop, latest| -> Result<_, LibError> {
         let prepared = confinement.run(|| request.prepare(Spelling::Keyword))?;
@@ -142,8 +160,16 @@ fn render<'py>(
         Ok((prepared, rendered))
     })?;
     let (prepared, rendered) = outcome.map_err(py_err)?;
-    let (scene, load_time) = (prepared.scene, prepared.load_time);
+    rendered_dict(py, rendered, &prepared.scene, prepared.load_time)
+}
 
+/// What `render` returns (and a preview's `render`): `color`, one entry per AOV, and `stats`.
+pub(crate) fn rendered_dict<'py>(
+    py: Python<'py>,
+    rendered: Rendered,
+    scene: &Scene,
+    load_time: Duration,
+) -> PyResult<Bound<'py, PyDict>> {
     let out = PyDict::new(py);
     let (s, region, spp, threshold) = (
         rendered.stats.clone(),
@@ -163,6 +189,7 @@ fn render<'py>(
     stats.set_item("shading_seconds", s.shading_time.as_secs_f64())?;
     stats.set_item("primary_rays", s.primary_rays)?;
     stats.set_item("shadow_rays", s.shadow_rays)?;
+    stats.set_item("shadow_rays_reused", s.shadow_rays_reused)?;
     stats.set_item("spp", spp)?;
     let pixels = (region.width() as u64 * region.height() as u64).max(1);
     stats.set_item("mean_spp", s.primary_rays as f64 / pixels as f64)?;
@@ -525,6 +552,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("InputError", m.py().get_type::<InputError>())?;
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(shade_normal_image, m)?)?;
+    m.add_class::<preview::Preview>()?;
     m.add_function(wrap_pyfunction!(eval_brdf, m)?)?;
     m.add_function(wrap_pyfunction!(eval_terms, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;

@@ -106,13 +106,20 @@ pub(crate) fn light(l: &LightSection, default_falloff: Falloff, origin: DVec3) -
     })
 }
 
+/// The light of a `[[light]]` section's `text` (its keys), in a scene whose coordinates are
+/// relative to `origin` (`Scene::origin`): the Python module's lights, checked as scene files'
+/// are (the message names the key).
+pub fn light_from_toml(text: &str, origin: DVec3) -> Result<Light, String> {
+    let section: LightSection = toml::from_str(text).map_err(|e| e.message().to_string())?;
+    light(&section, Falloff::InverseSquare, origin)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     fn read(text: &str) -> Result<Light, String> {
-        let section: LightSection = toml::from_str(text).map_err(|e| e.to_string())?;
-        light(&section, Falloff::InverseSquare, DVec3::ZERO)
+        light_from_toml(text, DVec3::ZERO)
     }
 
     #[test]

@@ -35,6 +35,7 @@ use values::{point3, resolve, three, vec3};
 pub(crate) mod values;
 
 use crate::scene::tangents::complete_tangents;
+pub use lights::light_from_toml;
 pub(crate) use lights::{light, LightSection};
 pub(crate) use materials::{material, MaterialSection};
 pub use materials::{material_from_toml, MaterialDefaults, ModelName};
