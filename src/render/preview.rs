@@ -71,6 +71,28 @@ impl SurfaceKey {
     }
 }
 
+/// Refuses a preview whose kept frame under `lights` lights ([`RetainedFrame::bytes_at_most`])
+/// would need more memory than the process can have, before anything is traced: a preview that
+/// is accepted does not abort on a failed allocation later.
+fn check_frame_memory(scene: &Scene, lights: usize) -> Result<(), String> {
+    let film = &scene.film;
+    let region = film.region();
+    let samples = region.width() as u64 * region.height() as u64 * film.spp as u64;
+    let need = RetainedFrame::bytes_at_most(samples, lights);
+    match crate::film::memory::available_bytes() {
+        Some((available, source)) if need > available => Err(format!(
+            "a preview of a {}×{} film at {} spp keeps up to {:.2} GB of surface points and shadow \
+             verdicts, more than the {:.2} GB {source}: make the film smaller or take fewer samples",
+            region.width(),
+            region.height(),
+            film.spp,
+            need as f64 / 1e9,
+            available as f64 / 1e9
+        )),
+        _ => Ok(()),
+    }
+}
+
 impl Preview {
     /// Holds `scene` for renders with the AOVs `aovs`, and builds its BVH (when it has
     /// geometry). The film must take a fixed number of samples per pixel (the `sobol` or
@@ -92,6 +114,7 @@ impl Preview {
         }
         let plan = RenderPlan::new(&scene, aovs);
         check_film_memory(film.region(), &plan)?;
+        check_frame_memory(&scene, scene.lights.len())?;
         let bvh = plan.trace_rays.then(|| Bvh::for_scene(&scene));
         Ok(Self {
             scene,
@@ -160,6 +183,7 @@ impl Preview {
         for (k, light) in lights.iter().enumerate() {
             light.validate().map_err(|e| format!("light {}: {e}", k + 1))?;
         }
+        check_frame_memory(&self.scene, lights.len())?;
         let before = std::mem::replace(&mut self.scene.lights, lights);
         let default_before = std::mem::replace(&mut self.scene.default_lights, false);
         if let Err(e) = crate::scene::extent::check_lights(&self.scene) {

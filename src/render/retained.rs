@@ -61,6 +61,14 @@ pub(super) struct RayCounts {
 }
 
 impl RetainedFrame {
+    /// The most bytes a frame of `samples` samples under `lights` lights keeps: a surface point
+    /// per sample and a verdict per sample and light, twice over for the vectors' growth.
+    pub(super) fn bytes_at_most(samples: u64, lights: usize) -> u64 {
+        let sample = std::mem::size_of::<SurfaceSample>() as u64;
+        let verdict = std::mem::size_of::<Verdict>() as u64 + 4; // + its share of `packet_ends`
+        samples.saturating_mul(2 * (sample + lights as u64 * verdict))
+    }
+
     /// Traces every tile of `region` at the film's sample count from `sequence`, keeping the
     /// surface points, then shades them ([`Self::shade`]). Returns the frame and the shaded sums.
     pub(super) fn trace(ctx: &Context, sequence: Sequence, region: PixelRect, counts: &RayCounts) -> (Self, PixelSums) {

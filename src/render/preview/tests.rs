@@ -151,3 +151,21 @@ fn samplers_whose_samples_follow_the_shading_are_refused() {
     let e = Preview::new(s, &[]).err().expect("refused");
     assert!(e.contains("fixed number of samples per pixel"), "{e}");
 }
+
+#[test]
+fn a_frame_too_large_to_keep_is_refused_before_anything_is_traced() {
+    let mut s = scene("cornell-box.toml");
+    (s.film.width, s.film.height, s.film.spp) = (4096, 4096, 4096);
+    // 6.9e10 samples of about 100 bytes: far beyond any machine this runs on.
+    let e = Preview::new(s, &[]).err().expect("refused");
+    assert!(e.contains("keeps up to") && e.contains("GB of surface points"), "{e}");
+
+    let mut s = scene("cornell-box.toml");
+    (s.film.width, s.film.height, s.film.spp) = (256, 256, 16);
+    let mut preview = Preview::new(s, &[]).unwrap();
+    // 10⁶ samples under 20,000 lights: more than a terabyte of verdicts.
+    let lights = vec![preview.scene().lights[0]; 20_000];
+    let e = preview.set_lights(lights).unwrap_err();
+    assert!(e.contains("keeps up to"), "{e}");
+    assert_eq!(preview.scene().lights.len(), 1, "nothing changed");
+}
