@@ -185,7 +185,8 @@ class Preview:
     the view and keeps its surface points and shadow verdicts; after :meth:`set_material` or
     :meth:`set_lights` the next one shades the kept points again and traces only the shadow rays
     that changed (a moved light's), so it takes a fraction of a render's time (``stats`` counts
-    ``primary_rays`` 0 and ``shadow_rays_reused``). Every image is the one :func:`render` gives
+    ``primary_rays`` 0 and ``shadow_rays_reused``); after :meth:`set_camera` it traces the new
+    view with the same BVH. Every image is the one :func:`render` gives
     for the edited scene, bit for bit. The film must take a fixed number of samples per pixel
     (``sampler`` sobol, grid or independent, no ``time_budget``): anything else is an
     :class:`InputError` here. A bad edit is an :class:`InputError` naming the key, and changes
@@ -216,6 +217,11 @@ class Preview:
         :meth:`Scene.add_material` takes them (:func:`material_keys` lists them); keys left out
         take the scene files' defaults."""
         self._native.set_material(name, _material_toml({"model": model, **params}))
+
+    def set_camera(self, **params):
+        """Replace the camera by one with ``[camera]`` keys, as :meth:`Scene.set_camera` takes
+        them (position, look_at, up, fov, type, ...): a new view, traced with the same BVH."""
+        self._native.set_camera(_native.to_toml(params, "set_camera"))
 
     def set_lights(self, lights):
         """Replace every light by ``lights``, a list of dicts of ``[[light]]`` keys, as

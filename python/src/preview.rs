@@ -12,7 +12,7 @@ use pointshade::error::InputError as LibError;
 use pointshade::render::options::Spelling;
 use pointshade::render::preview::Preview as ScenePreview;
 use pointshade::render::Workers;
-use pointshade::scene::file::{light_from_toml, material_from_toml, MaterialDefaults};
+use pointshade::scene::file::{camera_from_toml, light_from_toml, material_from_toml, MaterialDefaults};
 
 use crate::interrupt::run_interruptible;
 use crate::{py_err, render_request, rendered_dict, InputError};
@@ -114,6 +114,14 @@ impl Preview {
         held.preview
             .set_materials(materials)
             .map_err(|e| call_error("set_material", e))
+    }
+
+    /// Replaces the camera by the one a `[camera]` section of keys `text` describes.
+    fn set_camera(&self, text: &str) -> PyResult<()> {
+        let mut held = self.held();
+        let origin = held.preview.scene().origin;
+        let camera = camera_from_toml(text, origin).map_err(|e| call_error("set_camera", e))?;
+        held.preview.set_camera(camera).map_err(|e| call_error("set_camera", e))
     }
 
     /// Replaces every light by those `[[light]]` sections of keys `texts` describe.

@@ -55,6 +55,20 @@ def test_material_and_light_edits_render_as_the_edited_scene_without_tracing_the
     assert third["stats"]["shadow_rays"] > 0 and third["stats"]["shadow_rays_reused"] > 0
 
 
+def test_a_new_camera_is_a_new_view_traced_with_the_same_tree():
+    preview = pointshade.Preview(SCENE, **SMALL)
+    preview.render()
+    camera = dict(position=[5.0, 6.0, 9.0], look_at=[0.0, 0.5, 0.0], fov=40.0)
+    preview.set_camera(**camera)
+    got = preview.render()
+    scene = pointshade.Scene.from_toml(SCENE)
+    scene.set_camera(**camera)
+    assert same_bits(got["color"], pointshade.render(scene, **SMALL)["color"])
+    assert got["stats"]["primary_rays"] == 64 * 48 * 2
+    with pytest.raises(pointshade.InputError, match="set_camera: a perspective camera needs fov"):
+        preview.set_camera(position=[5.0, 6.0, 9.0], look_at=[0.0, 0.5, 0.0])
+
+
 def test_bad_edits_are_input_errors_that_change_nothing():
     preview = pointshade.Preview(SCENE, **SMALL)
     before = preview.render()["color"]

@@ -19,6 +19,7 @@ use crate::accel::Bvh;
 use crate::light::Light;
 use crate::material::{Cutout, Material, NormalTexture};
 use crate::plan::{Aov, RenderPlan};
+use crate::scene::camera::{Camera, CameraSpec};
 use crate::scene::Scene;
 use crate::surface::primary::PointOptions;
 use crate::texture::TextureRef;
@@ -192,6 +193,20 @@ impl Preview {
             return Err(e);
         }
         self.plan = RenderPlan::new(&self.scene, &self.aovs);
+        Ok(())
+    }
+
+    /// Replaces the camera (a new view: the next render traces it, keeping the BVH). Checked as
+    /// a scene file's camera is, and its position and target must lie within the range the
+    /// scene's coordinates allow; on an error nothing changes.
+    pub fn set_camera(&mut self, camera: CameraSpec) -> Result<(), String> {
+        Camera::new(camera, self.scene.film.width, self.scene.film.height)?;
+        let before = std::mem::replace(&mut self.scene.camera, camera);
+        if let Err(e) = crate::scene::extent::check_camera(&self.scene) {
+            self.scene.camera = before;
+            return Err(e);
+        }
+        self.frame = None;
         Ok(())
     }
 

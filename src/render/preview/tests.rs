@@ -169,3 +169,24 @@ fn a_frame_too_large_to_keep_is_refused_before_anything_is_traced() {
     assert!(e.contains("keeps up to"), "{e}");
     assert_eq!(preview.scene().lights.len(), 1, "nothing changed");
 }
+
+#[test]
+fn a_new_view_is_traced_with_the_same_tree_and_a_bad_one_refused() {
+    let mut preview = Preview::new(scene("mixed-lights.toml"), &AOVS).unwrap();
+    preview.render().unwrap();
+    let mut camera = preview.scene().camera;
+    camera.position += Vec3::new(1.0, -0.5, 0.25);
+    preview.set_camera(camera).unwrap();
+    let moved = preview.render().unwrap();
+    assert_eq!(bits(&moved), bits(&whole_render(&preview)));
+    assert_eq!(moved.stats.primary_rays, 48 * 40 * 4, "the new view is traced");
+    assert_eq!(moved.stats.shadow_rays_reused, 0);
+
+    let mut bad = camera;
+    bad.look_at = bad.position;
+    assert!(preview.set_camera(bad).is_err(), "a camera looking at its own position");
+    bad.position = Vec3::splat(1e30);
+    assert!(preview.set_camera(bad).is_err(), "a camera beyond the f32 range");
+    assert_eq!(preview.scene().camera, camera, "nothing changed");
+    assert_eq!(preview.render().unwrap().stats.primary_rays, 0);
+}

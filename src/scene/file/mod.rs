@@ -563,6 +563,14 @@ fn camera(c: &CameraSection, origin: DVec3) -> Result<CameraSpec, String> {
     Ok(spec)
 }
 
+/// The camera of a `[camera]` section's `text` (its keys), in a scene whose coordinates are
+/// relative to `origin` (`Scene::origin`): the Python module's cameras, checked as scene files'
+/// are (the message names the key).
+pub fn camera_from_toml(text: &str, origin: DVec3) -> Result<CameraSpec, String> {
+    let section: CameraSection = toml::from_str(text).map_err(|e| e.message().to_string())?;
+    camera(&section, origin)
+}
+
 /// The transform of an `[[object]]`: its f32 matrix (scale, rotate, then the translation in
 /// f32) and its translation as written, in f64.
 fn transform_matrix(t: &TransformSection) -> Result<(Mat4, DVec3), String> {
