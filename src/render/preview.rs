@@ -34,16 +34,15 @@ pub struct Preview {
     frame: Option<(SurfaceKey, RetainedFrame)>,
 }
 
-/// What the surface points of a frame depend on besides the mesh, the camera and the film
-/// (which a preview never changes): the plan's stages that make them, and what the surface
-/// stage and the tree read of each material.
+/// What the surface points of a frame depend on that an edit of materials or lights can change
+/// (the mesh, the film and the AOVs never change in a preview, and a camera edit drops the frame):
+/// the plan's stages that make them, and what the surface stage and the tree read of each
+/// material.
 #[derive(Clone, Debug, PartialEq)]
 struct SurfaceKey {
-    trace_rays: bool,
     points: PointOptions,
     normal_textures: bool,
     cutouts: bool,
-    aovs: Vec<Aov>,
     materials: Vec<MaterialSurface>,
 }
 
@@ -57,11 +56,9 @@ struct MaterialSurface {
 impl SurfaceKey {
     fn of(scene: &Scene, plan: &RenderPlan) -> Self {
         Self {
-            trace_rays: plan.trace_rays,
             points: plan.point_options(),
             normal_textures: plan.normal_textures,
             cutouts: plan.cutouts,
-            aovs: plan.aovs.clone(),
             materials: (scene.materials.iter())
                 .map(|m| MaterialSurface {
                     normal: m.textures.normal,
@@ -96,15 +93,15 @@ fn check_frame_memory(scene: &Scene, lights: usize) -> Result<(), String> {
 
 impl Preview {
     /// Holds `scene` for renders with the AOVs `aovs`, and builds its BVH (when it has
-    /// geometry). The film must take a fixed number of samples per pixel (the `sobol` or
-    /// `stratified` samplers, no time budget): an adaptive sampler's samples depend on the
+    /// geometry). The film must take a fixed number of samples per pixel (the `grid`, `sobol` or
+    /// `independent` sampler, no time budget): an adaptive sampler's samples depend on the
     /// shading they follow, so there would be nothing to keep.
     pub fn new(scene: Scene, aovs: &[Aov]) -> Result<Self, String> {
         let film = &scene.film;
         if film.sampler.fixed_sequence().is_none() || film.time_budget.is_some() {
+            // No file name: the caller's error names the scene (as render errors do).
             return Err(format!(
-                "{}: a preview renders a fixed number of samples per pixel; the film's {} sampler{} does not",
-                scene.source.display(),
+                "a preview renders a fixed number of samples per pixel; the film's {} sampler{} does not",
                 film.sampler.name(),
                 if film.time_budget.is_some() {
                     " with a time budget"
@@ -129,11 +126,6 @@ impl Preview {
     /// The scene as edited so far.
     pub fn scene(&self) -> &Scene {
         &self.scene
-    }
-
-    /// The plan the next render follows.
-    pub fn plan(&self) -> &RenderPlan {
-        &self.plan
     }
 
     /// Time the BVH took to build (zero without geometry).
@@ -163,6 +155,8 @@ impl Preview {
         }
         let cutouts_before: Vec<_> = self.scene.materials.iter().map(Material::cutout).collect();
         self.scene.materials = materials;
+        // New cut-outs: the tree's mask follows (the kept frame, found with the old ones, no
+        // longer matches its key and is traced again).
         if self.scene.materials.iter().map(Material::cutout).ne(cutouts_before) {
             if let Some(bvh) = &mut self.bvh {
                 bvh.replace_alpha_mask(AlphaMask::new(
@@ -171,8 +165,6 @@ impl Preview {
                     &self.scene.textures,
                 ));
             }
-            // The kept points and verdicts were found with the old cut-outs.
-            self.frame = None;
         }
         self.plan = RenderPlan::new(&self.scene, &self.aovs);
         Ok(())

@@ -129,6 +129,7 @@ impl RetainedTile {
         let before_ends = std::mem::take(&mut self.packet_ends);
         let mut kept = Vec::with_capacity(before.len());
         let mut start = 0;
+        let (mut asked, mut traced, mut trace_ns) = (0, 0, 0);
         let tree = ctx.bvh();
         for (packet, group) in self.samples.chunk_by(SurfaceSample::same_packet).enumerate() {
             let end = before_ends.get(packet).map_or(start, |&e| e as usize);
@@ -141,13 +142,14 @@ impl RetainedTile {
                 trace_ns: Cell::new(0),
             };
             start = end;
-            let asked = ctx.shade_samples(&ctx.shader_with(tree.map(|_| &occluder)), group, sums);
-            counts.asked.fetch_add(asked, Ordering::Relaxed);
-            counts.traced.fetch_add(occluder.traced.get(), Ordering::Relaxed);
-            counts.trace_ns.fetch_add(occluder.trace_ns.get(), Ordering::Relaxed);
+            asked += ctx.shade_samples(&ctx.shader_with(tree.map(|_| &occluder)), group, sums);
+            (traced, trace_ns) = (traced + occluder.traced.get(), trace_ns + occluder.trace_ns.get());
             kept = occluder.now.into_inner();
             self.packet_ends.push(kept.len() as u32);
         }
+        counts.asked.fetch_add(asked, Ordering::Relaxed);
+        counts.traced.fetch_add(traced, Ordering::Relaxed);
+        counts.trace_ns.fetch_add(trace_ns, Ordering::Relaxed);
         self.verdicts = kept;
     }
 }
