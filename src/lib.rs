@@ -12,6 +12,8 @@
 pub mod accel;
 pub mod brdf;
 pub mod error;
+#[cfg(feature = "explore")]
+pub mod explore;
 pub mod film;
 pub mod input_files;
 pub mod lanes;

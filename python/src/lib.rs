@@ -39,8 +39,8 @@ use pointshade::render::request::RenderRequest;
 use pointshade::render::Rendered;
 use pointshade::scene::file::{material_from_toml, MaterialDefaults};
 use pointshade::scene::{LoadOptions, Scene, SceneSource};
+use pointshade::shading::shader::cook_torrance_terms;
 use pointshade::shading::shader::rows::{brdf_rows, FloatRows, RowDomain, RowPrecision};
-use pointshade::shading::shader::shading_dots;
 use pointshade::validation::export::{export_files, ExportOptions};
 
 use arrays::{directions, image_of, ReadFloats};
@@ -359,7 +359,7 @@ fn eval_terms<'py>(
     defaults: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let material = material_of(material, defaults)?;
-    let BrdfModel::CookTorrance(ct) = material.model else {
+    if !matches!(material.model, BrdfModel::CookTorrance(_)) {
         return Err(value_error(
             "material",
             format!(
@@ -367,7 +367,7 @@ fn eval_terms<'py>(
                 material.model_name()
             ),
         ));
-    };
+    }
     let (n, wi, wo) = directions(&n, &wi, &wo)?;
     let count = n.rows();
     let (mut d, mut g, mut f, mut fr) = (
@@ -376,25 +376,13 @@ fn eval_terms<'py>(
         Vec::with_capacity(3 * count),
         Vec::with_capacity(3 * count),
     );
-    let alpha = ct.alpha as f64;
     for i in 0..count {
-        let (ni, wii, woi) = (n.row::<f64>(i), wi.row::<f64>(i), wo.row::<f64>(i));
-        // The frame and the side test of f_r itself: where f_r is 0 because a direction is
-        // below the surface, so are D, G and F.
-        match shading_dots(&material, ni, wii, woi) {
-            Some(dots) => {
-                d.push(ct.d.eval(dots.n_dot_h, dots.sin2_h, alpha));
-                g.push(ct.g.g(dots.n_dot_i, dots.n_dot_o, alpha));
-                f.extend(ct.fresnel(dots.i_dot_h));
-                fr.extend(material.eval(&dots));
-            }
-            None => {
-                d.push(0.0);
-                g.push(0.0);
-                f.extend([0.0; 3]);
-                fr.extend([0.0; 3]);
-            }
-        }
+        let terms = cook_torrance_terms(&material, n.row::<f64>(i), wi.row::<f64>(i), wo.row::<f64>(i))
+            .expect("a Cook-Torrance material");
+        d.push(terms.d);
+        g.push(terms.g);
+        f.extend(terms.f);
+        fr.extend(terms.f_r);
     }
     let out = PyDict::new(py);
     out.set_item("D", d.into_pyarray(py))?;

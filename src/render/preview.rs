@@ -21,7 +21,8 @@ use crate::material::{Cutout, Material, NormalTexture};
 use crate::plan::{Aov, RenderPlan};
 use crate::scene::camera::{Camera, CameraSpec};
 use crate::scene::Scene;
-use crate::surface::primary::PointOptions;
+use crate::surface::primary::{surface_point, PointOptions};
+use crate::surface::SurfacePoint;
 use crate::texture::TextureRef;
 
 /// A scene, its BVH and the surface points of its last render (see the module's comment).
@@ -126,6 +127,27 @@ impl Preview {
     /// The scene as edited so far.
     pub fn scene(&self) -> &Scene {
         &self.scene
+    }
+
+    /// The surface point one camera ray through the centre of pixel (`x`, `y`) of the film
+    /// meets (its interpolated shading normal, before any normal texture, not yet turned to the
+    /// viewer), or
+    /// `None` for background and pixels outside the film: what an explorer shows of a clicked
+    /// pixel. (A pixel's samples may meet other points near an edge.)
+    pub fn surface_at(&self, x: u32, y: u32) -> Option<SurfacePoint> {
+        let (w, h) = (self.scene.film.width, self.scene.film.height);
+        if x >= w || y >= h {
+            return None;
+        }
+        let camera = Camera::new(self.scene.camera, w, h).ok()?;
+        let ray = camera.ray((x as f32 + 0.5) / w as f32, (y as f32 + 0.5) / h as f32);
+        let hit = self.bvh.as_ref()?.intersect(ray.origin, ray.direction, ray.t_max)?;
+        Some(surface_point(
+            &self.scene.mesh,
+            &hit,
+            ray.direction,
+            self.plan.point_options(),
+        ))
     }
 
     /// Time the BVH took to build (zero without geometry).

@@ -6,6 +6,7 @@
 mod bake;
 mod compare;
 mod convergence;
+mod explore;
 mod export_mitsuba;
 mod merge;
 mod normalmap;
@@ -53,6 +54,9 @@ enum Command {
     Merge(merge::MergeArgs),
     /// Render scenes with pointshade and Mitsuba 3, compare pixel by pixel, write an HTML report.
     Validate(validate::ValidateArgs),
+    /// Explore BRDFs in the browser: a local server for one page, with sliders, plots, a lit
+    /// sphere and the live render of a normal image or a scene.
+    Explore(explore::ExploreArgs),
     /// Check numerical stability on stiff and extreme inputs (f32 vs f64, watertight rays,
     /// shadows at extreme scales, extreme lights); exit code 1 if any case fails.
     Stability(stability::StabilityArgs),
@@ -83,6 +87,7 @@ pub fn main() -> ExitCode {
         Command::Convergence(args) => convergence::run_command(args).map(|()| ExitCode::SUCCESS),
         Command::Merge(args) => merge::run(args).map(|()| ExitCode::SUCCESS),
         Command::Validate(args) => validate::run(args).map(|()| ExitCode::SUCCESS),
+        Command::Explore(args) => explore::run(args).map(|()| ExitCode::SUCCESS),
         Command::Stability(args) => stability::run(args),
     });
     finish(result)

@@ -4,6 +4,7 @@
 use glam::{DVec3, Vec3};
 use serde::Deserialize;
 
+use super::materials::shortest;
 use super::values::{point3, three, three_opt, vec3};
 use crate::light::{Falloff, Light, LightKind, SpotProfile};
 
@@ -114,6 +115,65 @@ pub fn light_from_toml(text: &str, origin: DVec3) -> Result<Light, String> {
     light(&section, Falloff::InverseSquare, origin)
 }
 
+/// The keys of a `[[light]]` section that [`light_from_toml`] reads back as `light` in a scene
+/// whose coordinates are relative to `origin`: what the explorer's state and its saved scene files
+/// hold. Colour and intensity are written as the light's power and 1; a spot's cones as degrees
+/// (read back within an ulp of its cosines), a direction as the unit vector it is (normalised
+/// again on reading, it may move by an ulp). A light with a glTF `range` is refused: a section
+/// cannot describe it.
+pub fn light_keys(light: &Light, origin: DVec3) -> Result<toml::Table, String> {
+    let mut keys = toml::Table::new();
+    let floats = |v: [f64; 3]| toml::Value::Array(v.iter().map(|&c| toml::Value::Float(c)).collect());
+    let shortest3 = |d: glam::Vec3| floats(d.to_array().map(shortest));
+    // Without an origin, the shortest decimals; with one, the exact sum (decimals of the local
+    // value, moved by the origin, could round to a neighbouring f32).
+    let position = |p: glam::Vec3| match origin == DVec3::ZERO {
+        true => shortest3(p),
+        false => floats((p.as_dvec3() + origin).to_array()),
+    };
+    let (kind, falloff) = match light.kind {
+        LightKind::Point { position: p } => {
+            keys.insert("position".into(), position(p));
+            ("point", light.falloff)
+        }
+        LightKind::Directional { direction: d } => {
+            keys.insert("direction".into(), shortest3(d));
+            ("directional", Falloff::None)
+        }
+        LightKind::Spot {
+            position: p,
+            direction: d,
+            cos_inner,
+            cos_outer,
+            profile,
+        } => {
+            keys.insert("position".into(), position(p));
+            keys.insert("direction".into(), shortest3(d));
+            let degrees = |c: f32| (c.clamp(-1.0, 1.0) as f64).acos().to_degrees();
+            keys.insert("inner_cone".into(), degrees(cos_inner).into());
+            keys.insert("outer_cone".into(), degrees(cos_outer).into());
+            if profile == SpotProfile::Mitsuba {
+                keys.insert("falloff".into(), "mitsuba".into());
+            }
+            ("spot", light.falloff)
+        }
+    };
+    keys.insert("type".into(), kind.into());
+    keys.insert("color".into(), shortest3(light.power));
+    keys.insert("intensity".into(), 1.0.into());
+    if !keys.contains_key("falloff") && kind != "directional" {
+        let name = match falloff {
+            Falloff::InverseSquare => "inverse-square",
+            Falloff::None => "none",
+            Falloff::InverseSquareWithin { .. } => {
+                return Err("a light with a range (glTF's KHR_lights_punctual) has no scene-file section".into())
+            }
+        };
+        keys.insert("falloff".into(), name.into());
+    }
+    Ok(keys)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -145,5 +205,51 @@ mod tests {
         ));
         let point = read("type = \"point\"\nposition = [0.0, 2.0, 0.0]\nfalloff = \"mitsuba\"\n").unwrap_err();
         assert!(point.contains("only a spot light"), "{point}");
+    }
+
+    /// What `light_keys` writes reads back as the same light: exactly for point lights, within an
+    /// ulp for a directional light's direction and a spot's cone cosines; a light with a range is refused.
+    #[test]
+    fn light_keys_read_back_as_the_light() {
+        let origin = DVec3::new(4.0e5, 0.0, -2.0e5);
+        let texts = [
+            "type = \"point\"\nposition = [400001.5, 2.0, -199999.0]\ncolor = [0.5, 0.25, 1.0]\nintensity = 3.0\n",
+            "type = \"point\"\nposition = [400000.0, 1.0, -200000.0]\nfalloff = \"none\"\n",
+            "type = \"directional\"\ndirection = [1.0, -2.0, 0.5]\nintensity = 2.0\n",
+            "type = \"spot\"\nposition = [400000.0, 2.0, -200000.0]\ndirection = [0.0, -1.0, 0.0]\ninner_cone = 10.0\nouter_cone = 30.0\nfalloff = \"mitsuba\"\n",
+        ];
+        for text in texts {
+            let light = light_from_toml(text, origin).unwrap();
+            let keys = light_keys(&light, origin).unwrap();
+            let back = light_from_toml(&toml::to_string(&keys).unwrap(), origin).unwrap();
+            match (light.kind, back.kind) {
+                (
+                    LightKind::Spot {
+                        cos_inner: a,
+                        cos_outer: b,
+                        ..
+                    },
+                    LightKind::Spot {
+                        cos_inner: c,
+                        cos_outer: d,
+                        ..
+                    },
+                ) => {
+                    assert!((a - c).abs() <= f32::EPSILON && (b - d).abs() <= f32::EPSILON, "{text}");
+                    assert_eq!((light.power, light.falloff), (back.power, back.falloff), "{text}");
+                }
+                // A unit direction normalised again may move by an ulp.
+                (LightKind::Directional { direction: a }, LightKind::Directional { direction: b }) => {
+                    assert!((a - b).abs().max_element() <= f32::EPSILON, "{text}");
+                    assert_eq!(light.power, back.power, "{text}");
+                }
+                _ => assert_eq!(light, back, "{text}"),
+            }
+        }
+        let ranged = Light {
+            falloff: Falloff::InverseSquareWithin { range: 3.0 },
+            ..light_from_toml(texts[0], origin).unwrap()
+        };
+        assert!(light_keys(&ranged, origin).unwrap_err().contains("range"));
     }
 }

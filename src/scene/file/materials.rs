@@ -224,3 +224,92 @@ pub fn material_from_toml(name: &str, text: &str, defaults: &MaterialDefaults) -
     let section: MaterialSection = toml::from_str(text).map_err(|e| e.message().to_string())?;
     material(name, &section, defaults).map_err(|(_, problem)| format!("material '{name}': {problem}"))
 }
+
+/// `v` as the f64 of its shortest decimal form (0.7, not 0.699999988…): it reads back as `v`.
+pub(crate) fn shortest(v: f32) -> f64 {
+    v.to_string().parse().unwrap_or(v as f64)
+}
+
+/// The keys of a `[material.NAME]` section that [`material_from_toml`] reads back as `material`,
+/// every key that changes what it reflects written (none left to the reader's defaults): what the explorer's state and its saved scene files hold. Materials a
+/// section cannot describe — glTF's metallic-roughness model, textures — are refused.
+pub fn material_keys(material: &Material) -> Result<toml::Table, String> {
+    if material.textures != MaterialTextures::default() {
+        return Err(format!(
+            "material '{}' has textures, which a material section does not hold",
+            material.name
+        ));
+    }
+    let mut keys = toml::Table::new();
+    let floats = |v: [f32; 3]| toml::Value::Array(v.iter().map(|&c| shortest(c).into()).collect());
+    keys.insert("model".into(), material.model_name().into());
+    keys.insert("albedo".into(), floats(material.albedo));
+    keys.insert("kd".into(), shortest(material.kd).into());
+    keys.insert("two_sided".into(), material.two_sided.into());
+    match &material.model {
+        BrdfModel::Lambert => {}
+        BrdfModel::BlinnPhong(bp) => {
+            keys.insert("ks".into(), shortest(bp.ks).into());
+            keys.insert("shininess".into(), shortest(bp.shininess).into());
+            keys.insert("specular_color".into(), floats(bp.color));
+        }
+        BrdfModel::CookTorrance(ct) => {
+            keys.insert("roughness".into(), shortest(ct.alpha).into());
+            keys.insert("d".into(), ct.d.name().into());
+            keys.insert("g".into(), ct.g.name().into());
+            keys.insert("fresnel".into(), ct.f.name().into());
+            keys.insert("specular_color".into(), floats(ct.specular_color));
+            match ct.f {
+                FresnelTerm::Conductor => {
+                    keys.insert("eta".into(), floats(ct.eta));
+                    keys.insert("k".into(), floats(ct.k));
+                }
+                FresnelTerm::Constant => {}
+                FresnelTerm::Schlick | FresnelTerm::SchlickSg => {
+                    keys.insert("metallic".into(), ct.metallic.into());
+                    keys.insert("ior".into(), shortest(ct.ior).into());
+                }
+            }
+        }
+        BrdfModel::GltfPbr(_) => {
+            return Err(format!(
+                "material '{}' is glTF's metallic-roughness model, which a material section does not describe",
+                material.name
+            ))
+        }
+    }
+    Ok(keys)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What `material_keys` writes reads back as the same material, for every model and Fresnel
+    /// term, under either set of defaults.
+    #[test]
+    fn material_keys_read_back_as_the_material() {
+        let sections = [
+            "model = \"lambert\"\nalbedo = [0.2, 0.3, 0.4]\ntwo_sided = false\n",
+            "model = \"blinn-phong\"\nks = 0.5\nshininess = 7.5\nspecular_color = [1.0, 0.9, 0.8]\n",
+            "model = \"cook-torrance\"\nroughness = 0.3\nd = \"beckmann\"\ng = \"schlick-karis\"\nior = 1.7\n",
+            "model = \"cook-torrance\"\nmetallic = true\nfresnel = \"schlick-sg\"\nspecular_color = [0.9, 0.6, 0.3]\n",
+            "model = \"cook-torrance\"\neta = [0.2, 0.92, 1.1]\nk = [3.9, 2.45, 2.14]\nroughness = 0.25\n",
+            "model = \"cook-torrance\"\nfresnel = \"constant\"\nkd = 0.25\n",
+        ];
+        let tp = crate::normal_map::scene_file::Preset::Tp.material_defaults();
+        for text in sections {
+            for defaults in [&MaterialDefaults::SCENE, &tp] {
+                let material = material_from_toml("m", text, defaults).unwrap();
+                let keys = toml::to_string(&material_keys(&material).unwrap()).unwrap();
+                assert_eq!(material_from_toml("m", &keys, defaults).unwrap(), material, "{text}");
+            }
+        }
+        let mut textured = material_from_toml("m", sections[0], &MaterialDefaults::SCENE).unwrap();
+        textured.textures.normal = Some(crate::material::NormalTexture {
+            texture: crate::texture::TextureRef::gltf_default(0),
+            scale: 1.0,
+        });
+        assert!(material_keys(&textured).unwrap_err().contains("textures"));
+    }
+}

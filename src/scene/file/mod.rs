@@ -35,10 +35,10 @@ use values::{point3, resolve, three, vec3};
 pub(crate) mod values;
 
 use crate::scene::tangents::complete_tangents;
-pub use lights::light_from_toml;
 pub(crate) use lights::{light, LightSection};
+pub use lights::{light_from_toml, light_keys};
 pub(crate) use materials::{material, MaterialSection};
-pub use materials::{material_from_toml, MaterialDefaults, ModelName};
+pub use materials::{material_from_toml, material_keys, MaterialDefaults, ModelName};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -27,6 +27,9 @@ use crate::texture::TextureImage;
 
 mod lanes;
 pub mod rows;
+mod terms;
+
+pub use terms::{cook_torrance_terms, CookTorranceTerms};
 
 /// Most points of a [`Shader::shade_batch`] whose shadow rays go to the occluder at once (the
 /// samples of a pixel: as many as a BVH packet holds).

@@ -1,0 +1,130 @@
+//! The explorer's local HTTP server: tiny_http (synchronous, a few small crates) on 127.0.0.1,
+//! a few threads taking requests, each answered by `api::respond`.
+//!
+//! It is a public interface on the machine, so it binds the loopback address only, refuses a
+//! `Host` other than its own address (a page elsewhere cannot reach it through a name that
+//! resolves to 127.0.0.1), bounds request bodies ([`super::api::MAX_BODY`]) and answers every
+//! bad request with a status and a message, never by stopping.
+
+use std::io::Read;
+use std::net::{Ipv4Addr, SocketAddr};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+
+use super::api::{respond, Reply, Shared, MAX_BODY};
+use super::session::Explorer;
+
+/// Threads taking requests: a render may run while the plots of the same edit are asked for.
+const THREADS: usize = 4;
+
+/// A running explorer server.
+pub struct Server {
+    http: Arc<tiny_http::Server>,
+    address: SocketAddr,
+    stopping: Arc<AtomicBool>,
+    threads: Vec<JoinHandle<()>>,
+}
+
+impl Server {
+    /// Serves `explorer` on 127.0.0.1:`port` (0: a free port the system picks).
+    pub fn start(explorer: Explorer, port: u16) -> Result<Server, String> {
+        let http = tiny_http::Server::http((Ipv4Addr::LOCALHOST, port))
+            .map_err(|e| format!("cannot listen on 127.0.0.1:{port}: {e}"))?;
+        let address = http.server_addr().to_ip().ok_or("the server has no IP address")?;
+        let http = Arc::new(http);
+        let shared = Arc::new(Shared::new(explorer));
+        let stopping = Arc::new(AtomicBool::new(false));
+        let threads = (0..THREADS)
+            .map(|_| {
+                let (http, shared, stopping) = (http.clone(), shared.clone(), stopping.clone());
+                std::thread::spawn(move || serve(&http, &shared, &stopping, address))
+            })
+            .collect();
+        Ok(Server {
+            http,
+            address,
+            stopping,
+            threads,
+        })
+    }
+
+    /// The address it listens on.
+    pub fn address(&self) -> SocketAddr {
+        self.address
+    }
+
+    /// The page's URL.
+    pub fn url(&self) -> String {
+        format!("http://{}/", self.address)
+    }
+
+    /// Serves until the process ends.
+    pub fn wait(self) {
+        for t in self.threads {
+            let _ = t.join();
+        }
+    }
+
+    /// Stops taking requests (those being answered finish first) and waits for the threads.
+    pub fn stop(self) {
+        self.stopping.store(true, Ordering::SeqCst);
+        for _ in &self.threads {
+            self.http.unblock();
+        }
+        for t in self.threads {
+            let _ = t.join();
+        }
+    }
+}
+
+fn serve(http: &tiny_http::Server, shared: &Shared, stopping: &AtomicBool, address: SocketAddr) {
+    while !stopping.load(Ordering::SeqCst) {
+        let Ok(mut request) = http.recv() else {
+            continue;
+        };
+        let reply = answer(&mut request, shared, address);
+        // A length, not chunks, whatever the size: every client reads that.
+        let mut response = tiny_http::Response::from_data(reply.body)
+            .with_status_code(reply.status)
+            .with_chunked_threshold(usize::MAX);
+        for (name, value) in [("Content-Type", reply.content_type), ("Cache-Control", "no-store")] {
+            if let Ok(h) = tiny_http::Header::from_bytes(name, value) {
+                response = response.with_header(h);
+            }
+        }
+        // A client that went away is no concern of the server's.
+        let _ = request.respond(response);
+    }
+}
+
+/// Checks the request's host and size, reads its body and answers it.
+fn answer(request: &mut tiny_http::Request, shared: &Shared, address: SocketAddr) -> Reply {
+    let host = request
+        .headers()
+        .iter()
+        .find(|h| h.field.equiv("Host"))
+        .map(|h| h.value.as_str().to_string());
+    let own = [
+        format!("127.0.0.1:{}", address.port()),
+        format!("localhost:{}", address.port()),
+    ];
+    if !host.as_ref().is_some_and(|h| own.contains(h)) {
+        return Reply::error(403, format!("Host {host:?} is not this server's ({})", own[0]));
+    }
+    if request.body_length().is_some_and(|n| n > MAX_BODY) {
+        return Reply::error(413, format!("a request body is at most {MAX_BODY} bytes"));
+    }
+    let mut body = Vec::new();
+    if let Err(e) = request.as_reader().take(MAX_BODY as u64 + 1).read_to_end(&mut body) {
+        return Reply::error(400, format!("reading the request: {e}"));
+    }
+    if body.len() > MAX_BODY {
+        return Reply::error(413, format!("a request body is at most {MAX_BODY} bytes"));
+    }
+    let method = request.method().as_str().to_string();
+    respond(shared, &method, request.url(), &body)
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,482 @@
+//! The explorer's session: a scene (held in a [`Preview`]) or a normal image, the scene file
+//! its state is saved into, and one call per thing the page asks for.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+
+use glam::DVec3;
+use serde_json::{json, Value};
+
+use super::state::{json_keys, python_string, scene_file, section_text, State, NORMAL_MAP_MATERIAL};
+use crate::accel::Bvh;
+use crate::error::{InputError, InputResult};
+use crate::lanes::dot3;
+use crate::material::Material;
+use crate::normal_map;
+use crate::normal_map::bake::bake_normals;
+use crate::normal_map::formats::{encode_min_max_png, encode_normal_png};
+use crate::normal_map::image::NormalImage;
+use crate::normal_map::scene_file::{NormalMapScene, Preset};
+use crate::output::{encode, Format};
+use crate::render::preview::Preview;
+use crate::scene::file::{
+    light_from_toml, light_keys, material_from_toml, material_keys, MaterialDefaults, MeshTable, ModelName,
+};
+use crate::scene::obj::MeshArrays;
+use crate::scene::procedural::{icosphere, plane, ProceduralMesh};
+use crate::scene::{extension, load, Scene};
+use crate::shading::shader::brdf_value;
+
+/// What the explorer opened.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// A normal image, shaded in the normal-map mode.
+    NormalImage,
+    /// A scene file, a bare mesh or a glTF file.
+    Scene,
+}
+
+/// The scene the explorer bakes its default normal image from (shipped, embedded with its two
+/// meshes, so that `pointshade explore` needs no file).
+const DEFAULT_SCENE: &str = include_str!("../../scenes/lambert.toml");
+
+/// The name a baked normal image is saved under (`GET /api/normals.png`), which the saved scene
+/// file of the default session names.
+pub const BAKED_IMAGE: &str = "explore-normals.png";
+
+/// An open scene or normal image and what its page edits (see the module's comment).
+pub struct Explorer {
+    held: Held,
+    /// The opened file's name without its folder (the page's title; no request learns more).
+    name: String,
+    /// The scene file the state is written into, when there is one to write.
+    base: Option<String>,
+    /// The state the session starts in.
+    initial: State,
+}
+
+enum Held {
+    NormalImage {
+        image: NormalImage,
+        /// The image's PNG bytes (`GET /api/normals.png`).
+        png: Vec<u8>,
+        /// Where the image's scene file would sit: the image's folder.
+        dir: PathBuf,
+    },
+    Scene {
+        preview: Box<Preview>,
+        origin: DVec3,
+        /// The materials a state may edit (untextured, of a classic model).
+        editable: Vec<String>,
+    },
+}
+
+impl Explorer {
+    /// Opens `input`: a PNG normal image, a scene file (a `[normal_map]` file opens as its normal
+    /// image), a bare mesh or a glTF file; with none, the assignment's setting (tp preset,
+    /// Cook-Torrance) on a normal image baked from the shipped `scenes/lambert.toml`.
+    pub fn open(input: Option<&Path>) -> InputResult<Explorer> {
+        let Some(path) = input else {
+            return Self::baked_default();
+        };
+        let name = file_name(path);
+        match extension(path).as_deref() {
+            Some("png") => {
+                let image = NormalImage::load(path)?;
+                let png = crate::input_files::read(path).map_err(|e| InputError::new(path, e))?;
+                let scene = NormalMapScene::from_preset(path, Preset::Tp, ModelName::CookTorrance);
+                let base = format!("[normal_map]\nimage = {}\n", toml::Value::String(name.clone()));
+                Self::normal_image(image, png, dir_of(path), &scene, name, base)
+            }
+            Some("toml") => {
+                let text = crate::input_files::read_to_string(path).map_err(|e| InputError::new(path, e))?;
+                let table = crate::scene::file::parse_toml_table(path, text.clone())?;
+                if table.contains_key("normal_map") {
+                    let scene = NormalMapScene::load(path, None)?;
+                    let image = NormalImage::load(&scene.image)?;
+                    let png = crate::input_files::read(&scene.image).map_err(|e| InputError::new(&scene.image, e))?;
+                    return Self::normal_image(image, png, dir_of(path), &scene, name, text);
+                }
+                Self::scene(load(path)?, name, Some(text))
+            }
+            _ => Self::scene(load(path)?, name, None),
+        }
+    }
+
+    fn baked_default() -> InputResult<Explorer> {
+        let name = Path::new("scenes/lambert.toml (embedded)");
+        let mut meshes = MeshTable::new();
+        meshes.insert("../meshes/icosphere.obj".into(), arrays(icosphere(4)));
+        meshes.insert("../meshes/plane.obj".into(), arrays(plane(10.0, 1)));
+        let scene = crate::scene::file::load_scene_text(name, DEFAULT_SCENE.into(), Path::new("."), &meshes)?;
+        let baked = bake_normals(&scene, &Bvh::for_scene(&scene)).map_err(|e| InputError::new(name, e))?;
+        let png = encode_normal_png(baked.width, baked.height, &baked.normals).map_err(|e| InputError::new(name, e))?;
+        let image = NormalImage::decode(Path::new(BAKED_IMAGE), &png)?;
+        let nm = NormalMapScene::from_preset(Path::new(BAKED_IMAGE), Preset::Tp, ModelName::CookTorrance);
+        let base = format!("[normal_map]\nimage = \"{BAKED_IMAGE}\"\n");
+        Self::normal_image(image, png, PathBuf::from("."), &nm, BAKED_IMAGE.into(), base)
+    }
+
+    fn normal_image(
+        image: NormalImage,
+        png: Vec<u8>,
+        dir: PathBuf,
+        scene: &NormalMapScene,
+        name: String,
+        base: String,
+    ) -> InputResult<Explorer> {
+        let state = normal_map_state(scene).map_err(|e| InputError::new(Path::new(&name), e))?;
+        Ok(Explorer {
+            held: Held::NormalImage { image, png, dir },
+            name,
+            base: Some(base),
+            initial: state,
+        })
+    }
+
+    fn scene(mut scene: Scene, name: String, base: Option<String>) -> InputResult<Explorer> {
+        let err = |e: String| InputError::new(Path::new(&name), e);
+        // A preview renders a fixed number of samples per pixel (what it keeps between edits).
+        if scene.film.sampler.fixed_sequence().is_none() || scene.film.time_budget.is_some() {
+            return Err(err(format!(
+                "the explorer renders a fixed number of samples per pixel; set [film] sampler = \"sobol\" (this film's is {}{})",
+                scene.film.sampler.name(),
+                if scene.film.time_budget.is_some() { " with a time budget" } else { "" }
+            )));
+        }
+        let editable: Vec<String> = scene
+            .materials
+            .iter()
+            .filter(|m| material_keys(m).is_ok())
+            .map(|m| m.name.clone())
+            .collect();
+        let materials = scene
+            .materials
+            .iter()
+            .filter_map(|m| Some((m.name.clone(), json_keys(&material_keys(m).ok()?))))
+            .collect();
+        let lights = scene
+            .lights
+            .iter()
+            .map(|l| light_keys(l, scene.origin).map(|k| json_keys(&k)))
+            .collect::<Result<_, _>>()
+            .map_err(err)?;
+        let initial = State {
+            preset: None,
+            materials,
+            lights,
+            exposure: scene.film.exposure,
+        };
+        let origin = scene.origin;
+        scene.film.crop = None;
+        let preview = Preview::new(scene, &[]).map_err(err)?;
+        Ok(Explorer {
+            held: Held::Scene {
+                preview: Box::new(preview),
+                origin,
+                editable,
+            },
+            name,
+            base,
+            initial,
+        })
+    }
+
+    /// Normal image or scene.
+    pub fn mode(&self) -> Mode {
+        match self.held {
+            Held::NormalImage { .. } => Mode::NormalImage,
+            Held::Scene { .. } => Mode::Scene,
+        }
+    }
+
+    /// The opened file's name, without its folder.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The state the session started in.
+    pub fn initial_state(&self) -> &State {
+        &self.initial
+    }
+
+    /// The image's size in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        match &self.held {
+            Held::NormalImage { image, .. } => (image.width, image.height),
+            Held::Scene { preview, .. } => (preview.scene().film.width, preview.scene().film.height),
+        }
+    }
+
+    /// The normal image's PNG bytes (none for a scene).
+    pub fn normals_png(&self) -> Option<&[u8]> {
+        match &self.held {
+            Held::NormalImage { png, .. } => Some(png),
+            Held::Scene { .. } => None,
+        }
+    }
+
+    /// A normal image's state under each preset, its material of the same model (what the page
+    /// switches to when the preset changes); `null` for a scene.
+    pub fn preset_states(&self) -> serde_json::Value {
+        if self.mode() == Mode::Scene {
+            return serde_json::Value::Null;
+        }
+        let model = self.initial.materials[NORMAL_MAP_MATERIAL]
+            .get("model")
+            .and_then(|m| m.as_str())
+            .and_then(|m| m.parse::<ModelName>().ok())
+            .unwrap_or(ModelName::CookTorrance);
+        let mut states = serde_json::Map::new();
+        for preset in [Preset::Tp, Preset::Physical] {
+            let scene = NormalMapScene::from_preset(Path::new(&self.name), preset, model);
+            if let Ok(state) = normal_map_state(&scene) {
+                states.insert(preset.name().into(), serde_json::to_value(state).unwrap_or_default());
+            }
+        }
+        serde_json::Value::Object(states)
+    }
+
+    /// The scene file of `state`: `pointshade normalmap` or `pointshade render` of it gives the
+    /// image [`Explorer::render`] gives.
+    pub fn save(&self, state: &State) -> Result<String, String> {
+        self.check_preset(state)?;
+        let base = self.base.as_deref().ok_or_else(|| {
+            format!(
+                "{} is not a scene file: save writes the state into the scene file the explorer opened (open a .toml scene to save one)",
+                self.name
+            )
+        })?;
+        scene_file(base, state)
+    }
+
+    /// Python that renders `state` as the page shows it.
+    pub fn python(&self, state: &State) -> Result<String, String> {
+        let text = self.save(state)?;
+        let call = match self.mode() {
+            Mode::NormalImage => "radiance = pointshade.shade_normal_image(SCENE)  # L_o, float32 (H, W, 3)",
+            Mode::Scene => {
+                "out = pointshade.render(\"scene.toml\", text=SCENE)  # out[\"image\"]: L_o, float32 (H, W, 3)"
+            }
+        };
+        Ok(format!(
+            "import pointshade\n\n# The explorer's state as a scene file (its paths relative to the folder of {}).\nSCENE = {}\n{call}\n",
+            self.name,
+            python_string(&text)
+        ))
+    }
+
+    fn check_preset(&self, state: &State) -> Result<(), String> {
+        match (self.mode(), state.preset.as_deref()) {
+            (Mode::NormalImage, Some("tp" | "physical")) | (Mode::Scene, None) => Ok(()),
+            (Mode::NormalImage, Some(p)) => Err(format!("unknown preset '{p}' (expected tp or physical)")),
+            (Mode::NormalImage, None) => Err("a normal image's state needs a preset: tp or physical".into()),
+            (Mode::Scene, Some(_)) => Err("preset applies to a normal image, not to a scene".into()),
+        }
+    }
+
+    /// The normal-map scene of `state`, read from the scene file [`Explorer::save`] writes.
+    fn normal_map_scene(&self, state: &State) -> Result<NormalMapScene, String> {
+        let Held::NormalImage { dir, .. } = &self.held else {
+            unreachable!("normal images only")
+        };
+        let text = self.save(state)?;
+        let scene = NormalMapScene::from_text(Path::new(&self.name), text, dir, None).map_err(|e| e.to_string())?;
+        Ok(scene)
+    }
+
+    /// Applies `state` to the held scene: its editable materials and every light, checked as a
+    /// scene file's sections are.
+    fn apply(&mut self, state: &State) -> Result<(), String> {
+        self.check_preset(state)?;
+        let Held::Scene {
+            preview,
+            origin,
+            editable,
+        } = &mut self.held
+        else {
+            unreachable!("scenes only")
+        };
+        let mut materials = preview.scene().materials.clone();
+        for (name, keys) in &state.materials {
+            if !editable.contains(name) {
+                return Err(format!(
+                    "material '{name}' cannot be edited here (editable: {})",
+                    editable.join(", ")
+                ));
+            }
+            let m = materials
+                .iter_mut()
+                .find(|m| &m.name == name)
+                .expect("editable names are the scene's");
+            *m = material_from_toml(name, &section_text(keys)?, &MaterialDefaults::SCENE)?;
+        }
+        let lights = state
+            .lights
+            .iter()
+            .enumerate()
+            .map(|(i, keys)| {
+                light_from_toml(&section_text(keys)?, *origin).map_err(|e| format!("light {}: {e}", i + 1))
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+        preview.set_materials(materials)?;
+        preview.set_lights(lights)?;
+        Ok(())
+    }
+
+    /// The PNG `pointshade normalmap` or `pointshade render` writes for the saved `state`
+    /// (`stop`, when set, ends a scene's render early with an error).
+    pub fn render(&mut self, state: &State, stop: Option<&AtomicBool>) -> Result<Vec<u8>, String> {
+        match self.mode() {
+            Mode::NormalImage => {
+                let scene = self.normal_map_scene(state)?;
+                let Held::NormalImage { image, .. } = &self.held else {
+                    unreachable!()
+                };
+                let shaded = normal_map::shade(&scene, image, "the explorer's image").map_err(|e| e.to_string())?;
+                match scene.preset {
+                    Preset::Tp => encode_min_max_png(&shaded.radiance).map(|(bytes, _)| bytes),
+                    Preset::Physical => encode(&shaded.radiance, Format::Png, scene.exposure),
+                }
+            }
+            Mode::Scene => {
+                self.apply(state)?;
+                let Held::Scene { preview, .. } = &mut self.held else {
+                    unreachable!()
+                };
+                let rendered = preview.render_until(stop)?;
+                encode(&rendered.image, Format::Png, state.exposure)
+            }
+        }
+    }
+
+    /// What shades pixel (`x`, `y`) under `state`: its normal, the direction to the first light
+    /// that reaches it, the direction to the viewer, its material and f_r; angles in the local
+    /// frame of its normal (θ from the normal, φ from the frame's first axis).
+    pub fn pixel(&mut self, state: &State, x: u32, y: u32) -> Result<Value, String> {
+        let (w, h) = self.size();
+        if x >= w || y >= h {
+            return Err(format!("pixel ({x}, {y}) is outside the {w}×{h} image"));
+        }
+        let (point, material, lights) = match self.mode() {
+            Mode::NormalImage => {
+                let scene = self.normal_map_scene(state)?;
+                let Held::NormalImage { image, .. } = &self.held else {
+                    unreachable!()
+                };
+                let surface = normal_map::image_surface(&scene, image)?;
+                let (rgb, alpha) = image.pixel((y * w + x) as usize);
+                (surface.point(x, y, rgb, alpha), scene.material, scene.lights)
+            }
+            Mode::Scene => {
+                self.apply(state)?;
+                let Held::Scene { preview, .. } = &self.held else {
+                    unreachable!()
+                };
+                let point = preview.surface_at(x, y);
+                let material = point.map(|p| preview.scene().materials[p.material as usize].clone());
+                (
+                    point,
+                    material.unwrap_or_else(|| Material::lambert("", [0.0; 3])),
+                    preview.scene().lights.clone(),
+                )
+            }
+        };
+        let Some(p) = point else {
+            return Ok(json!({"hit": false, "x": x, "y": y}));
+        };
+        let wo = p.to_viewer.as_dvec3().to_array();
+        let mut n = p.shading_normal.as_dvec3().normalize_or_zero().to_array();
+        if material.two_sided && dot3(n, wo) < 0.0 {
+            n = n.map(|c| -c);
+        }
+        let wi = lights
+            .iter()
+            .filter_map(|l| l.sample(p.position))
+            .map(|s| s.wi.as_dvec3().to_array())
+            .find(|wi| dot3(n, *wi) > 0.0)
+            .unwrap_or([0.0; 3]);
+        let f_r = brdf_value(&material, n, wi, wo);
+        let (theta_i, phi_i) = local_angles(n, wi);
+        let (theta_o, phi_o) = local_angles(n, wo);
+        let keys = material_keys(&material).map(|k| json_keys(&k)).unwrap_or_default();
+        Ok(json!({
+            "hit": true, "x": x, "y": y, "n": n, "wi": wi, "wo": wo,
+            "material": material.name, "material_keys": keys, "f_r": f_r,
+            "theta_i": theta_i, "phi_i": phi_i, "theta_o": theta_o, "phi_o": phi_o,
+        }))
+    }
+}
+
+/// The state of a normal-map scene: its material, lights, preset and exposure, every key written.
+fn normal_map_state(scene: &NormalMapScene) -> Result<State, String> {
+    Ok(State {
+        preset: Some(scene.preset.name().into()),
+        materials: [(
+            NORMAL_MAP_MATERIAL.to_string(),
+            json_keys(&material_keys(&scene.material)?),
+        )]
+        .into(),
+        lights: scene
+            .lights
+            .iter()
+            .map(|l| light_keys(l, DVec3::ZERO).map(|k| json_keys(&k)))
+            .collect::<Result<_, _>>()?,
+        exposure: scene.exposure,
+    })
+}
+
+/// θ from `n` and φ of `d` in a frame around `n` whose first axis is the world axis least
+/// aligned with it, projected (degrees; 0, 0 for a zero direction).
+fn local_angles(n: [f64; 3], d: [f64; 3]) -> (f64, f64) {
+    let n = DVec3::from(n);
+    let d = DVec3::from(d);
+    if d == DVec3::ZERO || n == DVec3::ZERO {
+        return (0.0, 0.0);
+    }
+    let (t, b) = n.any_orthonormal_pair();
+    let theta = n.dot(d).clamp(-1.0, 1.0).acos().to_degrees();
+    let phi = d.dot(b).atan2(d.dot(t)).to_degrees();
+    (theta, phi.rem_euclid(360.0))
+}
+
+fn file_name(path: &Path) -> String {
+    path.file_name()
+        .unwrap_or(path.as_os_str())
+        .to_string_lossy()
+        .into_owned()
+}
+
+fn dir_of(path: &Path) -> PathBuf {
+    path.parent().map(Path::to_path_buf).unwrap_or_default()
+}
+
+/// A procedural mesh as the arrays a scene file's object may name instead of a file.
+fn arrays(mesh: ProceduralMesh) -> MeshArrays {
+    MeshArrays {
+        positions: mesh
+            .positions
+            .iter()
+            .flat_map(|p| p.to_array())
+            .map(f64::from)
+            .collect(),
+        indices: mesh.triangles.iter().flatten().copied().collect(),
+        normals: mesh
+            .normals
+            .iter()
+            .flatten()
+            .flat_map(|n| n.to_array())
+            .map(f64::from)
+            .collect(),
+        uvs: mesh
+            .uvs
+            .iter()
+            .flatten()
+            .flat_map(|t| t.to_array())
+            .map(f64::from)
+            .collect(),
+    }
+}
+
+#[cfg(test)]
+mod tests;

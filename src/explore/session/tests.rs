@@ -1,0 +1,74 @@
+use super::*;
+
+fn state(explorer: &Explorer) -> State {
+    explorer.initial_state().clone()
+}
+
+/// The default session is the assignment's setting on a baked image: tp, Cook-Torrance; its
+/// render is what `normalmap` gives for its saved file (read back through the same reader).
+#[test]
+fn the_default_session_is_the_tp_preset_on_a_baked_image() {
+    let mut e = Explorer::open(None).unwrap();
+    assert_eq!(e.mode(), Mode::NormalImage);
+    assert_eq!((e.size()), (512, 384));
+    let s = state(&e);
+    assert_eq!(s.preset.as_deref(), Some("tp"));
+    assert_eq!(s.materials[NORMAL_MAP_MATERIAL]["model"], "cook-torrance");
+    let png = e.render(&s, None).unwrap();
+    assert!(png.starts_with(b"\x89PNG"));
+    let saved = e.save(&s).unwrap();
+    assert!(saved.contains(&format!("image = \"{BAKED_IMAGE}\"")), "{saved}");
+}
+
+#[test]
+fn an_edit_changes_the_image_and_a_bad_value_names_the_key() {
+    let mut e = Explorer::open(None).unwrap();
+    let mut s = state(&e);
+    let before = e.render(&s, None).unwrap();
+    s.materials.get_mut(NORMAL_MAP_MATERIAL).unwrap()["roughness"] = 0.2.into();
+    let after = e.render(&s, None).unwrap();
+    assert_ne!(before, after);
+    s.materials.get_mut(NORMAL_MAP_MATERIAL).unwrap()["roughness"] = 2.0.into();
+    let err = e.render(&s, None).unwrap_err();
+    assert!(err.contains("roughness must be in [0, 1]"), "{err}");
+    s.materials.get_mut(NORMAL_MAP_MATERIAL).unwrap()["roughness"] = 0.2.into();
+    s.materials
+        .get_mut(NORMAL_MAP_MATERIAL)
+        .unwrap()
+        .insert("texture".into(), "/etc/passwd".into());
+    let err = e.render(&s, None).unwrap_err();
+    assert!(err.contains("unknown field `texture`"), "{err}");
+}
+
+#[test]
+fn a_pixel_reports_what_shaded_it() {
+    let mut e = Explorer::open(None).unwrap();
+    let s = state(&e);
+    let (w, h) = e.size();
+    let centre = e.pixel(&s, w / 2, h / 2 - 20).unwrap();
+    assert_eq!(centre["hit"], true, "{centre}");
+    assert_eq!(centre["material"], NORMAL_MAP_MATERIAL);
+    let n: Vec<f64> = serde_json::from_value(centre["n"].clone()).unwrap();
+    assert!((n.iter().map(|c| c * c).sum::<f64>() - 1.0).abs() < 1e-5);
+    assert!(e.pixel(&s, w, 0).unwrap_err().contains("outside"));
+}
+
+#[test]
+fn a_scene_file_opens_edits_and_saves() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cook-torrance.toml");
+    let mut e = Explorer::open(Some(&path)).unwrap();
+    assert_eq!(e.mode(), Mode::Scene);
+    let mut s = state(&e);
+    assert!(s.preset.is_none() && !s.materials.is_empty() && !s.lights.is_empty());
+    let before = e.render(&s, None).unwrap();
+    s.lights[0]["intensity"] = 0.5.into();
+    let after = e.render(&s, None).unwrap();
+    assert_ne!(before, after);
+    let saved = e.save(&s).unwrap();
+    assert!(saved.contains("[[light]]") && saved.contains("[film]"), "{saved}");
+    s.preset = Some("tp".into());
+    assert!(e
+        .render(&s, None)
+        .unwrap_err()
+        .contains("preset applies to a normal image"));
+}
