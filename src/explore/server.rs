@@ -6,7 +6,7 @@
 //! resolves to 127.0.0.1), bounds request bodies ([`super::api::MAX_BODY`]) and answers every
 //! bad request with a status and a message, never by stopping.
 
-use std::io::Read;
+use std::io::{Read, Write};
 use std::net::{Ipv4Addr, SocketAddr};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -83,19 +83,43 @@ fn serve(http: &tiny_http::Server, shared: &Shared, stopping: &AtomicBool, addre
         let Ok(mut request) = http.recv() else {
             continue;
         };
+        let started = std::time::Instant::now();
         let reply = answer(&mut request, shared, address);
-        // A length, not chunks, whatever the size: every client reads that.
-        let mut response = tiny_http::Response::from_data(reply.body)
-            .with_status_code(reply.status)
-            .with_chunked_threshold(usize::MAX);
-        for (name, value) in [("Content-Type", reply.content_type), ("Cache-Control", "no-store")] {
-            if let Ok(h) = tiny_http::Header::from_bytes(name, value) {
-                response = response.with_header(h);
-            }
+        if std::env::var_os("POINTSHADE_EXPLORE_LOG").is_some() {
+            eprintln!(
+                "{} {} -> {} ({} bytes) in {:.1} ms",
+                request.method(),
+                request.url(),
+                reply.status,
+                reply.body.len(),
+                started.elapsed().as_secs_f64() * 1e3
+            );
         }
-        // A client that went away is no concern of the server's.
-        let _ = request.respond(response);
+        send(request, reply);
     }
+}
+
+/// Writes `reply` with its length and `Connection: close`, so that the client closes the
+/// connection once it has read it. tiny_http serves each connection on a thread of a pool that
+/// grows only when no thread is idle at the moment a connection arrives; two arriving together
+/// can queue the second behind a connection kept alive by the browser, and a page whose five
+/// requests go out at once then waited for ever (seen in the browser test). With one request per
+/// connection every thread is soon free again. (tiny_http drops a `Connection` header given to
+/// its response builder, hence the hand-written head.)
+fn send(request: tiny_http::Request, reply: Reply) {
+    let reason = tiny_http::StatusCode(reply.status).default_reason_phrase();
+    let head = format!(
+        "HTTP/1.1 {} {reason}\r\nContent-Type: {}\r\nContent-Length: {}\r\nCache-Control: no-store\r\nConnection: close\r\n\r\n",
+        reply.status,
+        reply.content_type,
+        reply.body.len()
+    );
+    let mut writer = request.into_writer();
+    // A client that went away is no concern of the server's.
+    let _ = writer
+        .write_all(head.as_bytes())
+        .and_then(|()| writer.write_all(&reply.body))
+        .and_then(|()| writer.flush());
 }
 
 /// Checks the request's host and size, reads its body and answers it.
