@@ -31,9 +31,11 @@ __all__ = [
     "Preview",
     "Rendered",
     "Scene",
+    "Explorer",
     "compare",
     "eval_brdf",
     "eval_terms",
+    "explore",
     "material_keys",
     "read_image",
     "read_normal_image",
@@ -237,6 +239,59 @@ class Preview:
 
     def __repr__(self):
         return f"<pointshade.Preview of {len(self.materials)} material(s)>"
+
+
+class Explorer:
+    """``pointshade explore``'s server, running in a thread of this process (docs/explore.md).
+
+    ``url`` is the page's address; in Jupyter the object shows the page inline (an IFrame).
+    :meth:`stop` ends the server, as does leaving a ``with`` block.
+    """
+
+    def __init__(self, scene_or_image=None, port=None, *, height=900):
+        path = None if scene_or_image is None else _path(scene_or_image, "scene_or_image")
+        self._server = _native.ExploreServer(path, 0 if port is None else port)
+        self.height = height
+
+    @property
+    def url(self):
+        """The page's address, on 127.0.0.1."""
+        return self._server.url
+
+    @property
+    def running(self):
+        """Whether the server still answers."""
+        return self._server.running
+
+    def stop(self):
+        """Stops the server; stopping twice does nothing."""
+        self._server.stop()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.stop()
+
+    def __repr__(self):
+        state = "running" if self.running else "stopped"
+        return f"<pointshade.Explorer {self.url} ({state})>"
+
+    def _repr_html_(self):
+        if not self.running:
+            return f"<p>pointshade explore at {self.url} has stopped.</p>"
+        return (
+            f'<iframe src="{self.url}" width="100%" height="{int(self.height)}" '
+            'style="border: 1px solid #ccc"></iframe>'
+        )
+
+
+def explore(scene_or_image=None, port=None):
+    """Start ``pointshade explore`` on ``scene_or_image`` (a PNG normal image, a scene file, a
+    bare mesh or a glTF file; none: the assignment's setting on a normal image baked from a shipped
+    scene) in a thread, on 127.0.0.1:``port`` (default: a free port). Returns an
+    :class:`Explorer`: shown inline in Jupyter, ``.url`` for a browser, ``.stop()`` to end it."""
+    return Explorer(scene_or_image, port)
 
 
 def _normal_map_toml(image, preset, brdf, material, lights, camera):

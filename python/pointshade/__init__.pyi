@@ -49,6 +49,23 @@ def render(
 ) -> Rendered:
     """Render a scene file, mesh, glTF file or Scene; float32 (H, W, 3) arrays and stats."""
 
+class Explorer:
+    """pointshade explore's server in a thread; shown inline in Jupyter."""
+
+    height: int
+    def __init__(self, scene_or_image: Optional[PathLike] = ..., port: Optional[int] = ..., *, height: int = ...) -> None: ...
+    @property
+    def url(self) -> str: ...
+    @property
+    def running(self) -> bool: ...
+    def stop(self) -> None: ...
+    def __enter__(self) -> "Explorer": ...
+    def __exit__(self, *exc: Any) -> None: ...
+    def _repr_html_(self) -> str: ...
+
+def explore(scene_or_image: Optional[PathLike] = ..., port: Optional[int] = ...) -> Explorer:
+    """Start pointshade explore in a thread; returns the running Explorer."""
+
 class Preview:
     """A scene held for renders while its materials and lights change (re-shades kept points)."""
 

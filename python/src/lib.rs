@@ -9,6 +9,7 @@
 //! raised before anything is copied. The GIL is released while loading, rendering and shading.
 
 mod arrays;
+mod explore;
 mod images;
 mod interrupt;
 mod material_keys;
@@ -541,6 +542,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(shade_normal_image, m)?)?;
     m.add_class::<preview::Preview>()?;
+    m.add_class::<explore::ExploreServer>()?;
     m.add_function(wrap_pyfunction!(eval_brdf, m)?)?;
     m.add_function(wrap_pyfunction!(eval_terms, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;
