@@ -3,7 +3,7 @@
 //!
 //! It is a public interface on the machine, so it binds the loopback address only, refuses a
 //! `Host` other than its own address (a page elsewhere cannot reach it through a name that
-//! resolves to 127.0.0.1), bounds request bodies ([`super::api::MAX_BODY`]) and answers every
+//! resolves to 127.0.0.1), bounds request bodies (64 KiB) and answers every
 //! bad request with a status and a message, never by stopping.
 
 use std::io::{Read, Write};
