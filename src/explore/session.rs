@@ -240,6 +240,17 @@ impl Explorer {
     /// The scene file of `state`: `pointshade normalmap` or `pointshade render` of it gives the
     /// image [`Explorer::render`] gives.
     pub fn save(&self, state: &State) -> Result<String, String> {
+        let text = self.scene_text(state)?;
+        // A file that would not load is not saved: the state is read back first.
+        match &self.held {
+            Held::NormalImage { .. } => drop(self.normal_map_scene_of(&text)?),
+            Held::Scene { .. } => drop(self.scene_edits(state)?),
+        }
+        Ok(text)
+    }
+
+    /// The scene file of `state`, unchecked.
+    fn scene_text(&self, state: &State) -> Result<String, String> {
         self.check_preset(state)?;
         let base = self.base.as_deref().ok_or_else(|| {
             format!(
@@ -277,23 +288,25 @@ impl Explorer {
 
     /// The normal-map scene of `state`, read from the scene file [`Explorer::save`] writes.
     fn normal_map_scene(&self, state: &State) -> Result<NormalMapScene, String> {
+        self.normal_map_scene_of(&self.scene_text(state)?)
+    }
+
+    fn normal_map_scene_of(&self, text: &str) -> Result<NormalMapScene, String> {
         let Held::NormalImage { dir, .. } = &self.held else {
             unreachable!("normal images only")
         };
-        let text = self.save(state)?;
-        let scene = NormalMapScene::from_text(Path::new(&self.name), text, dir, None).map_err(|e| e.to_string())?;
-        Ok(scene)
+        NormalMapScene::from_text(Path::new(&self.name), text.to_string(), dir, None).map_err(|e| e.to_string())
     }
 
-    /// Applies `state` to the held scene: its editable materials and every light, checked as a
-    /// scene file's sections are.
-    fn apply(&mut self, state: &State) -> Result<(), String> {
+    /// The held scene's materials and lights under `state` (its editable materials and every
+    /// light), checked as a scene file's sections are; the scene is left as it is.
+    fn scene_edits(&self, state: &State) -> Result<(Vec<Material>, Vec<crate::light::Light>), String> {
         self.check_preset(state)?;
         let Held::Scene {
             preview,
             origin,
             editable,
-        } = &mut self.held
+        } = &self.held
         else {
             unreachable!("scenes only")
         };
@@ -319,6 +332,15 @@ impl Explorer {
                 light_from_toml(&section_text(keys)?, *origin).map_err(|e| format!("light {}: {e}", i + 1))
             })
             .collect::<Result<Vec<_>, String>>()?;
+        Ok((materials, lights))
+    }
+
+    /// Applies `state` to the held scene ([`Explorer::scene_edits`]).
+    fn apply(&mut self, state: &State) -> Result<(), String> {
+        let (materials, lights) = self.scene_edits(state)?;
+        let Held::Scene { preview, .. } = &mut self.held else {
+            unreachable!("scenes only")
+        };
         preview.set_materials(materials)?;
         preview.set_lights(lights)?;
         Ok(())

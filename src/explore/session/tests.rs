@@ -66,6 +66,11 @@ fn a_scene_file_opens_edits_and_saves() {
     assert_ne!(before, after);
     let saved = e.save(&s).unwrap();
     assert!(saved.contains("[[light]]") && saved.contains("[film]"), "{saved}");
+    // A state that would not load is not saved.
+    let mut bad = s.clone();
+    bad.lights[0]["intensity"] = (-1.0).into();
+    let err = e.save(&bad).unwrap_err();
+    assert!(err.contains("light 1: light intensity must be finite and ≥ 0"), "{err}");
     s.preset = Some("tp".into());
     assert!(e
         .render(&s, None)
