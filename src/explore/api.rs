@@ -2,6 +2,7 @@
 //! in, a [`Reply`] out. The server (`server.rs`) reads requests and writes replies; nothing here
 //! touches a socket, and nothing serves a file: the page is embedded, the scene held.
 
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
@@ -11,6 +12,7 @@ use serde_json::{json, Value};
 use super::plots::{albedo, direction, lit_sphere, lobe, polar};
 use super::session::{Explorer, Mode};
 use super::state::{Keys, State};
+use crate::validation::run::MitsubaRunner;
 
 /// Largest request body accepted, in bytes: a state is a few kilobytes.
 pub const MAX_BODY: usize = 64 * 1024;
@@ -70,15 +72,12 @@ impl Reply {
 pub struct Shared {
     explorer: Mutex<Explorer>,
     in_flight: Mutex<Option<Arc<AtomicBool>>>,
-    /// Constant parts of `GET /api/session`.
-    mode: Mode,
 }
 
 impl Shared {
     /// Shares `explorer` among the server's threads.
     pub fn new(explorer: Explorer) -> Shared {
         Shared {
-            mode: explorer.mode(),
             explorer: Mutex::new(explorer),
             in_flight: Mutex::new(None),
         }
@@ -139,7 +138,7 @@ fn session(shared: &Shared) -> Reply {
     let explorer = shared.explorer();
     let (width, height) = explorer.size();
     Reply::json(json!({
-        "mode": match shared.mode { Mode::NormalImage => "normal-image", Mode::Scene => "scene" },
+        "mode": match explorer.mode() { Mode::NormalImage => "normal-image", Mode::Scene => "scene" },
         "name": explorer.name(),
         "width": width,
         "height": height,
@@ -264,12 +263,11 @@ fn plot(path: &str, body: &[u8]) -> Result<Reply, String> {
     })
 }
 
-/// Whether Mitsuba 3 can be run from here, and what to do about it.
+/// Whether Mitsuba 3 is installed (as `pointshade validate` finds it), and what to do about it.
 fn mitsuba() -> Value {
-    let installed = std::path::Path::new("validation/.venv/bin/python").exists();
-    let message = match installed {
-        true => "Mitsuba 3 is installed (validation/.venv), but the explorer does not run it yet: save the scene and run `pointshade validate SCENE`",
-        false => "Mitsuba 3 is not installed: run validation/install.sh from pointshade's folder (docs/validation.md)",
+    let (installed, message) = match MitsubaRunner::in_dir(Path::new("validation")) {
+        Ok(_) => (true, "Mitsuba 3 is installed (validation/.venv), but the explorer does not run it yet: save the scene and run `pointshade validate SCENE`".to_string()),
+        Err(e) => (false, e.to_string()),
     };
     json!({ "available": false, "installed": installed, "message": message })
 }

@@ -35,10 +35,11 @@ impl Server {
         let http = Arc::new(http);
         let shared = Arc::new(Shared::new(explorer));
         let stopping = Arc::new(AtomicBool::new(false));
+        let log = std::env::var_os("POINTSHADE_EXPLORE_LOG").is_some();
         let threads = (0..THREADS)
             .map(|_| {
                 let (http, shared, stopping) = (http.clone(), shared.clone(), stopping.clone());
-                std::thread::spawn(move || serve(&http, &shared, &stopping, address))
+                std::thread::spawn(move || serve(&http, &shared, &stopping, address, log))
             })
             .collect();
         Ok(Server {
@@ -78,14 +79,16 @@ impl Server {
     }
 }
 
-fn serve(http: &tiny_http::Server, shared: &Shared, stopping: &AtomicBool, address: SocketAddr) {
+/// Answers requests until the server stops; with `log`, prints each on standard error
+/// (`POINTSHADE_EXPLORE_LOG`).
+fn serve(http: &tiny_http::Server, shared: &Shared, stopping: &AtomicBool, address: SocketAddr, log: bool) {
     while !stopping.load(Ordering::SeqCst) {
         let Ok(mut request) = http.recv() else {
             continue;
         };
         let started = std::time::Instant::now();
         let reply = answer(&mut request, shared, address);
-        if std::env::var_os("POINTSHADE_EXPLORE_LOG").is_some() {
+        if log {
             eprintln!(
                 "{} {} -> {} ({} bytes) in {:.1} ms",
                 request.method(),

@@ -22,8 +22,7 @@ use crate::render::preview::Preview;
 use crate::scene::file::{
     light_from_toml, light_keys, material_from_toml, material_keys, MaterialDefaults, MeshTable, ModelName,
 };
-use crate::scene::obj::MeshArrays;
-use crate::scene::procedural::{icosphere, plane, ProceduralMesh};
+use crate::scene::procedural::{icosphere, plane};
 use crate::scene::{extension, load, Scene};
 use crate::shading::shader::brdf_value;
 
@@ -66,8 +65,6 @@ enum Held {
     Scene {
         preview: Box<Preview>,
         origin: DVec3,
-        /// The materials a state may edit (untextured, of a classic model).
-        editable: Vec<String>,
     },
 }
 
@@ -82,8 +79,8 @@ impl Explorer {
         let name = file_name(path);
         match extension(path).as_deref() {
             Some("png") => {
-                let image = NormalImage::load(path)?;
                 let png = crate::input_files::read(path).map_err(|e| InputError::new(path, e))?;
+                let image = NormalImage::decode(path, &png)?;
                 let scene = NormalMapScene::from_preset(path, Preset::Tp, ModelName::CookTorrance);
                 let base = format!("[normal_map]\nimage = {}\n", toml::Value::String(name.clone()));
                 Self::normal_image(image, png, dir_of(path), &scene, name, base)
@@ -93,8 +90,8 @@ impl Explorer {
                 let table = crate::scene::file::parse_toml_table(path, text.clone())?;
                 if table.contains_key("normal_map") {
                     let scene = NormalMapScene::load(path, None)?;
-                    let image = NormalImage::load(&scene.image)?;
                     let png = crate::input_files::read(&scene.image).map_err(|e| InputError::new(&scene.image, e))?;
+                    let image = NormalImage::decode(&scene.image, &png)?;
                     return Self::normal_image(image, png, dir_of(path), &scene, name, text);
                 }
                 Self::scene(load(path)?, name, Some(text))
@@ -106,8 +103,8 @@ impl Explorer {
     fn baked_default() -> InputResult<Explorer> {
         let name = Path::new("scenes/lambert.toml (embedded)");
         let mut meshes = MeshTable::new();
-        meshes.insert("../meshes/icosphere.obj".into(), arrays(icosphere(4)));
-        meshes.insert("../meshes/plane.obj".into(), arrays(plane(10.0, 1)));
+        meshes.insert("../meshes/icosphere.obj".into(), icosphere(4).to_arrays());
+        meshes.insert("../meshes/plane.obj".into(), plane(10.0, 1).to_arrays());
         let scene = crate::scene::file::load_scene_text(name, DEFAULT_SCENE.into(), Path::new("."), &meshes)?;
         let baked = bake_normals(&scene, &Bvh::for_scene(&scene)).map_err(|e| InputError::new(name, e))?;
         let png = encode_normal_png(baked.width, baked.height, &baked.normals).map_err(|e| InputError::new(name, e))?;
@@ -136,20 +133,7 @@ impl Explorer {
 
     fn scene(mut scene: Scene, name: String, base: Option<String>) -> InputResult<Explorer> {
         let err = |e: String| InputError::new(Path::new(&name), e);
-        // A preview renders a fixed number of samples per pixel (what it keeps between edits).
-        if scene.film.sampler.fixed_sequence().is_none() || scene.film.time_budget.is_some() {
-            return Err(err(format!(
-                "the explorer renders a fixed number of samples per pixel; set [film] sampler = \"sobol\" (this film's is {}{})",
-                scene.film.sampler.name(),
-                if scene.film.time_budget.is_some() { " with a time budget" } else { "" }
-            )));
-        }
-        let editable: Vec<String> = scene
-            .materials
-            .iter()
-            .filter(|m| material_keys(m).is_ok())
-            .map(|m| m.name.clone())
-            .collect();
+        // Materials a section can describe; the others (textured, glTF's) are shown, not edited.
         let materials = scene
             .materials
             .iter()
@@ -169,12 +153,12 @@ impl Explorer {
         };
         let origin = scene.origin;
         scene.film.crop = None;
+        // Preview::new refuses a film without a fixed number of samples per pixel.
         let preview = Preview::new(scene, &[]).map_err(err)?;
         Ok(Explorer {
             held: Held::Scene {
                 preview: Box::new(preview),
                 origin,
-                editable,
             },
             name,
             base,
@@ -302,20 +286,18 @@ impl Explorer {
     /// light), checked as a scene file's sections are; the scene is left as it is.
     fn scene_edits(&self, state: &State) -> Result<(Vec<Material>, Vec<crate::light::Light>), String> {
         self.check_preset(state)?;
-        let Held::Scene {
-            preview,
-            origin,
-            editable,
-        } = &self.held
-        else {
+        let Held::Scene { preview, origin } = &self.held else {
             unreachable!("scenes only")
         };
+        // The materials a state may edit are those the initial state holds.
+        let editable = &self.initial.materials;
         let mut materials = preview.scene().materials.clone();
         for (name, keys) in &state.materials {
-            if !editable.contains(name) {
+            if !editable.contains_key(name) {
+                let names: Vec<&str> = editable.keys().map(String::as_str).collect();
                 return Err(format!(
                     "material '{name}' cannot be edited here (editable: {})",
-                    editable.join(", ")
+                    names.join(", ")
                 ));
             }
             let m = materials
@@ -471,33 +453,6 @@ fn file_name(path: &Path) -> String {
 
 fn dir_of(path: &Path) -> PathBuf {
     path.parent().map(Path::to_path_buf).unwrap_or_default()
-}
-
-/// A procedural mesh as the arrays a scene file's object may name instead of a file.
-fn arrays(mesh: ProceduralMesh) -> MeshArrays {
-    MeshArrays {
-        positions: mesh
-            .positions
-            .iter()
-            .flat_map(|p| p.to_array())
-            .map(f64::from)
-            .collect(),
-        indices: mesh.triangles.iter().flatten().copied().collect(),
-        normals: mesh
-            .normals
-            .iter()
-            .flatten()
-            .flat_map(|n| n.to_array())
-            .map(f64::from)
-            .collect(),
-        uvs: mesh
-            .uvs
-            .iter()
-            .flatten()
-            .flat_map(|t| t.to_array())
-            .map(f64::from)
-            .collect(),
-    }
 }
 
 #[cfg(test)]

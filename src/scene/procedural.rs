@@ -8,6 +8,7 @@ use std::f32::consts::{PI, TAU};
 use std::fmt::Write as _;
 
 use crate::scene::obj::write::ObjMesh;
+use crate::scene::obj::MeshArrays;
 use crate::scene::TriangleMesh;
 use glam::{Vec2, Vec3};
 
@@ -31,6 +32,20 @@ pub struct ProceduralMesh {
 pub type MtlEntry = (&'static str, [f32; 3]);
 
 impl ProceduralMesh {
+    /// This mesh as the arrays a scene file's object may name instead of a file (what the
+    /// explorer bakes its default normal image from): the same f32 values, as f64.
+    pub fn to_arrays(&self) -> MeshArrays {
+        fn flat<const N: usize>(rows: &[impl Copy + Into<[f32; N]>]) -> Vec<f64> {
+            rows.iter().flat_map(|&r| r.into()).map(f64::from).collect()
+        }
+        MeshArrays {
+            positions: flat(&self.positions),
+            indices: self.triangles.iter().flatten().copied().collect(),
+            normals: self.normals.as_deref().map(flat).unwrap_or_default(),
+            uvs: self.uvs.as_deref().map(flat).unwrap_or_default(),
+        }
+    }
+
     /// This mesh as a scene mesh, every triangle with material 0; a mesh without normals gets
     /// the angle-weighted vertex normals of its positions, as a loaded OBJ without `vn` does.
     pub fn into_triangle_mesh(self) -> TriangleMesh {

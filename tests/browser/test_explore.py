@@ -180,10 +180,8 @@ def test_a_clicked_pixel_shows_its_brdf_and_the_plots_follow(browser):
             page.check(f"#show-{term}")
         page.wait_for_function("['D', 'G', 'F'].every(k => k in explore.plot.curves)", timeout=30000)
         curves = page.evaluate("explore.plot.curves")
-        theta_i = page.evaluate("Number(document.getElementById('theta-i').value)")
         assert len(curves["D"]) == len(page.evaluate("explore.plot.theta_o"))
         assert max(curves["D"]) > 0 and 0 < max(curves["G"]) <= 1 + 1e-9
-        assert 0 <= theta_i <= 90
         page.uncheck("#show-D")
         page.wait_for_function("!('D' in explore.plot.curves)", timeout=30000)
         for view, selector in [("polar", "#polar"), ("lobe", "#lobe"), ("sphere", "#sphere"), ("albedo", "#albedo")]:
