@@ -101,7 +101,7 @@ pub fn respond(shared: &Shared, method: &str, url: &str, body: &[u8]) -> Reply {
             Some(png) => Ok(Reply::png(png.to_vec())),
             None => Err("a scene has no normal image".to_string()),
         },
-        ("POST", "/api/render") => return render(shared, body),
+        ("POST", "/api/render") => return render(shared, url, body),
         ("POST", "/api/save") => State::from_json(body).and_then(|s| {
             shared
                 .explorer()
@@ -142,6 +142,7 @@ fn session(shared: &Shared) -> Reply {
         "name": explorer.name(),
         "width": width,
         "height": height,
+        "spp": explorer.spp(),
         "state": explorer.initial_state(),
         "presets": explorer.preset_states(),
         "keys": super::keys::schema(),
@@ -149,8 +150,24 @@ fn session(shared: &Shared) -> Reply {
     }))
 }
 
-fn render(shared: &Shared, body: &[u8]) -> Reply {
-    let state = match State::from_json(body) {
+/// `?spp=N` of a render request: a progressive preview's pass at N samples per pixel.
+fn pass_spp(url: &str) -> Result<Option<u32>, String> {
+    let Some((_, query)) = url.split_once('?') else {
+        return Ok(None);
+    };
+    let query = query.split('#').next().unwrap_or("");
+    match query.split_once('=') {
+        Some(("spp", n)) => n
+            .parse::<u32>()
+            .map(Some)
+            .map_err(|_| format!("spp must be a whole number of samples per pixel, got '{n}'")),
+        _ if query.is_empty() => Ok(None),
+        _ => Err(format!("/api/render takes one query parameter, spp=N; got '{query}'")),
+    }
+}
+
+fn render(shared: &Shared, url: &str, body: &[u8]) -> Reply {
+    let (state, spp) = match State::from_json(body).and_then(|s| Ok((s, pass_spp(url)?))) {
         Ok(s) => s,
         Err(e) => return Reply::error(400, e),
     };
@@ -167,7 +184,7 @@ fn render(shared: &Shared, body: &[u8]) -> Reply {
     if stop.load(Ordering::Relaxed) {
         return Reply::error(409, "cancelled: a newer render was asked for");
     }
-    match explorer.render(&state, Some(&stop)) {
+    match explorer.render(&state, spp, Some(&stop)) {
         Ok(png) => Reply::png(png),
         Err(_) if stop.load(Ordering::Relaxed) => Reply::error(409, "cancelled: a newer render was asked for"),
         Err(e) => Reply::error(400, e),

@@ -184,6 +184,15 @@ impl Explorer {
         &self.initial
     }
 
+    /// A scene's samples per pixel (the last pass of a progressive preview); none for a normal
+    /// image.
+    pub fn spp(&self) -> Option<u32> {
+        match &self.held {
+            Held::NormalImage { .. } => None,
+            Held::Scene { preview, .. } => Some(preview.scene().film.spp),
+        }
+    }
+
     /// The image's size in pixels.
     pub fn size(&self) -> (u32, u32) {
         match &self.held {
@@ -329,8 +338,13 @@ impl Explorer {
     }
 
     /// The PNG `pointshade normalmap` or `pointshade render` writes for the saved `state`
-    /// (`stop`, when set, ends a scene's render early with an error).
-    pub fn render(&mut self, state: &State, stop: Option<&AtomicBool>) -> Result<Vec<u8>, String> {
+    /// (`stop`, when set, ends a scene's render early with an error). A scene may be rendered
+    /// at `spp` samples per pixel instead of its film's (a progressive preview's coarse pass:
+    /// [`Preview::render_pass`]); a normal image has one evaluation per pixel, nothing to refine.
+    pub fn render(&mut self, state: &State, spp: Option<u32>, stop: Option<&AtomicBool>) -> Result<Vec<u8>, String> {
+        if let (Mode::NormalImage, Some(_)) = (self.mode(), spp) {
+            return Err("spp: a normal image is shaded once per pixel, it has no samples to refine".into());
+        }
         match self.mode() {
             Mode::NormalImage => {
                 let scene = self.normal_map_scene(state)?;
@@ -348,7 +362,8 @@ impl Explorer {
                 let Held::Scene { preview, .. } = &mut self.held else {
                     unreachable!()
                 };
-                let rendered = preview.render_until(stop)?;
+                let spp = spp.unwrap_or(preview.scene().film.spp);
+                let rendered = preview.render_pass(spp, stop)?;
                 encode(&rendered.image, Format::Png, state.exposure)
             }
         }

@@ -31,9 +31,21 @@ pub struct Preview {
     aovs: Vec<Aov>,
     plan: RenderPlan,
     bvh: Option<Bvh>,
-    /// The last render's frame, and what its surface points depend on.
-    frame: Option<(SurfaceKey, RetainedFrame)>,
+    /// The last render's frame at each sample count rendered (the film's, and the coarser
+    /// passes of a progressive preview: [`Preview::render_pass`]), oldest first.
+    frames: Vec<KeptFrame>,
 }
+
+/// A render's surface points and shadow verdicts, kept for the next render at its sample count.
+struct KeptFrame {
+    spp: u32,
+    key: SurfaceKey,
+    frame: RetainedFrame,
+}
+
+/// The most frames kept at once (the film's and two coarser passes): a progressive preview
+/// steps through a few sample counts, and each kept frame costs memory.
+const MAX_KEPT_FRAMES: usize = 3;
 
 /// What the surface points of a frame depend on that an edit of materials or lights can change
 /// (the mesh, the film and the AOVs never change in a preview, and a camera edit drops the frame):
@@ -74,9 +86,14 @@ impl SurfaceKey {
 /// would need more memory than the process can have, before anything is traced: a preview that
 /// is accepted does not abort on a failed allocation later.
 fn check_frame_memory(scene: &Scene, lights: usize) -> Result<(), String> {
+    check_frames_memory(scene, scene.film.spp, lights)
+}
+
+/// [`check_frame_memory`] for frames of `spp` samples per pixel in all.
+fn check_frames_memory(scene: &Scene, spp: u32, lights: usize) -> Result<(), String> {
     let film = &scene.film;
     let region = film.region();
-    let samples = region.width() as u64 * region.height() as u64 * film.spp as u64;
+    let samples = region.width() as u64 * region.height() as u64 * spp as u64;
     let need = RetainedFrame::bytes_at_most(samples, lights);
     match crate::film::memory::available_bytes() {
         Some((available, source)) if need > available => Err(format!(
@@ -84,7 +101,7 @@ fn check_frame_memory(scene: &Scene, lights: usize) -> Result<(), String> {
              verdicts, more than the {:.2} GB {source}: make the film smaller or take fewer samples",
             region.width(),
             region.height(),
-            film.spp,
+            spp,
             need as f64 / 1e9,
             available as f64 / 1e9
         )),
@@ -120,7 +137,7 @@ impl Preview {
             aovs: aovs.to_vec(),
             plan,
             bvh,
-            frame: None,
+            frames: Vec::new(),
         })
     }
 
@@ -220,7 +237,7 @@ impl Preview {
             self.scene.camera = before;
             return Err(e);
         }
-        self.frame = None;
+        self.frames.clear();
         Ok(())
     }
 
@@ -234,16 +251,48 @@ impl Preview {
     /// [`Self::render`], ended early with the error [`INTERRUPTED`] once `stop` is set (an
     /// edit that makes the image in flight moot). The kept frame is then dropped.
     pub fn render_until(&mut self, stop: Option<&AtomicBool>) -> Result<Rendered, String> {
+        self.render_pass(self.scene.film.spp, stop)
+    }
+
+    /// [`Self::render_until`] at `spp` samples per pixel instead of the film's: one pass of a
+    /// progressive preview, which shows a coarse image at once and the film's when nothing has
+    /// changed since. The image is the one [`super::render_scene`] gives for the scene with its
+    /// film at `spp`; each sample count keeps its own frame, so the next edit re-shades every
+    /// pass. `spp` must be at most the film's and one the film's sampler takes.
+    pub fn render_pass(&mut self, spp: u32, stop: Option<&AtomicBool>) -> Result<Rendered, String> {
+        let film_spp = self.scene.film.spp;
+        if spp > film_spp {
+            return Err(format!(
+                "a preview pass takes at most the film's {film_spp} samples per pixel, got {spp}"
+            ));
+        }
+        let mut film = self.scene.film.clone();
+        film.spp = spp;
+        film.validate()?;
+        let kept_spp: u32 = self.frames.iter().filter(|f| f.spp != spp).map(|f| f.spp).sum();
+        check_frames_memory(&self.scene, kept_spp.saturating_add(spp), self.scene.lights.len())?;
+        self.scene.film.spp = spp;
+        let rendered = self.render_at_film_spp(stop);
+        self.scene.film.spp = film_spp;
+        rendered
+    }
+
+    fn render_at_film_spp(&mut self, stop: Option<&AtomicBool>) -> Result<Rendered, String> {
         let start = Instant::now();
+        let spp = self.scene.film.spp;
         let key = SurfaceKey::of(&self.scene, &self.plan);
         let region = self.scene.film.region();
         let ctx = Context::new(&self.scene, &self.plan, self.bvh.as_ref(), stop)?;
         let counts = RayCounts::default();
-        let sums = match self.frame.take() {
-            Some((kept, mut frame)) if kept == key => {
-                let sums = frame.shade(&ctx, &counts);
-                self.frame = Some((key, frame));
-                sums
+        let kept = self
+            .frames
+            .iter()
+            .position(|f| f.spp == spp)
+            .map(|k| self.frames.remove(k));
+        let (frame, sums) = match kept {
+            Some(mut kept) if kept.key == key => {
+                let sums = kept.frame.shade(&ctx, &counts);
+                (kept.frame, sums)
             }
             _ => {
                 let sequence = self
@@ -252,19 +301,20 @@ impl Preview {
                     .sampler
                     .fixed_sequence()
                     .expect("checked by Preview::new");
-                let (frame, sums) = RetainedFrame::trace(&ctx, sequence, region, &counts);
-                self.frame = Some((key, frame));
-                sums
+                RetainedFrame::trace(&ctx, sequence, region, &counts)
             }
         };
         if ctx.stopped() {
-            self.frame = None;
             return Err(INTERRUPTED.into());
         }
+        if self.frames.len() == MAX_KEPT_FRAMES {
+            self.frames.remove(0);
+        }
+        self.frames.push(KeptFrame { spp, key, frame });
         let sampled = Sampled {
             sums,
             counts: None,
-            spp: self.scene.film.spp,
+            spp,
             threshold: None,
         };
         let mut rendered = finish(&ctx, start, region, sampled)?;

@@ -139,6 +139,16 @@ fn bad_requests_get_a_status_and_the_scene_files_message_and_the_server_goes_on(
     assert_eq!(status, 400);
     assert_eq!(r.get("/api/render").0, 405);
     assert_eq!(r.get("/nothing").0, 404);
+    let state = r.state().to_string();
+    for (query, message) in [
+        ("?spp=1", "a normal image is shaded once per pixel"),
+        ("?spp=-1", "spp must be a whole number"),
+        ("?file=/etc/passwd", "takes one query parameter, spp=N"),
+    ] {
+        let (status, _, body) = r.post(&format!("/api/render{query}"), &state);
+        assert_eq!(status, 400, "{query}");
+        assert!(error_of(&body).contains(message), "{query}: {}", error_of(&body));
+    }
     assert_eq!(r.post("/api/render", &r.state().to_string()).0, 200);
 }
 

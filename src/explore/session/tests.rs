@@ -14,7 +14,7 @@ fn the_default_session_is_the_tp_preset_on_a_baked_image() {
     let s = state(&e);
     assert_eq!(s.preset.as_deref(), Some("tp"));
     assert_eq!(s.materials[NORMAL_MAP_MATERIAL]["model"], "cook-torrance");
-    let png = e.render(&s, None).unwrap();
+    let png = e.render(&s, None, None).unwrap();
     assert!(png.starts_with(b"\x89PNG"));
     let saved = e.save(&s).unwrap();
     assert!(saved.contains(&format!("image = \"{BAKED_IMAGE}\"")), "{saved}");
@@ -24,19 +24,19 @@ fn the_default_session_is_the_tp_preset_on_a_baked_image() {
 fn an_edit_changes_the_image_and_a_bad_value_names_the_key() {
     let mut e = Explorer::open(None).unwrap();
     let mut s = state(&e);
-    let before = e.render(&s, None).unwrap();
+    let before = e.render(&s, None, None).unwrap();
     s.materials.get_mut(NORMAL_MAP_MATERIAL).unwrap()["roughness"] = 0.2.into();
-    let after = e.render(&s, None).unwrap();
+    let after = e.render(&s, None, None).unwrap();
     assert_ne!(before, after);
     s.materials.get_mut(NORMAL_MAP_MATERIAL).unwrap()["roughness"] = 2.0.into();
-    let err = e.render(&s, None).unwrap_err();
+    let err = e.render(&s, None, None).unwrap_err();
     assert!(err.contains("roughness must be in [0, 1]"), "{err}");
     s.materials.get_mut(NORMAL_MAP_MATERIAL).unwrap()["roughness"] = 0.2.into();
     s.materials
         .get_mut(NORMAL_MAP_MATERIAL)
         .unwrap()
         .insert("texture".into(), "/etc/passwd".into());
-    let err = e.render(&s, None).unwrap_err();
+    let err = e.render(&s, None, None).unwrap_err();
     assert!(err.contains("unknown field `texture`"), "{err}");
 }
 
@@ -60,9 +60,9 @@ fn a_scene_file_opens_edits_and_saves() {
     assert_eq!(e.mode(), Mode::Scene);
     let mut s = state(&e);
     assert!(s.preset.is_none() && !s.materials.is_empty() && !s.lights.is_empty());
-    let before = e.render(&s, None).unwrap();
+    let before = e.render(&s, None, None).unwrap();
     s.lights[0]["intensity"] = 0.5.into();
-    let after = e.render(&s, None).unwrap();
+    let after = e.render(&s, None, None).unwrap();
     assert_ne!(before, after);
     let saved = e.save(&s).unwrap();
     assert!(saved.contains("[[light]]") && saved.contains("[film]"), "{saved}");
@@ -73,7 +73,38 @@ fn a_scene_file_opens_edits_and_saves() {
     assert!(err.contains("light 1: light intensity must be finite and ≥ 0"), "{err}");
     s.preset = Some("tp".into());
     assert!(e
-        .render(&s, None)
+        .render(&s, None, None)
         .unwrap_err()
         .contains("preset applies to a normal image"));
+}
+
+/// A scene's coarse pass is `render` of its file at that sample count, and its last pass the
+/// film's; a normal image has no passes.
+#[test]
+fn a_scene_renders_in_passes_and_a_normal_image_in_one() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-box.toml");
+    let mut e = Explorer::open(Some(&path)).unwrap();
+    assert_eq!(e.spp(), Some(4));
+    let s = state(&e);
+    let coarse = e.render(&s, Some(1), None).unwrap();
+    let full = e.render(&s, None, None).unwrap();
+    assert_ne!(coarse, full);
+    assert_eq!(e.render(&s, Some(4), None).unwrap(), full);
+    let mut scene = crate::scene::load(&path).unwrap();
+    scene.film.spp = 1;
+    let plan = crate::plan::RenderPlan::new(&scene, &[]);
+    let whole = crate::render::render_scene(&scene, &plan, &crate::render::progress::Silent).unwrap();
+    assert_eq!(coarse, encode(&whole.image, Format::Png, scene.film.exposure).unwrap());
+    assert!(e
+        .render(&s, Some(9), None)
+        .unwrap_err()
+        .contains("at most the film's 4"));
+
+    let mut image = Explorer::open(None).unwrap();
+    assert_eq!(image.spp(), None);
+    let s = state(&image);
+    assert!(image
+        .render(&s, Some(1), None)
+        .unwrap_err()
+        .starts_with("spp: a normal image"));
 }

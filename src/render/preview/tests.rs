@@ -190,3 +190,39 @@ fn a_new_view_is_traced_with_the_same_tree_and_a_bad_one_refused() {
     assert_eq!(preview.scene().camera, camera, "nothing changed");
     assert_eq!(preview.render().unwrap().stats.primary_rays, 0);
 }
+
+#[test]
+fn progressive_passes_are_whole_renders_at_their_sample_counts_and_each_is_reshaded() {
+    let mut preview = Preview::new(scene("cornell-box.toml"), &AOVS).unwrap();
+    let at = |preview: &Preview, spp: u32| {
+        let mut s = preview.scene().clone();
+        s.film.spp = spp;
+        render_scene(&s, &RenderPlan::new(&s, &AOVS), &Silent).expect("renders")
+    };
+    let coarse = preview.render_pass(1, None).unwrap();
+    assert_eq!(bits(&coarse), bits(&at(&preview, 1)));
+    assert_eq!(coarse.stats.primary_rays, 48 * 40);
+    let full = preview.render().unwrap();
+    assert_eq!(bits(&full), bits(&whole_render(&preview)));
+    assert_eq!(
+        full.stats.primary_rays,
+        48 * 40 * 4,
+        "the film's pass traces its own samples"
+    );
+    assert_eq!(preview.scene().film.spp, 4, "the film is left as it was");
+
+    // A material edit: both passes re-shade their kept points.
+    let mut materials = preview.scene().materials.clone();
+    materials[0].albedo = [0.2, 0.8, 0.4];
+    preview.set_materials(materials).unwrap();
+    for spp in [1, 4] {
+        let pass = preview.render_pass(spp, None).unwrap();
+        assert_eq!(bits(&pass), bits(&at(&preview, spp)), "{spp} spp");
+        assert_eq!((pass.stats.primary_rays, pass.stats.shadow_rays), (0, 0), "{spp} spp");
+    }
+
+    let e = preview.render_pass(16, None).err().expect("refused");
+    assert!(e.contains("at most the film's 4 samples per pixel"), "{e}");
+    let e = preview.render_pass(0, None).err().expect("refused");
+    assert!(e.contains("spp"), "{e}");
+}
