@@ -248,9 +248,10 @@ class Explorer:
     :meth:`stop` ends the server, as does leaving a ``with`` block.
     """
 
-    def __init__(self, scene_or_image=None, port=None, *, height=900):
+    def __init__(self, scene_or_image=None, port=None, *, mitsuba_dir=None, height=900):
         path = None if scene_or_image is None else _path(scene_or_image, "scene_or_image")
-        self._server = _native.ExploreServer(path, 0 if port is None else port)
+        mitsuba = None if mitsuba_dir is None else _path(mitsuba_dir, "mitsuba_dir")
+        self._server = _native.ExploreServer(path, 0 if port is None else port, mitsuba)
         self.height = height
 
     @property
@@ -286,12 +287,14 @@ class Explorer:
         )
 
 
-def explore(scene_or_image=None, port=None):
+def explore(scene_or_image=None, port=None, *, mitsuba_dir=None):
     """Start ``pointshade explore`` on ``scene_or_image`` (a PNG normal image, a scene file, a
     bare mesh or a glTF file; none: the assignment's setting on a normal image baked from a shipped
-    scene) in a thread, on 127.0.0.1:``port`` (default: a free port). Returns an
-    :class:`Explorer`: shown inline in Jupyter, ``.url`` for a browser, ``.stop()`` to end it."""
-    return Explorer(scene_or_image, port)
+    scene) in a thread, on 127.0.0.1:``port`` (default: a free port). ``mitsuba_dir`` is the
+    validation folder whose Mitsuba 3 the page's comparison runs (default: ``validation`` of the
+    working folder, as ``pointshade explore`` has it). Returns an :class:`Explorer`: shown inline
+    in Jupyter, ``.url`` for a browser, ``.stop()`` to end it."""
+    return Explorer(scene_or_image, port, mitsuba_dir=mitsuba_dir)
 
 
 def _normal_map_toml(image, preset, brdf, material, lights, camera):

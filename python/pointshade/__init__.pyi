@@ -53,7 +53,7 @@ class Explorer:
     """pointshade explore's server in a thread; shown inline in Jupyter."""
 
     height: int
-    def __init__(self, scene_or_image: Optional[PathLike] = ..., port: Optional[int] = ..., *, height: int = ...) -> None: ...
+    def __init__(self, scene_or_image: Optional[PathLike] = ..., port: Optional[int] = ..., *, mitsuba_dir: Optional[PathLike] = ..., height: int = ...) -> None: ...
     @property
     def url(self) -> str: ...
     @property
@@ -63,7 +63,7 @@ class Explorer:
     def __exit__(self, *exc: Any) -> None: ...
     def _repr_html_(self) -> str: ...
 
-def explore(scene_or_image: Optional[PathLike] = ..., port: Optional[int] = ...) -> Explorer:
+def explore(scene_or_image: Optional[PathLike] = ..., port: Optional[int] = ..., *, mitsuba_dir: Optional[PathLike] = ...) -> Explorer:
     """Start pointshade explore in a thread; returns the running Explorer."""
 
 class Preview:

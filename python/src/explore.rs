@@ -22,13 +22,17 @@ pub struct ExploreServer {
 impl ExploreServer {
     /// Opens `path` (a normal image, a scene file, a bare mesh or a glTF file; none: the
     /// assignment's setting on a baked normal image) and serves it on 127.0.0.1:`port` (0: a
-    /// free port).
+    /// free port); its Mitsuba comparison uses the validation folder `mitsuba_dir` (default:
+    /// `validation` of the working folder).
     #[new]
-    #[pyo3(signature = (path=None, port=0))]
-    fn new(py: Python<'_>, path: Option<PathBuf>, port: u32) -> PyResult<Self> {
+    #[pyo3(signature = (path=None, port=0, mitsuba_dir=None))]
+    fn new(py: Python<'_>, path: Option<PathBuf>, port: u32, mitsuba_dir: Option<PathBuf>) -> PyResult<Self> {
         let port =
             u16::try_from(port).map_err(|_| value_error("port", format!("must be in [0, 65535], got {port}")))?;
-        let explorer = py.detach(|| Explorer::open(path.as_deref())).map_err(py_err)?;
+        let mut explorer = py.detach(|| Explorer::open(path.as_deref())).map_err(py_err)?;
+        if let Some(dir) = mitsuba_dir {
+            explorer.set_mitsuba_dir(dir);
+        }
         let server = Server::start(explorer, port).map_err(|e| value_error("port", e))?;
         let url = server.url();
         Ok(Self {

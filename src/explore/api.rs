@@ -2,7 +2,6 @@
 //! in, a [`Reply`] out. The server (`server.rs`) reads requests and writes replies; nothing here
 //! touches a socket, and nothing serves a file: the page is embedded, the scene held.
 
-use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
@@ -116,7 +115,7 @@ pub fn respond(shared: &Shared, method: &str, url: &str, body: &[u8]) -> Reply {
         }),
         ("POST", "/api/pixel") => pixel(shared, body),
         ("POST", "/api/brdf" | "/api/lobe" | "/api/albedo" | "/api/sphere") => plot(path, body),
-        ("POST", "/api/mitsuba") => State::from_json(body).map(|_| Reply::json(mitsuba())),
+        ("POST", "/api/mitsuba") => mitsuba(shared, body),
         (_, "/" | "/explore.js" | "/explore.css" | "/api/session" | "/api/normals.png") => {
             return Reply::error(405, format!("{path} takes GET"));
         }
@@ -146,7 +145,7 @@ fn session(shared: &Shared) -> Reply {
         "state": explorer.initial_state(),
         "presets": explorer.preset_states(),
         "keys": super::keys::schema(),
-        "mitsuba": mitsuba(),
+        "mitsuba": super::mitsuba::status(&explorer),
     }))
 }
 
@@ -280,11 +279,19 @@ fn plot(path: &str, body: &[u8]) -> Result<Reply, String> {
     })
 }
 
-/// Whether Mitsuba 3 is installed (as `pointshade validate` finds it), and what to do about it.
-fn mitsuba() -> Value {
-    let (installed, message) = match MitsubaRunner::in_dir(Path::new("validation")) {
-        Ok(_) => (true, "Mitsuba 3 is installed (validation/.venv), but the explorer does not run it yet: save the scene and run `pointshade validate SCENE`".to_string()),
-        Err(e) => (false, e.to_string()),
+/// The Mitsuba comparison of a state ([`super::mitsuba`]); where it cannot run, the reason
+/// (`available: false`), as the session reports it. The session is held only to read the edited
+/// scene: renders go on while Mitsuba runs.
+fn mitsuba(shared: &Shared, body: &[u8]) -> Result<Reply, String> {
+    let state = State::from_json(body)?;
+    let (scene, runner) = {
+        let explorer = shared.explorer();
+        let status = super::mitsuba::status(&explorer);
+        if status["available"] != true {
+            return Ok(Reply::json(status));
+        }
+        let runner = MitsubaRunner::in_dir(explorer.mitsuba_dir()).map_err(|e| e.to_string())?;
+        (explorer.edited_scene(&state)?, runner)
     };
-    json!({ "available": false, "installed": installed, "message": message })
+    super::mitsuba::compare(&runner, &scene, &state).map(Reply::json)
 }

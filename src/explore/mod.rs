@@ -12,6 +12,7 @@ pub mod state;
 
 mod api;
 mod keys;
+mod mitsuba;
 mod session;
 
-pub use session::{Explorer, Mode};
+pub use session::{Explorer, Mode, DEFAULT_MITSUBA_DIR};

@@ -43,6 +43,10 @@ const DEFAULT_SCENE: &str = include_str!("../../scenes/lambert.toml");
 /// file of the default session names.
 pub const BAKED_IMAGE: &str = "explore-normals.png";
 
+/// Where the explorer looks for Mitsuba 3 unless told: the repository's validation folder, as
+/// `pointshade validate` does.
+pub const DEFAULT_MITSUBA_DIR: &str = "validation";
+
 /// An open scene or normal image and what its page edits (see the module's comment).
 pub struct Explorer {
     held: Held,
@@ -52,6 +56,8 @@ pub struct Explorer {
     base: Option<String>,
     /// The state the session starts in.
     initial: State,
+    /// The validation folder whose Mitsuba 3 the page compares with (`validation/`).
+    mitsuba_dir: PathBuf,
 }
 
 enum Held {
@@ -128,6 +134,7 @@ impl Explorer {
             name,
             base: Some(base),
             initial: state,
+            mitsuba_dir: PathBuf::from(DEFAULT_MITSUBA_DIR),
         })
     }
 
@@ -163,7 +170,36 @@ impl Explorer {
             name,
             base,
             initial,
+            mitsuba_dir: PathBuf::from(DEFAULT_MITSUBA_DIR),
         })
+    }
+
+    /// Compares with the Mitsuba 3 that `validation/install.sh` installed into `dir` (the
+    /// repository's `validation` folder by default).
+    pub fn set_mitsuba_dir(&mut self, dir: PathBuf) {
+        self.mitsuba_dir = dir;
+    }
+
+    /// The validation folder the Mitsuba comparison uses.
+    pub fn mitsuba_dir(&self) -> &Path {
+        &self.mitsuba_dir
+    }
+
+    /// The held scene as `state` edits it (what the Mitsuba comparison exports); a normal image
+    /// has no scene.
+    pub fn edited_scene(&self, state: &State) -> Result<Scene, String> {
+        if self.mode() == Mode::NormalImage {
+            return Err("a normal image is shaded by the normal-map mode, which Mitsuba 3 has no counterpart of: open a scene file to compare (pointshade explore scenes/cook-torrance.toml)".into());
+        }
+        let (materials, lights) = self.scene_edits(state)?;
+        let Held::Scene { preview, .. } = &self.held else {
+            unreachable!("scenes only")
+        };
+        let mut scene = preview.scene().clone();
+        scene.materials = materials;
+        scene.lights = lights;
+        scene.default_lights = false;
+        Ok(scene)
     }
 
     /// Normal image or scene.

@@ -12,7 +12,7 @@ use std::process::Command;
 use std::time::Duration;
 
 use crate::error::{InputError, InputResult};
-use crate::film::compare::{compare, Comparison};
+use crate::film::compare::{compare, compare_checked, Comparison};
 use crate::film::{Image, SamplerKind};
 use crate::output::{encode, read_linear, write_all_or_nothing, Format};
 use crate::render::request::{load_sampled, render_timed};
@@ -284,24 +284,15 @@ pub fn validate_scene(
     };
     for (k, spp) in counts.into_iter().enumerate() {
         let scene = load_sampled(path, SamplerKind::Grid, spp)?;
-        let exported = export(&scene, spp, BsdfChoice::NativeWhereExact, "mitsuba");
+        // The meshes and images are the same at every sample count: written once.
+        let stem = dir.join(format!("mitsuba-spp{spp}"));
+        let (exported, reference, timing) = mitsuba_reference(&scene, mitsuba, &stem, k > 0)?;
         result.differences = exported.differences.clone();
         result.material_notes = exported.material_notes.clone();
         write_all_or_nothing(&[(
             dir.join(format!("mitsuba-spp{spp}.xml")),
             exported.scene.clone().into_bytes(),
         )])?;
-        let size = (scene.film.width, scene.film.height);
-        // The meshes and images are the same at every sample count: written once.
-        let stem = dir.join(format!("mitsuba-spp{spp}"));
-        let job = if k == 0 {
-            MitsubaJob::write(&exported, &stem, size)?
-        } else {
-            MitsubaJob::write_reusing_files(&exported, &stem, size)?
-        };
-        let reference_path = dir.join(format!("mitsuba-spp{spp}.exr"));
-        let timing = mitsuba.render_job(&job, &reference_path)?;
-        let reference = read_linear(&reference_path)?;
         if spp == 1 && exported.material_notes.iter().any(|n| n.contains("exact)")) && !exported.per_light.is_empty() {
             result.plugin_check = Some(plugin_against_native(&scene, &dir, mitsuba, &reference)?);
         }
@@ -339,6 +330,67 @@ pub fn validate_scene(
         });
     }
     Ok(result)
+}
+
+/// Mitsuba's render of `scene` at its film's sample count (its lights summed), read back from
+/// `{stem}.exr`, and the export it rendered; the export's files are written beside `stem`
+/// (`reuse`: the mesh and image files of an earlier export of the same scene are there).
+fn mitsuba_reference(
+    scene: &Scene,
+    mitsuba: &MitsubaRunner,
+    stem: &Path,
+    reuse: bool,
+) -> InputResult<(MitsubaExport, Image, MitsubaTiming)> {
+    let exported = export(scene, scene.film.spp, BsdfChoice::NativeWhereExact, "mitsuba");
+    let size = (scene.film.width, scene.film.height);
+    let job = match reuse {
+        true => MitsubaJob::write_reusing_files(&exported, stem, size)?,
+        false => MitsubaJob::write(&exported, stem, size)?,
+    };
+    let reference_path = PathBuf::from(format!("{}.exr", stem.display()));
+    let timing = mitsuba.render_job(&job, &reference_path)?;
+    Ok((exported, read_linear(&reference_path)?, timing))
+}
+
+/// One like-for-like comparison: pointshade and Mitsuba at pixel centres with Mitsuba's
+/// shadow offset (what [`validate_scene`] does first; what the explorer's Mitsuba button shows).
+#[derive(Clone, Debug)]
+pub struct PixelCentreComparison {
+    /// pointshade's render.
+    pub ours: Image,
+    /// Mitsuba's.
+    pub reference: Image,
+    /// Their agreement (NaN and infinite pixels counted as mismatches).
+    pub comparison: Comparison,
+    /// Mitsuba's variant and times.
+    pub mitsuba: MitsubaTiming,
+    /// What Mitsuba cannot express of the scene (empty: the two should agree).
+    pub differences: Vec<String>,
+}
+
+/// [`PixelCentreComparison`] of `scene` (its film at one sample per pixel on the grid sampler),
+/// Mitsuba's files written into the folder `dir`.
+pub fn compare_at_pixel_centres(
+    scene: &Scene,
+    mitsuba: &MitsubaRunner,
+    dir: &Path,
+) -> InputResult<PixelCentreComparison> {
+    let mut scene = scene.clone();
+    scene.film.sampler = SamplerKind::Grid;
+    scene.film.spp = 1;
+    scene.film.time_budget = None;
+    let (exported, reference, timing) = mitsuba_reference(&scene, mitsuba, &dir.join("mitsuba"), false)?;
+    let ours = render_timed(&scene, ShadowOffset::Mitsuba)?.0.image;
+    let mut comparison = compare_checked(&ours, &reference, TOLERANCE, 8, true)
+        .map_err(|(_, e)| InputError::new(&scene.source, format!("against Mitsuba: {e}")))?;
+    comparison.within_rounding_band = rounding_band(&scene, &reference, &comparison)?;
+    Ok(PixelCentreComparison {
+        ours,
+        reference,
+        comparison,
+        mitsuba: timing,
+        differences: exported.differences,
+    })
 }
 
 /// Renders `scene` in Mitsuba with the plugin for every material and compares with `native`.

@@ -21,11 +21,16 @@ pub struct ExploreArgs {
     /// Open the page in the system's browser.
     #[arg(long)]
     open: bool,
+    /// The validation folder whose Mitsuba 3 (installed by its install.sh) the page's
+    /// "Compare with Mitsuba" button runs.
+    #[arg(long, default_value = pointshade::explore::DEFAULT_MITSUBA_DIR)]
+    mitsuba_dir: PathBuf,
 }
 
 /// Runs `pointshade explore`.
 pub fn run(args: ExploreArgs) -> Result<(), InputError> {
-    let explorer = Explorer::open(args.input.as_deref())?;
+    let mut explorer = Explorer::open(args.input.as_deref())?;
+    explorer.set_mitsuba_dir(args.mitsuba_dir);
     let what = match explorer.mode() {
         Mode::NormalImage => "normal image",
         Mode::Scene => "scene",

@@ -37,7 +37,11 @@ struct Running {
 
 impl Running {
     fn new() -> Running {
-        let server = Server::start(Explorer::open(None).unwrap(), 0).unwrap();
+        Running::with(Explorer::open(None).unwrap())
+    }
+
+    fn with(explorer: Explorer) -> Running {
+        let server = Server::start(explorer, 0).unwrap();
         let host = format!("127.0.0.1:{}", server.address().port());
         Running {
             server: Some(server),
@@ -214,4 +218,74 @@ fn many_requests_in_a_row_lose_nothing() {
     assert_eq!(images.len(), 10);
     let distinct: std::collections::BTreeSet<_> = images.values().collect();
     assert_eq!(distinct.len(), 10);
+}
+
+/// A validation folder whose "Mitsuba" is a script that fails with `message`.
+fn failing_mitsuba(dir: &std::path::Path, message: &str) {
+    use std::os::unix::fs::PermissionsExt;
+    let python = dir.join(".venv/bin/python");
+    std::fs::create_dir_all(python.parent().unwrap()).unwrap();
+    std::fs::write(&python, format!("#!/bin/sh\necho '{message}' >&2\nexit 1\n")).unwrap();
+    std::fs::set_permissions(&python, std::fs::Permissions::from_mode(0o755)).unwrap();
+    std::fs::write(dir.join("render.py"), "").unwrap();
+}
+
+#[test]
+fn the_mitsuba_comparison_says_why_it_cannot_run_and_reports_mitsubas_failure() {
+    let dir = std::env::temp_dir().join(format!("pointshade-explore-test-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let ask = |explorer: Explorer| {
+        let r = Running::with(explorer);
+        let (_, _, session) = r.get("/api/session");
+        let session: serde_json::Value = serde_json::from_slice(&session).unwrap();
+        let (status, _, body) = r.post("/api/mitsuba", &session["state"].to_string());
+        (session["mitsuba"].clone(), status, body)
+    };
+    // Not installed: the session and the button say how to install it.
+    let mut e = Explorer::open(None).unwrap();
+    e.set_mitsuba_dir(dir.join("missing"));
+    let (status_in_session, status, body) = ask(e);
+    assert_eq!(status_in_session["available"], false);
+    assert_eq!(status, 200);
+    let answer: serde_json::Value = serde_json::from_slice(&body).unwrap();
+    assert_eq!(answer["available"], false);
+    assert!(answer["message"].as_str().unwrap().contains("install.sh"), "{answer}");
+
+    // Installed, but a normal image has no Mitsuba counterpart.
+    failing_mitsuba(&dir, "no llvm here");
+    let mut e = Explorer::open(None).unwrap();
+    e.set_mitsuba_dir(dir.clone());
+    let (_, _, body) = ask(e);
+    let answer: serde_json::Value = serde_json::from_slice(&body).unwrap();
+    assert_eq!(
+        (answer["available"].clone(), answer["installed"].clone()),
+        (false.into(), true.into())
+    );
+    assert!(
+        answer["message"].as_str().unwrap().contains("renders scenes"),
+        "{answer}"
+    );
+
+    // A scene: Mitsuba's failure is a 400 with its last line, and no file is left behind.
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/validation/conductor-sphere.toml");
+    let mut e = Explorer::open(Some(&scene)).unwrap();
+    e.set_mitsuba_dir(dir.clone());
+    let (status_in_session, status, body) = ask(e);
+    assert_eq!(status_in_session["available"], true);
+    assert_eq!(status, 400);
+    assert!(
+        error_of(&body).contains("Mitsuba failed: no llvm here"),
+        "{}",
+        error_of(&body)
+    );
+    let left = std::fs::read_dir(std::env::temp_dir())
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .any(|e| {
+            e.file_name()
+                .to_string_lossy()
+                .starts_with(&format!("pointshade-explore-{}-", std::process::id()))
+        });
+    assert!(!left, "the comparison's folder is removed");
+    std::fs::remove_dir_all(&dir).unwrap();
 }
