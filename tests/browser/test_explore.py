@@ -196,6 +196,75 @@ def test_a_clicked_pixel_shows_its_brdf_and_the_plots_follow(browser):
         explorer.stop()
 
 
+def test_a_scene_refines_in_passes_to_what_render_writes(browser, tmp_path):
+    """The Cornell box (4 spp): an edit shows a 1-spp pass, then the film's; the last is, byte
+    for byte, `pointshade render` of the saved scene file."""
+    explorer = Explorer(ROOT / "scenes/cornell-box.toml")
+    try:
+        page, errors = open_page(browser, explorer)
+        assert page.evaluate("[explore.session.mode, explore.session.spp]") == ["scene", 4]
+        # The first image is traced: a 1-spp pass is shown first, then the film's 4 spp. (Later
+        # edits re-shade kept points, quick enough to skip the coarse pass.)
+        assert page.evaluate("[explore.passes, explore.renders, explore.shownSpp]") == [2, 1, 4]
+        before = move_slider(page, "#exposure", 1.5)
+        wait_for_render(page, before, "explore.renderState.exposure === 1.5")
+        assert page.evaluate("explore.shownSpp") == 4
+        shown = shown_bytes(page)
+        # Saved where the scene's relative mesh path ("../meshes/…") still leads to the mesh.
+        (tmp_path / "scenes").mkdir()
+        (tmp_path / "meshes").symlink_to(ROOT / "meshes")
+        saved = tmp_path / "scenes/scene.toml"
+        saved.write_bytes(explorer.post("/api/save", page.evaluate("explore.renderState")))
+        subprocess.run([CLI, "render", str(saved), "-o", str(tmp_path / "cli.png"), "--quiet"], check=True)
+        assert shown == (tmp_path / "cli.png").read_bytes()
+        # Edits faster than the renders: the series in flight is abandoned, the last edit shown.
+        for v in [0.25, 0.5, 0.75, 1.0]:
+            move_slider(page, "#exposure", v)
+        page.wait_for_function("explore.renderState.exposure === 1.0 && explore.shownSpp === 4", timeout=60000)
+        assert errors == []
+    finally:
+        explorer.stop()
+
+
+MITSUBA = ROOT / "validation/.venv/bin/python"
+
+
+@pytest.mark.skipif(not MITSUBA.exists(), reason="needs Mitsuba 3 (validation/install.sh)")
+def test_the_mitsuba_button_compares_the_edited_scene(browser):
+    explorer = Explorer(ROOT / "scenes/validation/conductor-sphere.toml")
+    try:
+        page, errors = open_page(browser, explorer)
+        assert page.evaluate("explore.session.mitsuba.available")
+        before = move_slider(page, "#key-copper-roughness", 0.5)
+        wait_for_render(page, before, "explore.renderState.materials.copper.roughness === 0.5")
+        page.click("#mitsuba")
+        page.wait_for_function("explore.mitsuba !== undefined", timeout=300000)
+        result = page.evaluate("explore.mitsuba")
+        # The validation's requirement for a scene Mitsuba renders exactly.
+        assert result["available"] and result["differences"] == [], result["message"]
+        assert result["within"] >= 0.999 and result["mean_relative_error"] <= 1e-4, result
+        assert page.is_visible("#mitsuba-heatmap")
+        assert "% of the pixels within" in page.text_content("#mitsuba-within")
+        page.locator("#mitsuba-heatmap").screenshot(path=str(OUT / "mitsuba.png"))
+        assert errors == []
+    finally:
+        explorer.stop()
+
+
+def test_the_mitsuba_button_says_why_it_cannot_run(browser):
+    explorer = Explorer("--mitsuba-dir", ROOT / "target/no-such-validation")
+    try:
+        page, errors = open_page(browser, explorer)
+        assert not page.evaluate("explore.session.mitsuba.available")
+        page.click("#mitsuba")
+        page.wait_for_function("explore.mitsuba !== undefined", timeout=30000)
+        assert "install.sh" in page.text_content("#mitsuba-message")
+        assert page.is_hidden("#mitsuba-heatmap")
+        assert errors == []
+    finally:
+        explorer.stop()
+
+
 def timed_slider_moves(page, selector, values):
     """Moves a slider through `values`, waiting for each image; the page's own timings (input
     event to the image's load event) of those renders, in ms."""
@@ -237,7 +306,9 @@ def test_speed_on_the_dragon(browser):
         renders = timed_slider_moves(page, f"#key-{material}-roughness", [0.1 + 0.03 * i for i in range(12)])
         record("slider to image, dragon-copper 512x512 4 spp (re-shade)", renders[2:])
         if first is not None:
-            record("first preview of the dragon (page load to image)", [first])
+            record("dragon's first 4-spp image (page load to image)", [first])
+        first_pass = page.evaluate("explore.timings.firstPass[0]")
+        record("first preview of the dragon, 1-spp pass (page load to image)", [first_pass])
         page.screenshot(path=str(OUT / "dragon.png"), full_page=True)
         assert errors == []
     finally:

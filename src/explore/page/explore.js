@@ -58,7 +58,8 @@ function triples(values, n) {
 
 const explore = {
   ready: false, session: null, state: null, plot: null, lobe: null, albedo: null, pixel: null,
-  pins: [], renders: 0, renderBytes: null, renderState: null, timings: { polar: [], render: [] },
+  pins: [], renders: 0, passes: 0, shownSpp: null, renderBytes: null, renderState: null,
+  timings: { polar: [], render: [], firstPass: [] },
 };
 window.explore = explore;
 
@@ -97,9 +98,9 @@ function report(err) {
 
 // Send a request (a POST with a JSON body, or a GET without one); a non-2xx answer throws an
 // Error carrying the server's `error` message.
-async function request(path, body) {
-  const init = body === undefined ? {} :
-    { method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(body) };
+async function request(path, body, signal) {
+  const init = body === undefined ? { signal } :
+    { method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(body), signal };
   const res = await fetch(path, init);
   if (res.ok) return res;
   let message = `${path}: HTTP ${res.status}`;
@@ -149,19 +150,73 @@ function showPng(img, bytes) {
 
 // ---------------------------------------------------------------- requests behind the views
 
-// Render the newest state and show it (POST /api/render).
-const renderChannel = latest(async (job) => {
+// The live render. Each edit starts a progressive series of passes: a scene at 1, 4, 16, …
+// samples per pixel below its film's, then the film's (POST /api/render?spp=N, then
+// /api/render); a normal image in one pass. A newer edit aborts the request in flight (the
+// server, seeing the newer request, stops the render it made stale) and starts again. The
+// returned promise settles once no render is running.
+let renderRun = null;  // { controller, done }: the newest series
+let lastFullPass = null;  // ms the last film's pass took from request to image shown
+let imageShown;           // resolves firstImage
+const firstImage = new Promise((resolve) => { imageShown = resolve; });
+
+// A film's pass this quick is shown at once, without coarser passes before it (they would
+// only delay it: re-shading kept points is fast; tracing anew is not).
+const INTERACTIVE_MS = 150;
+
+// The passes of a series: sample counts, null for the film's own.
+function renderPasses() {
+  const passes = [];
+  const spp = session && session.spp;
+  const quick = lastFullPass !== null && lastFullPass < INTERACTIVE_MS;
+  for (let n = 1; spp && !quick && n < spp; n *= 4) passes.push(n);
+  passes.push(null);
+  return passes;
+}
+
+function renderChannel(job) {
+  if (renderRun) renderRun.controller.abort();
+  const run = { controller: new AbortController() };
+  run.done = renderSeries(run, job).catch((e) => { if (e.name !== "AbortError") report(e); });
+  renderRun = run;
+  return untilRendersSettle();
+}
+
+async function untilRendersSettle() {
+  for (;;) {
+    const run = renderRun;
+    await run.done;
+    if (renderRun === run) return;
+  }
+}
+
+async function renderSeries(run, job) {
   const sent = clone(state);
-  const start = performance.now();
-  const bytes = new Uint8Array(await (await request("api/render", sent)).arrayBuffer());
-  await showPng($("render-image"), bytes);
-  const now = performance.now();
-  explore.renderBytes = bytes;
-  explore.renderState = sent;
-  explore.renders += 1;
-  explore.timings.render.push(now - job.t0);
-  setStatus(`rendered in ${Math.round(now - start)} ms` + (notice ? ` · ${notice}` : ""));
-});
+  const passes = renderPasses();
+  for (const spp of passes) {
+    const start = performance.now();
+    const path = spp === null ? "api/render" : `api/render?spp=${spp}`;
+    const bytes = new Uint8Array(await (await request(path, sent, run.controller.signal)).arrayBuffer());
+    if (renderRun !== run) return;
+    await showPng($("render-image"), bytes);
+    const now = performance.now();
+    imageShown();
+    explore.passes += 1;
+    explore.shownSpp = spp === null ? (session.spp || 1) : spp;
+    if (spp === passes[0]) explore.timings.firstPass.push(now - job.t0);
+    const samples = session.spp ? ` at ${explore.shownSpp} of ${session.spp} spp` : "";
+    if (spp !== null) {
+      setStatus(`refining: pass rendered in ${Math.round(now - start)} ms${samples}`);
+      continue;
+    }
+    lastFullPass = now - start;
+    explore.renderBytes = bytes;
+    explore.renderState = sent;
+    explore.renders += 1;
+    explore.timings.render.push(now - job.t0);
+    setStatus(`rendered in ${Math.round(now - start)} ms${samples}` + (notice ? ` · ${notice}` : ""));
+  }
+}
 
 // f_r in the plane of incidence for the view's material and ω_i, and the pins' at the same ω_i.
 const polarChannel = latest(async (job) => {
@@ -1005,10 +1060,16 @@ async function runMitsuba() {
     const a = await postJson("api/mitsuba", clone(state));
     $("mitsuba-message").textContent = a.message || "";
     heatmap.hidden = !a.available || !a.heatmap;
+    $("mitsuba-legend").hidden = heatmap.hidden;
     if (a.available) {
       if (a.heatmap) heatmap.src = a.heatmap;
-      if (Number.isFinite(a.within)) $("mitsuba-within").textContent = `${(a.within * 100).toFixed(4)} % of the pixels within 1e-3`;
+      if (Number.isFinite(a.within)) {
+        $("mitsuba-within").textContent =
+          `${(a.within * 100).toFixed(4)} % of the pixels within ${a.tolerance.toPrecision(1)} at pixel centres; ` +
+          `mean relative error ${a.mean_relative_error.toExponential(2)} (Mitsuba ${a.variant}, ${a.mitsuba_seconds.toFixed(2)} s)`;
+      }
     }
+    explore.mitsuba = a;
   } catch (err) {
     $("mitsuba-message").textContent = err.message;
     report(err);
@@ -1112,7 +1173,10 @@ async function init() {
   drawPolar();
   drawAlbedo();
   const t0 = performance.now();
-  await Promise.all([renderChannel({ t0 }), updateViews(t0), albedoChannel({ t0 })]);
+  // The image first: the plots' requests would share the cores with its first trace.
+  const rendered = renderChannel({ t0 });
+  await Promise.race([firstImage, rendered]);
+  await Promise.all([rendered, updateViews(t0), albedoChannel({ t0 })]);
   explore.ready = true;
 }
 
