@@ -39,3 +39,13 @@ def test_explore_errors_are_python_exceptions():
         pointshade.explore(port=70000)
     with pytest.raises(TypeError, match="scene_or_image"):
         pointshade.explore(3)
+
+
+def test_explore_takes_the_validation_folder_of_its_mitsuba(tmp_path):
+    with pointshade.explore(mitsuba_dir=tmp_path / "no-validation") as explorer:
+        _, session = get(explorer.url + "api/session")
+        mitsuba = json.loads(session)["mitsuba"]
+        assert mitsuba["available"] is False and mitsuba["installed"] is False
+        assert "no-validation" in mitsuba["message"] and "install.sh" in mitsuba["message"]
+    with pytest.raises(TypeError, match="mitsuba_dir"):
+        pointshade.explore(mitsuba_dir=3)
