@@ -88,17 +88,17 @@ fn serve(http: &tiny_http::Server, shared: &Shared, stopping: &AtomicBool, addre
         };
         let started = std::time::Instant::now();
         let reply = answer(&mut request, shared, address);
+        let ms = started.elapsed().as_secs_f64() * 1e3;
         if log {
             eprintln!(
-                "{} {} -> {} ({} bytes) in {:.1} ms",
+                "{} {} -> {} ({} bytes) in {ms:.1} ms",
                 request.method(),
                 request.url(),
                 reply.status,
                 reply.body.len(),
-                started.elapsed().as_secs_f64() * 1e3
             );
         }
-        send(request, reply);
+        send(request, reply, ms);
     }
 }
 
@@ -108,11 +108,12 @@ fn serve(http: &tiny_http::Server, shared: &Shared, stopping: &AtomicBool, addre
 /// can queue the second behind a connection kept alive by the browser, and a page whose five
 /// requests go out at once then waited for ever (seen in the browser test). With one request per
 /// connection every thread is soon free again. (tiny_http drops a `Connection` header given to
-/// its response builder, hence the hand-written head.)
-fn send(request: tiny_http::Request, reply: Reply) {
+/// its response builder, hence the hand-written head.) `Server-Timing` gives the milliseconds
+/// the server took to answer, which the page records beside the time it saw.
+fn send(request: tiny_http::Request, reply: Reply, ms: f64) {
     let reason = tiny_http::StatusCode(reply.status).default_reason_phrase();
     let head = format!(
-        "HTTP/1.1 {} {reason}\r\nContent-Type: {}\r\nContent-Length: {}\r\nCache-Control: no-store\r\nConnection: close\r\n\r\n",
+        "HTTP/1.1 {} {reason}\r\nContent-Type: {}\r\nContent-Length: {}\r\nCache-Control: no-store\r\nServer-Timing: answer;dur={ms:.1}\r\nConnection: close\r\n\r\n",
         reply.status,
         reply.content_type,
         reply.body.len()

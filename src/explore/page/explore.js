@@ -59,7 +59,7 @@ function triples(values, n) {
 const explore = {
   ready: false, session: null, state: null, plot: null, lobe: null, albedo: null, pixel: null,
   pins: [], renders: 0, passes: 0, shownSpp: null, renderBytes: null, renderState: null,
-  timings: { polar: [], render: [], firstPass: [] },
+  timings: { polar: [], render: [], firstPass: [], firstPassServer: [] },
 };
 window.explore = explore;
 
@@ -174,6 +174,12 @@ function renderPasses() {
   return passes;
 }
 
+// The milliseconds the server says it took (its `Server-Timing` header), or null.
+function serverMs(res) {
+  const m = /dur=([0-9.]+)/.exec(res.headers.get("Server-Timing") || "");
+  return m ? Number(m[1]) : null;
+}
+
 function renderChannel(job) {
   if (renderRun) renderRun.controller.abort();
   const run = { controller: new AbortController() };
@@ -196,14 +202,18 @@ async function renderSeries(run, job) {
   for (const spp of passes) {
     const start = performance.now();
     const path = spp === null ? "api/render" : `api/render?spp=${spp}`;
-    const bytes = new Uint8Array(await (await request(path, sent, run.controller.signal)).arrayBuffer());
+    const res = await request(path, sent, run.controller.signal);
+    const bytes = new Uint8Array(await res.arrayBuffer());
     if (renderRun !== run) return;
     await showPng($("render-image"), bytes);
     const now = performance.now();
     imageShown();
     explore.passes += 1;
     explore.shownSpp = spp === null ? (session.spp || 1) : spp;
-    if (spp === passes[0]) explore.timings.firstPass.push(now - job.t0);
+    if (spp === passes[0]) {
+      explore.timings.firstPass.push(now - job.t0);
+      explore.timings.firstPassServer.push(serverMs(res));
+    }
     const samples = session.spp ? ` at ${explore.shownSpp} of ${session.spp} spp` : "";
     if (spp !== null) {
       setStatus(`refining: pass rendered in ${Math.round(now - start)} ms${samples}`);
@@ -1166,16 +1176,17 @@ async function init() {
   explore.state = state;
   view.current = Object.keys(state.materials)[0] || null;
   if (session.mitsuba && !session.mitsuba.available) $("mitsuba-message").textContent = session.mitsuba.message || "";
+  // The image first: the plots (the lobe's WebGL set-up above all, in software on a machine
+  // without a GPU) would share the cores with its first trace.
+  const t0 = performance.now();
+  const rendered = renderChannel({ t0 });
   buildParams();
   buildMaterialSelect();
   showAngles();
+  await Promise.race([firstImage, rendered]);
   lobeView = createLobeView($("lobe"));
   drawPolar();
   drawAlbedo();
-  const t0 = performance.now();
-  // The image first: the plots' requests would share the cores with its first trace.
-  const rendered = renderChannel({ t0 });
-  await Promise.race([firstImage, rendered]);
   await Promise.all([rendered, updateViews(t0), albedoChannel({ t0 })]);
   explore.ready = true;
 }
