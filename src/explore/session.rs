@@ -52,8 +52,9 @@ pub struct Explorer {
     held: Held,
     /// The opened file's name without its folder (the page's title; no request learns more).
     name: String,
-    /// The scene file the state is written into, when there is one to write.
-    base: Option<String>,
+    /// The scene file the state is written into: the opened one, or for a normal image or a bare
+    /// mesh or glTF file, the scene file that opens it.
+    base: String,
     /// The state the session starts in.
     initial: State,
     /// The validation folder whose Mitsuba 3 the page compares with (`validation/`).
@@ -71,6 +72,8 @@ enum Held {
     Scene {
         preview: Box<Preview>,
         origin: DVec3,
+        /// For a bare mesh or glTF file, its folder: a saved file is checked to open as it did.
+        bare: Option<PathBuf>,
     },
 }
 
@@ -100,9 +103,14 @@ impl Explorer {
                     let image = NormalImage::decode(&scene.image, &png)?;
                     return Self::normal_image(image, png, dir_of(path), &scene, name, text);
                 }
-                Self::scene(load(path)?, name, Some(text))
+                Self::scene(load(path)?, name, text, None)
             }
-            _ => Self::scene(load(path)?, name, None),
+            // A bare mesh or glTF file is a scene file of one object (its camera and lights
+            // automatic, as on the command line): the state is written into that.
+            _ => {
+                let base = format!("[[object]]\nmesh = {}\n", toml::Value::String(name.clone()));
+                Self::scene(load(path)?, name, base, Some(dir_of(path)))
+            }
         }
     }
 
@@ -132,13 +140,13 @@ impl Explorer {
         Ok(Explorer {
             held: Held::NormalImage { image, png, dir },
             name,
-            base: Some(base),
+            base,
             initial: state,
             mitsuba_dir: PathBuf::from(DEFAULT_MITSUBA_DIR),
         })
     }
 
-    fn scene(mut scene: Scene, name: String, base: Option<String>) -> InputResult<Explorer> {
+    fn scene(mut scene: Scene, name: String, base: String, bare: Option<PathBuf>) -> InputResult<Explorer> {
         let err = |e: String| InputError::new(Path::new(&name), e);
         // Materials a section can describe; the others (textured, glTF's) are shown, not edited.
         let materials = scene
@@ -166,6 +174,7 @@ impl Explorer {
             held: Held::Scene {
                 preview: Box::new(preview),
                 origin,
+                bare,
             },
             name,
             base,
@@ -273,21 +282,36 @@ impl Explorer {
         // A file that would not load is not saved: the state is read back first.
         match &self.held {
             Held::NormalImage { .. } => drop(self.normal_map_scene_of(&text)?),
-            Held::Scene { .. } => drop(self.scene_edits(state)?),
+            Held::Scene { preview, bare, .. } => {
+                drop(self.scene_edits(state)?);
+                if let Some(dir) = bare {
+                    self.check_view_saved(preview.scene(), dir, &text)?;
+                }
+            }
         }
         Ok(text)
+    }
+
+    /// A bare mesh or glTF file is saved as a scene file of one object, which frames the mesh
+    /// automatically and takes a default film: where the file chose otherwise (a glTF file's own
+    /// camera), the saved file would render another view, and is refused.
+    fn check_view_saved(&self, held: &Scene, dir: &Path, text: &str) -> Result<(), String> {
+        let saved = crate::scene::file::load_scene_text(Path::new(&self.name), text.into(), dir, &MeshTable::new())
+            .map_err(|e| e.to_string())?;
+        let film = |s: &Scene| (s.film.width, s.film.height, s.film.spp, s.film.sampler);
+        if saved.camera != held.camera || film(&saved) != film(held) {
+            return Err(format!(
+                "{}: its own camera cannot be written into a scene file (a scene file frames a mesh itself), so a saved file would show another view; write a scene file with a [camera] and open that",
+                self.name
+            ));
+        }
+        Ok(())
     }
 
     /// The scene file of `state`, unchecked.
     fn scene_text(&self, state: &State) -> Result<String, String> {
         self.check_preset(state)?;
-        let base = self.base.as_deref().ok_or_else(|| {
-            format!(
-                "{} is not a scene file: save writes the state into the scene file the explorer opened (open a .toml scene to save one)",
-                self.name
-            )
-        })?;
-        scene_file(base, state)
+        scene_file(&self.base, state)
     }
 
     /// Python that renders `state` as the page shows it.
@@ -331,7 +355,7 @@ impl Explorer {
     /// light), checked as a scene file's sections are; the scene is left as it is.
     fn scene_edits(&self, state: &State) -> Result<(Vec<Material>, Vec<crate::light::Light>), String> {
         self.check_preset(state)?;
-        let Held::Scene { preview, origin } = &self.held else {
+        let Held::Scene { preview, origin, .. } = &self.held else {
             unreachable!("scenes only")
         };
         // The materials a state may edit are those the initial state holds.

@@ -108,3 +108,59 @@ fn a_scene_renders_in_passes_and_a_normal_image_in_one() {
         .unwrap_err()
         .starts_with("spp: a normal image"));
 }
+
+/// A bare mesh saves as a scene file of one object, which renders to the image shown (its
+/// automatic lights written out, its materials, from an MTL file or the neutral default, as
+/// sections).
+#[test]
+fn a_bare_mesh_saves_as_a_scene_file_of_one_object() {
+    let meshes = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes");
+    for mesh in ["cornell-box.obj", "icosphere.obj"] {
+        let mut e = Explorer::open(Some(&meshes.join(mesh))).unwrap();
+        let mut s = state(&e);
+        assert!(!s.lights.is_empty(), "{mesh}: the automatic lights are the state's");
+        s.lights[0]["intensity"] = 0.75.into();
+        let shown = e.render(&s, None, None).unwrap();
+        let saved = e.save(&s).unwrap();
+        assert!(saved.contains(&format!("mesh = \"{mesh}\"")), "{saved}");
+        let scene =
+            crate::scene::file::load_scene_text(&meshes.join("saved.toml"), saved, &meshes, &Default::default())
+                .unwrap();
+        let plan = crate::plan::RenderPlan::new(&scene, &[]);
+        let whole = crate::render::render_scene(&scene, &plan, &crate::render::progress::Silent).unwrap();
+        assert_eq!(
+            shown,
+            encode(&whole.image, Format::Png, scene.film.exposure).unwrap(),
+            "{mesh}"
+        );
+    }
+}
+
+/// A glTF file that brings its own camera opens through it; a scene file of one object would
+/// frame the mesh itself, so saving is refused rather than writing a file of another view.
+#[test]
+fn a_gltf_file_with_its_own_camera_is_not_saved_as_another_view() {
+    let dir = std::env::temp_dir().join(format!("pointshade-explore-gltf-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // One triangle, (0,0,0) (1,0,0) (0,1,0), and a camera 3 units in front of it.
+    let gltf = r#"{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0.3, 0.3, 3.0]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1, "aspectRatio": 1.0}}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                       "min": [0, 0, 0], "max": [1, 1, 0]}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}],
+        "buffers": [{"byteLength": 36,
+                     "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]}"#;
+    let path = dir.join("triangle.gltf");
+    std::fs::write(&path, gltf).unwrap();
+    let mut e = Explorer::open(Some(&path)).unwrap();
+    let s = state(&e);
+    assert!(e.render(&s, None, None).unwrap().starts_with(b"\x89PNG"));
+    let err = e.save(&s).unwrap_err();
+    assert!(
+        err.contains("its own camera cannot be written into a scene file"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
