@@ -197,13 +197,10 @@ impl Explorer {
     /// The held scene as `state` edits it (what the Mitsuba comparison exports); a normal image
     /// has no scene.
     pub fn edited_scene(&self, state: &State) -> Result<Scene, String> {
-        if self.mode() == Mode::NormalImage {
+        let Held::Scene { preview, origin, .. } = &self.held else {
             return Err("a normal image is shaded by the normal-map mode, which Mitsuba 3 has no counterpart of: open a scene file to compare (pointshade explore scenes/cook-torrance.toml)".into());
-        }
-        let (materials, lights) = self.scene_edits(state)?;
-        let Held::Scene { preview, .. } = &self.held else {
-            unreachable!("scenes only")
         };
+        let (materials, lights) = scene_edits(&self.initial, preview, *origin, state)?;
         let mut scene = preview.scene().clone();
         scene.materials = materials;
         scene.lights = lights;
@@ -276,42 +273,20 @@ impl Explorer {
     }
 
     /// The scene file of `state`: `pointshade normalmap` or `pointshade render` of it gives the
-    /// image [`Explorer::render`] gives.
+    /// image [`Explorer::render`] gives. A file that would not load is not saved: the state is
+    /// read back first.
     pub fn save(&self, state: &State) -> Result<String, String> {
-        let text = self.scene_text(state)?;
-        // A file that would not load is not saved: the state is read back first.
         match &self.held {
-            Held::NormalImage { .. } => drop(self.normal_map_scene_of(&text)?),
-            Held::Scene { preview, bare, .. } => {
-                drop(self.scene_edits(state)?);
+            Held::NormalImage { dir, .. } => Ok(normal_map_scene(&self.name, &self.base, dir, state)?.0),
+            Held::Scene { preview, origin, bare } => {
+                scene_edits(&self.initial, preview, *origin, state)?;
+                let text = scene_file(&self.base, state)?;
                 if let Some(dir) = bare {
-                    self.check_view_saved(preview.scene(), dir, &text)?;
+                    check_view_saved(&self.name, preview.scene(), dir, &text)?;
                 }
+                Ok(text)
             }
         }
-        Ok(text)
-    }
-
-    /// A bare mesh or glTF file is saved as a scene file of one object, which frames the mesh
-    /// automatically and takes a default film: where the file chose otherwise (a glTF file's own
-    /// camera), the saved file would render another view, and is refused.
-    fn check_view_saved(&self, held: &Scene, dir: &Path, text: &str) -> Result<(), String> {
-        let saved = crate::scene::file::load_scene_text(Path::new(&self.name), text.into(), dir, &MeshTable::new())
-            .map_err(|e| e.to_string())?;
-        let film = |s: &Scene| (s.film.width, s.film.height, s.film.spp, s.film.sampler);
-        if saved.camera != held.camera || film(&saved) != film(held) {
-            return Err(format!(
-                "{}: its own camera cannot be written into a scene file (a scene file frames a mesh itself), so a saved file would show another view; write a scene file with a [camera] and open that",
-                self.name
-            ));
-        }
-        Ok(())
-    }
-
-    /// The scene file of `state`, unchecked.
-    fn scene_text(&self, state: &State) -> Result<String, String> {
-        self.check_preset(state)?;
-        scene_file(&self.base, state)
     }
 
     /// Python that renders `state` as the page shows it.
@@ -330,98 +305,25 @@ impl Explorer {
         ))
     }
 
-    fn check_preset(&self, state: &State) -> Result<(), String> {
-        match (self.mode(), state.preset.as_deref()) {
-            (Mode::NormalImage, Some("tp" | "physical")) | (Mode::Scene, None) => Ok(()),
-            (Mode::NormalImage, Some(p)) => Err(format!("unknown preset '{p}' (expected tp or physical)")),
-            (Mode::NormalImage, None) => Err("a normal image's state needs a preset: tp or physical".into()),
-            (Mode::Scene, Some(_)) => Err("preset applies to a normal image, not to a scene".into()),
-        }
-    }
-
-    /// The normal-map scene of `state`, read from the scene file [`Explorer::save`] writes.
-    fn normal_map_scene(&self, state: &State) -> Result<NormalMapScene, String> {
-        self.normal_map_scene_of(&self.scene_text(state)?)
-    }
-
-    fn normal_map_scene_of(&self, text: &str) -> Result<NormalMapScene, String> {
-        let Held::NormalImage { dir, .. } = &self.held else {
-            unreachable!("normal images only")
-        };
-        NormalMapScene::from_text(Path::new(&self.name), text.to_string(), dir, None).map_err(|e| e.to_string())
-    }
-
-    /// The held scene's materials and lights under `state` (its editable materials and every
-    /// light), checked as a scene file's sections are; the scene is left as it is.
-    fn scene_edits(&self, state: &State) -> Result<(Vec<Material>, Vec<crate::light::Light>), String> {
-        self.check_preset(state)?;
-        let Held::Scene { preview, origin, .. } = &self.held else {
-            unreachable!("scenes only")
-        };
-        // The materials a state may edit are those the initial state holds.
-        let editable = &self.initial.materials;
-        let mut materials = preview.scene().materials.clone();
-        for (name, keys) in &state.materials {
-            if !editable.contains_key(name) {
-                let names: Vec<&str> = editable.keys().map(String::as_str).collect();
-                return Err(format!(
-                    "material '{name}' cannot be edited here (editable: {})",
-                    names.join(", ")
-                ));
-            }
-            let m = materials
-                .iter_mut()
-                .find(|m| &m.name == name)
-                .expect("editable names are the scene's");
-            *m = material_from_toml(name, &section_text(keys)?, &MaterialDefaults::SCENE)?;
-        }
-        let lights = state
-            .lights
-            .iter()
-            .enumerate()
-            .map(|(i, keys)| {
-                light_from_toml(&section_text(keys)?, *origin).map_err(|e| format!("light {}: {e}", i + 1))
-            })
-            .collect::<Result<Vec<_>, String>>()?;
-        Ok((materials, lights))
-    }
-
-    /// Applies `state` to the held scene ([`Explorer::scene_edits`]).
-    fn apply(&mut self, state: &State) -> Result<(), String> {
-        let (materials, lights) = self.scene_edits(state)?;
-        let Held::Scene { preview, .. } = &mut self.held else {
-            unreachable!("scenes only")
-        };
-        preview.set_materials(materials)?;
-        preview.set_lights(lights)?;
-        Ok(())
-    }
-
     /// The PNG `pointshade normalmap` or `pointshade render` writes for the saved `state`
     /// (`stop`, when set, ends a scene's render early with an error). A scene may be rendered
     /// at `spp` samples per pixel instead of its film's (a progressive preview's coarse pass:
     /// [`Preview::render_pass`]); a normal image has one evaluation per pixel, nothing to refine.
     pub fn render(&mut self, state: &State, spp: Option<u32>, stop: Option<&AtomicBool>) -> Result<Vec<u8>, String> {
-        if let (Mode::NormalImage, Some(_)) = (self.mode(), spp) {
-            return Err("spp: a normal image is shaded once per pixel, it has no samples to refine".into());
-        }
-        match self.mode() {
-            Mode::NormalImage => {
-                let scene = self.normal_map_scene(state)?;
-                let Held::NormalImage { image, .. } = &self.held else {
-                    unreachable!()
-                };
+        match &mut self.held {
+            Held::NormalImage { .. } if spp.is_some() => {
+                Err("spp: a normal image is shaded once per pixel, it has no samples to refine".into())
+            }
+            Held::NormalImage { image, dir, .. } => {
+                let (_, scene) = normal_map_scene(&self.name, &self.base, dir, state)?;
                 let shaded = normal_map::shade(&scene, image, "the explorer's image").map_err(|e| e.to_string())?;
                 match scene.preset {
                     Preset::Tp => encode_min_max_png(&shaded.radiance).map(|(bytes, _)| bytes),
                     Preset::Physical => encode(&shaded.radiance, Format::Png, scene.exposure),
                 }
             }
-            Mode::Scene => {
-                self.apply(state)?;
-                let Held::Scene { preview, .. } = &mut self.held else {
-                    unreachable!()
-                };
+            Held::Scene { preview, origin, .. } => {
+                apply(&self.initial, preview, *origin, state)?;
                 let spp = spp.unwrap_or(preview.scene().film.spp);
                 let rendered = preview.render_pass(spp, stop)?;
                 encode(&rendered.image, Format::Png, state.exposure)
@@ -437,21 +339,15 @@ impl Explorer {
         if x >= w || y >= h {
             return Err(format!("pixel ({x}, {y}) is outside the {w}×{h} image"));
         }
-        let (point, material, lights) = match self.mode() {
-            Mode::NormalImage => {
-                let scene = self.normal_map_scene(state)?;
-                let Held::NormalImage { image, .. } = &self.held else {
-                    unreachable!()
-                };
+        let (point, material, lights) = match &mut self.held {
+            Held::NormalImage { image, dir, .. } => {
+                let (_, scene) = normal_map_scene(&self.name, &self.base, dir, state)?;
                 let surface = normal_map::image_surface(&scene, image)?;
                 let (rgb, alpha) = image.pixel((y * w + x) as usize);
                 (surface.point(x, y, rgb, alpha), scene.material, scene.lights)
             }
-            Mode::Scene => {
-                self.apply(state)?;
-                let Held::Scene { preview, .. } = &self.held else {
-                    unreachable!()
-                };
+            Held::Scene { preview, origin, .. } => {
+                apply(&self.initial, preview, *origin, state)?;
                 let point = preview.surface_at(x, y);
                 let material = point.map(|p| preview.scene().materials[p.material as usize].clone());
                 (
@@ -485,6 +381,82 @@ impl Explorer {
             "theta_i": theta_i, "phi_i": phi_i, "theta_o": theta_o, "phi_o": phi_o,
         }))
     }
+}
+
+/// Checks that `state` is one of a `mode` session: a preset for a normal image, none for a scene.
+fn check_preset(mode: Mode, state: &State) -> Result<(), String> {
+    match (mode, state.preset.as_deref()) {
+        (Mode::NormalImage, Some("tp" | "physical")) | (Mode::Scene, None) => Ok(()),
+        (Mode::NormalImage, Some(p)) => Err(format!("unknown preset '{p}' (expected tp or physical)")),
+        (Mode::NormalImage, None) => Err("a normal image's state needs a preset: tp or physical".into()),
+        (Mode::Scene, Some(_)) => Err("preset applies to a normal image, not to a scene".into()),
+    }
+}
+
+/// The scene file of a normal image's `state` (written into `base`) and the normal-map scene
+/// read from it, as `pointshade normalmap` reads it from the folder `dir`.
+fn normal_map_scene(name: &str, base: &str, dir: &Path, state: &State) -> Result<(String, NormalMapScene), String> {
+    check_preset(Mode::NormalImage, state)?;
+    let text = scene_file(base, state)?;
+    let scene = NormalMapScene::from_text(Path::new(name), text.clone(), dir, None).map_err(|e| e.to_string())?;
+    Ok((text, scene))
+}
+
+/// The held scene's materials and lights under `state` (its editable materials — those of the
+/// `initial` state — and every light), checked as a scene file's sections are; the scene is
+/// left as it is.
+fn scene_edits(
+    initial: &State,
+    preview: &Preview,
+    origin: DVec3,
+    state: &State,
+) -> Result<(Vec<Material>, Vec<crate::light::Light>), String> {
+    check_preset(Mode::Scene, state)?;
+    let editable = &initial.materials;
+    let mut materials = preview.scene().materials.clone();
+    for (name, keys) in &state.materials {
+        if !editable.contains_key(name) {
+            let names: Vec<&str> = editable.keys().map(String::as_str).collect();
+            return Err(format!(
+                "material '{name}' cannot be edited here (editable: {})",
+                names.join(", ")
+            ));
+        }
+        let m = materials
+            .iter_mut()
+            .find(|m| &m.name == name)
+            .expect("editable names are the scene's");
+        *m = material_from_toml(name, &section_text(keys)?, &MaterialDefaults::SCENE)?;
+    }
+    let lights = state
+        .lights
+        .iter()
+        .enumerate()
+        .map(|(i, keys)| light_from_toml(&section_text(keys)?, origin).map_err(|e| format!("light {}: {e}", i + 1)))
+        .collect::<Result<Vec<_>, String>>()?;
+    Ok((materials, lights))
+}
+
+/// Applies `state` to `preview` ([`scene_edits`]).
+fn apply(initial: &State, preview: &mut Preview, origin: DVec3, state: &State) -> Result<(), String> {
+    let (materials, lights) = scene_edits(initial, preview, origin, state)?;
+    preview.set_materials(materials)?;
+    preview.set_lights(lights)
+}
+
+/// A bare mesh or glTF file is saved as a scene file of one object, which frames the mesh
+/// automatically and takes a default film: where the file chose otherwise (a glTF file's own
+/// camera), the saved file `text` would render another view than `held`'s, and is refused.
+fn check_view_saved(name: &str, held: &Scene, dir: &Path, text: &str) -> Result<(), String> {
+    let saved = crate::scene::file::load_scene_text(Path::new(name), text.into(), dir, &MeshTable::new())
+        .map_err(|e| e.to_string())?;
+    let film = |s: &Scene| (s.film.width, s.film.height, s.film.spp, s.film.sampler);
+    if saved.camera != held.camera || film(&saved) != film(held) {
+        return Err(format!(
+            "{name}: its own camera cannot be written into a scene file (a scene file frames a mesh itself), so a saved file would show another view; write a scene file with a [camera] and open that"
+        ));
+    }
+    Ok(())
 }
 
 /// The state of a normal-map scene: its material, lights, preset and exposure, every key written.
