@@ -13,6 +13,11 @@ use super::session::{Explorer, Mode};
 use super::state::{Keys, State};
 use crate::validation::run::MitsubaRunner;
 
+/// How long the Mitsuba comparison's Mitsuba may run (its first run compiles its kernels, a few
+/// seconds; a preview-sized scene renders in well under one): a Mitsuba that hangs is stopped
+/// and reported rather than holding a server thread for ever.
+const MITSUBA_TIME_LIMIT: std::time::Duration = std::time::Duration::from_secs(120);
+
 /// Largest request body accepted, in bytes: a state is a few kilobytes.
 pub const MAX_BODY: usize = 64 * 1024;
 
@@ -290,7 +295,9 @@ fn mitsuba(shared: &Shared, body: &[u8]) -> Result<Reply, String> {
         if status["available"] != true {
             return Ok(Reply::json(status));
         }
-        let runner = MitsubaRunner::in_dir(explorer.mitsuba_dir()).map_err(|e| e.to_string())?;
+        let runner = MitsubaRunner::in_dir(explorer.mitsuba_dir())
+            .map_err(|e| e.to_string())?
+            .with_timeout(MITSUBA_TIME_LIMIT);
         (explorer.edited_scene(&state)?, runner)
     };
     super::mitsuba::compare(&runner, &scene, &state).map(Reply::json)

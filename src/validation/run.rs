@@ -7,9 +7,10 @@
 //! those choices change). Where the render samples textures, the like-for-like comparison also
 //! counts the rounding band ([`rounding`]).
 
+use std::io::Read;
 use std::path::{Path, PathBuf};
-use std::process::Command;
-use std::time::Duration;
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
 
 use crate::error::{InputError, InputResult};
 use crate::film::compare::{compare, compare_checked, Comparison};
@@ -36,6 +37,9 @@ pub struct MitsubaRunner {
     pub python: PathBuf,
     /// `validation/render.py`.
     pub script: PathBuf,
+    /// How long one Mitsuba run may take before it is stopped and reported (none: as long as
+    /// it takes, as `pointshade validate` lets it).
+    pub timeout: Option<Duration>,
 }
 
 impl MitsubaRunner {
@@ -56,19 +60,39 @@ impl MitsubaRunner {
                 "missing (the validation folder of the repository)",
             ));
         }
-        Ok(Self { python, script })
+        Ok(Self {
+            python,
+            script,
+            timeout: None,
+        })
+    }
+
+    /// This runner, each Mitsuba run stopped with an error after `limit` (an interactive caller
+    /// must not wait for ever on a Mitsuba that hangs).
+    pub fn with_timeout(self, limit: Duration) -> Self {
+        Self {
+            timeout: Some(limit),
+            ..self
+        }
     }
 
     /// Renders `xml_files` and writes their sum to `out`; returns the variant and the seconds
     /// Mitsuba spent loading and rendering (Python start-up excluded).
     fn render(&self, xml_files: &[PathBuf], out: &Path) -> InputResult<MitsubaTiming> {
-        let output = Command::new(&self.python)
-            .arg(&self.script)
-            .arg("--out")
-            .arg(out)
-            .args(xml_files)
-            .output()
-            .map_err(|e| InputError::new(&self.python, format!("cannot run: {e}")))?;
+        let mut command = Command::new(&self.python);
+        command.arg(&self.script).arg("--out").arg(out).args(xml_files);
+        let output = match self.timeout {
+            None => command.output().map(Some),
+            Some(limit) => output_within(command, limit),
+        }
+        .map_err(|e| InputError::new(&self.python, format!("cannot run: {e}")))?
+        .ok_or_else(|| {
+            let limit = self.timeout.unwrap_or_default().as_secs_f64();
+            InputError::new(
+                &xml_files[0],
+                format!("Mitsuba did not finish within {limit} s: stopped"),
+            )
+        })?;
         let stdout = String::from_utf8_lossy(&output.stdout);
         if !output.status.success() {
             let stderr = String::from_utf8_lossy(&output.stderr);
@@ -82,6 +106,40 @@ impl MitsubaRunner {
         MitsubaTiming::parse(&stdout)
             .ok_or_else(|| InputError::new(&self.script, format!("unexpected output: {stdout}")))
     }
+}
+
+/// `command`'s output, or `None` if it ran longer than `limit` (it is then killed). Its
+/// standard output and error are read while it runs, so that a full pipe cannot stall it.
+fn output_within(mut command: Command, limit: Duration) -> std::io::Result<Option<Output>> {
+    let mut child = command.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn()?;
+    let drain = |pipe: Option<Box<dyn Read + Send>>| {
+        std::thread::spawn(move || {
+            let mut bytes = Vec::new();
+            if let Some(mut pipe) = pipe {
+                let _ = pipe.read_to_end(&mut bytes);
+            }
+            bytes
+        })
+    };
+    let stdout = drain(child.stdout.take().map(|p| Box::new(p) as Box<dyn Read + Send>));
+    let stderr = drain(child.stderr.take().map(|p| Box::new(p) as Box<dyn Read + Send>));
+    let deadline = Instant::now() + limit;
+    let status = loop {
+        if let Some(status) = child.try_wait()? {
+            break status;
+        }
+        if Instant::now() >= deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Ok(None);
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    Ok(Some(Output {
+        status,
+        stdout: stdout.join().unwrap_or_default(),
+        stderr: stderr.join().unwrap_or_default(),
+    }))
 }
 
 /// An export's per-light scenes written to disk, ready for Mitsuba to render and sum.
@@ -417,6 +475,29 @@ fn write_image(path: &Path, image: &Image) -> InputResult<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_mitsuba_that_hangs_is_stopped_at_the_runners_time_limit() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = std::env::temp_dir().join(format!("pointshade-hanging-mitsuba-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let python = dir.join("python");
+        std::fs::write(&python, "#!/bin/sh\necho started\nsleep 30\n").unwrap();
+        std::fs::set_permissions(&python, std::fs::Permissions::from_mode(0o755)).unwrap();
+        let runner = MitsubaRunner {
+            python,
+            script: dir.join("render.py"),
+            timeout: None,
+        }
+        .with_timeout(Duration::from_millis(300));
+        let start = Instant::now();
+        let e = runner
+            .render(&[dir.join("scene.xml")], &dir.join("out.exr"))
+            .unwrap_err();
+        assert!(e.to_string().contains("Mitsuba did not finish within 0.3 s"), "{e}");
+        assert!(start.elapsed() < Duration::from_secs(20), "stopped, not waited for");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     #[test]
     fn timing_line_is_parsed() {
