@@ -11,7 +11,6 @@ use serde_json::{json, Value};
 use super::plots::{albedo, direction, lit_sphere, lobe, polar};
 use super::session::{Explorer, Mode};
 use super::state::{Keys, State};
-use crate::validation::run::MitsubaRunner;
 
 /// How long the Mitsuba comparison's Mitsuba may run (its first run compiles its kernels, a few
 /// seconds; a preview-sized scene renders in well under one): a Mitsuba that hangs is stopped
@@ -291,14 +290,10 @@ fn mitsuba(shared: &Shared, body: &[u8]) -> Result<Reply, String> {
     let state = State::from_json(body)?;
     let (scene, runner) = {
         let explorer = shared.explorer();
-        let status = super::mitsuba::status(&explorer);
-        if status["available"] != true {
-            return Ok(Reply::json(status));
-        }
-        let runner = MitsubaRunner::in_dir(explorer.mitsuba_dir())
-            .map_err(|e| e.to_string())?
-            .with_timeout(MITSUBA_TIME_LIMIT);
-        (explorer.edited_scene(&state)?, runner)
+        let Ok(runner) = super::mitsuba::runner(&explorer) else {
+            return Ok(Reply::json(super::mitsuba::status(&explorer)));
+        };
+        (explorer.edited_scene(&state)?, runner.with_timeout(MITSUBA_TIME_LIMIT))
     };
     super::mitsuba::compare(&runner, &scene, &state).map(Reply::json)
 }

@@ -13,23 +13,30 @@ use serde_json::{json, Value};
 use super::session::{Explorer, Mode};
 use super::state::State;
 use crate::output::{encode, Format};
+use crate::scene::uri::data_uri;
 use crate::validation::run::{compare_at_pixel_centres, meets_thresholds, MitsubaRunner, TOLERANCE};
+
+/// The runner the button uses, or whether Mitsuba is installed and why the button cannot run.
+pub fn runner(explorer: &Explorer) -> Result<MitsubaRunner, (bool, String)> {
+    match (MitsubaRunner::in_dir(explorer.mitsuba_dir()), explorer.mode()) {
+        (Err(e), _) => Err((false, e.to_string())),
+        (Ok(_), Mode::NormalImage) => Err((
+            true,
+            "Mitsuba 3 is installed, but it renders scenes: a normal image is shaded by the normal-map mode alone (open a scene file to compare)".to_string(),
+        )),
+        (Ok(runner), Mode::Scene) => Ok(runner),
+    }
+}
 
 /// Whether the button can run: Mitsuba installed and a scene open; else what to do about it.
 pub fn status(explorer: &Explorer) -> Value {
-    let runner = MitsubaRunner::in_dir(explorer.mitsuba_dir());
-    let (available, message) = match (&runner, explorer.mode()) {
-        (Err(e), _) => (false, e.to_string()),
-        (Ok(_), Mode::NormalImage) => (
-            false,
-            "Mitsuba 3 is installed, but it renders scenes: a normal image is shaded by the normal-map mode alone (open a scene file to compare)".to_string(),
-        ),
-        (Ok(_), Mode::Scene) => (
-            true,
-            "renders the current scene with Mitsuba 3 and pointshade at pixel centres and compares them".to_string(),
-        ),
-    };
-    json!({ "available": available, "installed": runner.is_ok(), "message": message })
+    match runner(explorer) {
+        Ok(_) => json!({
+            "available": true, "installed": true,
+            "message": "renders the current scene with Mitsuba 3 and pointshade at pixel centres and compares them",
+        }),
+        Err((installed, message)) => json!({ "available": false, "installed": installed, "message": message }),
+    }
 }
 
 /// Runs the comparison for `state` (`scene` is the explorer's scene as `state` edits it): the
@@ -39,7 +46,7 @@ pub fn compare(runner: &MitsubaRunner, scene: &crate::scene::Scene, state: &Stat
     let work = WorkFolder::new()?;
     let c = compare_at_pixel_centres(scene, runner, &work.0).map_err(|e| e.to_string())?;
     let (w, h) = (c.ours.width, c.ours.height);
-    let png = |image| encode(image, Format::Png, state.exposure).map(|bytes| data_url(&bytes));
+    let png = |image| encode(image, Format::Png, state.exposure).map(|bytes| data_uri("image/png", &bytes));
     let m = &c.comparison;
     let message = match (c.differences.is_empty(), meets_thresholds(m)) {
         (true, true) => "the two renderers agree as the validation requires".to_string(),
@@ -60,7 +67,7 @@ pub fn compare(runner: &MitsubaRunner, scene: &crate::scene::Scene, state: &Stat
         "differences": c.differences,
         "variant": c.mitsuba.variant,
         "mitsuba_seconds": (c.mitsuba.load + c.mitsuba.render).as_secs_f64(),
-        "heatmap": data_url(&encode(&m.heat_map(w, h), Format::Png, 0.0)?),
+        "heatmap": data_uri("image/png", &encode(&m.heat_map(w, h), Format::Png, 0.0)?),
         "mitsuba_image": png(&c.reference)?,
         "pointshade_image": png(&c.ours)?,
     }))
@@ -82,50 +89,5 @@ impl WorkFolder {
 impl Drop for WorkFolder {
     fn drop(&mut self) {
         let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-/// `bytes` as a `data:image/png;base64,` URL.
-fn data_url(bytes: &[u8]) -> String {
-    format!("data:image/png;base64,{}", base64(bytes))
-}
-
-/// Standard base64 (RFC 4648, section 4) with padding.
-fn base64(bytes: &[u8]) -> String {
-    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
-    for chunk in bytes.chunks(3) {
-        let b = [chunk[0], *chunk.get(1).unwrap_or(&0), *chunk.get(2).unwrap_or(&0)];
-        let n = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
-        for k in 0..4 {
-            if k <= chunk.len() {
-                out.push(ALPHABET[(n >> (18 - 6 * k) & 63) as usize] as char);
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn base64_is_rfc_4648() {
-        // RFC 4648, section 10's test vectors.
-        for (input, encoded) in [
-            ("", ""),
-            ("f", "Zg=="),
-            ("fo", "Zm8="),
-            ("foo", "Zm9v"),
-            ("foob", "Zm9vYg=="),
-            ("fooba", "Zm9vYmE="),
-            ("foobar", "Zm9vYmFy"),
-        ] {
-            assert_eq!(base64(input.as_bytes()), encoded, "{input}");
-        }
-        assert_eq!(base64(&[0xff, 0xfe, 0xfd]), "//79");
     }
 }

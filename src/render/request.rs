@@ -78,11 +78,15 @@ impl PreparedRender {
 /// render of a given sample count whatever the machine, as the validation and the convergence
 /// report measure them.
 pub fn load_sampled(path: &Path, sampler: SamplerKind, spp: u32) -> InputResult<Scene> {
-    let mut scene = crate::scene::load(path)?;
+    sampled(crate::scene::load(path)?, sampler, spp)
+}
+
+/// [`load_sampled`] of a scene already loaded.
+pub fn sampled(mut scene: Scene, sampler: SamplerKind, spp: u32) -> InputResult<Scene> {
     scene.film.sampler = sampler;
     scene.film.spp = spp;
     scene.film.time_budget = None;
-    scene.film.validate().map_err(|e| InputError::new(path, e))?;
+    scene.film.validate().map_err(|e| InputError::new(&scene.source, e))?;
     Ok(scene)
 }
 

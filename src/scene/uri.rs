@@ -76,6 +76,26 @@ fn data_uri_bytes(uri: &str) -> Result<Vec<u8>, String> {
     Ok(out)
 }
 
+/// `bytes` as a `data:MEDIA_TYPE;base64,DATA` URI, DATA in standard padded base64 (RFC 4648,
+/// section 4): the form [`read_uri`] decodes (the explorer sends images in it).
+pub fn data_uri(media_type: &str, bytes: &[u8]) -> String {
+    const DIGITS: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = format!("data:{media_type};base64,");
+    out.reserve(bytes.len().div_ceil(3) * 4);
+    for chunk in bytes.chunks(3) {
+        let b = [chunk[0], *chunk.get(1).unwrap_or(&0), *chunk.get(2).unwrap_or(&0)];
+        let n = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
+        for k in 0..4 {
+            if k <= chunk.len() {
+                out.push(DIGITS[(n >> (18 - 6 * k) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
 /// `text` with each `%XX` replaced by the byte it encodes (invalid escapes stay as they are).
 fn percent_decoded(text: &str) -> PathBuf {
     use std::os::unix::ffi::OsStringExt;
@@ -116,6 +136,27 @@ mod tests {
         assert!(uri_file(dir, "https://example.invalid/a.bin")
             .unwrap_err()
             .contains("'https'"));
+    }
+
+    #[test]
+    fn data_uris_encode_as_base64_and_decode_back() {
+        // RFC 4648, section 10's test vectors.
+        for (input, encoded) in [
+            ("", ""),
+            ("f", "Zg=="),
+            ("fo", "Zm8="),
+            ("foo", "Zm9v"),
+            ("foob", "Zm9vYg=="),
+            ("fooba", "Zm9vYmE="),
+            ("foobar", "Zm9vYmFy"),
+        ] {
+            let uri = data_uri("text/plain", input.as_bytes());
+            assert_eq!(uri, format!("data:text/plain;base64,{encoded}"), "{input}");
+            assert_eq!(data_uri_bytes(&uri).unwrap(), input.as_bytes());
+        }
+        assert_eq!(data_uri("image/png", &[0xff, 0xfe, 0xfd]), "data:image/png;base64,//79");
+        let all: Vec<u8> = (0..=255).collect();
+        assert_eq!(data_uri_bytes(&data_uri("", &all)).unwrap(), all);
     }
 
     #[test]

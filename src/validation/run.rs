@@ -16,7 +16,7 @@ use crate::error::{InputError, InputResult};
 use crate::film::compare::{compare, compare_checked, Comparison};
 use crate::film::{Image, SamplerKind};
 use crate::output::{encode, read_linear, write_all_or_nothing, Format};
-use crate::render::request::{load_sampled, render_timed};
+use crate::render::request::{load_sampled, render_timed, sampled};
 use crate::render::Rendered;
 use crate::scene::shadows::ShadowOffset;
 use crate::scene::Scene;
@@ -112,7 +112,7 @@ impl MitsubaRunner {
 /// standard output and error are read while it runs, so that a full pipe cannot stall it.
 fn output_within(mut command: Command, limit: Duration) -> std::io::Result<Option<Output>> {
     let mut child = command.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn()?;
-    let drain = |pipe: Option<Box<dyn Read + Send>>| {
+    fn drain(pipe: Option<impl Read + Send + 'static>) -> std::thread::JoinHandle<Vec<u8>> {
         std::thread::spawn(move || {
             let mut bytes = Vec::new();
             if let Some(mut pipe) = pipe {
@@ -120,9 +120,9 @@ fn output_within(mut command: Command, limit: Duration) -> std::io::Result<Optio
             }
             bytes
         })
-    };
-    let stdout = drain(child.stdout.take().map(|p| Box::new(p) as Box<dyn Read + Send>));
-    let stderr = drain(child.stderr.take().map(|p| Box::new(p) as Box<dyn Read + Send>));
+    }
+    let stdout = drain(child.stdout.take());
+    let stderr = drain(child.stderr.take());
     let deadline = Instant::now() + limit;
     let status = loop {
         if let Some(status) = child.try_wait()? {
@@ -433,10 +433,7 @@ pub fn compare_at_pixel_centres(
     mitsuba: &MitsubaRunner,
     dir: &Path,
 ) -> InputResult<PixelCentreComparison> {
-    let mut scene = scene.clone();
-    scene.film.sampler = SamplerKind::Grid;
-    scene.film.spp = 1;
-    scene.film.time_budget = None;
+    let scene = sampled(scene.clone(), SamplerKind::Grid, 1)?;
     let (exported, reference, timing) = mitsuba_reference(&scene, mitsuba, &dir.join("mitsuba"), false)?;
     let ours = render_timed(&scene, ShadowOffset::Mitsuba)?.0.image;
     let mut comparison = compare_checked(&ours, &reference, TOLERANCE, 8, true)
