@@ -22,7 +22,7 @@ use crate::scene::Scene;
 use crate::shading::convention::ShadingConvention;
 use crate::shading::shader::Shader;
 use crate::surface::normal_texture::apply_normal_texture;
-use crate::surface::primary::surface_point;
+use crate::surface::primary::surface_points;
 use crate::surface::SurfacePoint;
 
 /// A sample to trace: the pixel slot it adds to, and its position on the film in pixels.
@@ -229,25 +229,30 @@ impl<'a> Context<'a> {
                 *ray = (r.origin, r.direction, r.t_max);
             }
             bvh.intersect_packet(&rays[..n], &mut hits[..n]);
-            for ((job, &(origin, direction, _)), hit) in group.iter().zip(&rays).zip(&hits) {
-                let Some(hit) = hit else { continue };
-                let mut point = surface_point(&scene.mesh, hit, direction, options);
-                if plan.normal_textures {
-                    apply_normal_texture(&mut point, &scene.mesh, hit, &scene.materials, &scene.textures);
-                }
-                // Decided once per render: no square root per hit unless the AOV is written.
-                let depth = if self.depth_aov {
-                    hit.t + (origin - scene.camera.position).length()
-                } else {
-                    0.0
-                };
-                scratch.push(SurfaceSample(Sample {
-                    slot: job.slot,
-                    packet: packet as u32,
-                    point,
-                    depth,
-                }));
-            }
+            surface_points(
+                &scene.mesh,
+                &hits[..n],
+                |k| rays[k].1,
+                options,
+                |k, hit, mut point| {
+                    let (job, origin) = (&group[k], rays[k].0);
+                    if plan.normal_textures {
+                        apply_normal_texture(&mut point, &scene.mesh, hit, &scene.materials, &scene.textures);
+                    }
+                    // Decided once per render: no square root per hit unless the AOV is written.
+                    let depth = if self.depth_aov {
+                        hit.t + (origin - scene.camera.position).length()
+                    } else {
+                        0.0
+                    };
+                    scratch.push(SurfaceSample(Sample {
+                        slot: job.slot,
+                        packet: packet as u32,
+                        point,
+                        depth,
+                    }));
+                },
+            );
         }
         self.counters
             .primary_rays

@@ -19,6 +19,7 @@
 use glam::{Vec2, Vec3};
 
 use crate::accel::Hit;
+use crate::lanes::{dot3, map3, normalize_or_zero, F32x8, Real, LANES};
 use crate::scene::mesh::TriangleMesh;
 use crate::scene::unit_vector::triangle_normal;
 use crate::surface::SurfacePoint;
@@ -89,6 +90,174 @@ pub fn surface_point(mesh: &TriangleMesh, hit: &Hit, direction: Vec3, options: P
     }
 }
 
+/// [`surface_point`] of every hit among `hits` (ray `k` travelling along `direction(k)`),
+/// given to `out` as `(k, hit, point)` in the order of `k`: the surface points of a packet's hits, up
+/// to [`LANES`] at a time in [`F32x8`] lanes.
+///
+/// Why: after the BVH walk, a camera sample's own arithmetic — two square roots and two
+/// divisions for the normals, the interpolations, the smooth shadow origin — cost about as much
+/// as the walk itself, one hit at a time (docs/performance-log.md). In lanes each operation
+/// serves eight hits, and the vertex loads of eight hits are issued together.
+///
+/// Exactness: each lane runs [`surface_point`]'s operations in its order (glam's `Vec3`
+/// arithmetic is per component, its dot products summed x, y, z, no fused multiply-add), so a
+/// lane's point is `surface_point`'s to the bit. A lane that would need one of its fallbacks — a
+/// cross product whose squared length is not a normal f32, interpolated normals that cancel, a
+/// non-finite smooth origin — is recomputed by `surface_point` itself.
+#[inline(always)]
+pub fn surface_points(
+    mesh: &TriangleMesh,
+    hits: &[Option<Hit>],
+    direction: impl Fn(usize) -> Vec3,
+    options: PointOptions,
+    mut out: impl FnMut(usize, &Hit, SurfacePoint),
+) {
+    let mut lanes_of = |rays: &[usize]| {
+        let found = |i: usize| hits[rays[i.min(rays.len() - 1)]].as_ref().expect("a hit");
+        let points = PointLanes::of(mesh, found, options);
+        for (i, &k) in rays.iter().enumerate() {
+            let hit = found(i);
+            out(k, hit, points.point(i, mesh, hit, direction(k), options));
+        }
+    };
+    let (mut rays, mut count) = ([0usize; LANES], 0);
+    for k in (0..hits.len()).filter(|&k| hits[k].is_some()) {
+        rays[count] = k;
+        count += 1;
+        if count == LANES {
+            lanes_of(&rays);
+            count = 0;
+        }
+    }
+    if count > 0 {
+        lanes_of(&rays[..count]);
+    }
+}
+
+/// The positions, normals and shadow lifts of [`LANES`] hits (the last one repeated to fill
+/// the lanes), and which lanes need [`surface_point`]'s fallbacks.
+struct PointLanes {
+    position: [F32x8; 3],
+    geometric_normal: [F32x8; 3],
+    shading_normal: [F32x8; 3],
+    shadow_lift: F32x8,
+    /// Lanes whose values above are [`surface_point`]'s without a fallback.
+    plain: [bool; LANES],
+}
+
+impl PointLanes {
+    /// The lanes of the hits `hit(0)`, …, `hit(LANES − 1)`.
+    #[inline(always)]
+    fn of<'h>(mesh: &TriangleMesh, hit: impl Fn(usize) -> &'h Hit, options: PointOptions) -> PointLanes {
+        // The hits' vertices, gathered first (plain loops: `array::map` and `from_fn` closures
+        // are not always inlined): [corner][axis], a lane per hit.
+        let mut p = [[F32x8::zero(); 3]; 3];
+        let mut n = [[F32x8::zero(); 3]; 3];
+        let (mut b1, mut b2) = (F32x8::zero(), F32x8::zero());
+        for i in 0..LANES {
+            let h = hit(i);
+            (b1.0[i], b2.0[i]) = (h.b1, h.b2);
+            let corners = mesh.triangles[h.triangle as usize];
+            for (corner, &v) in corners.iter().enumerate() {
+                let (position, normal) = (mesh.positions[v as usize], mesh.normals[v as usize]);
+                for c in 0..3 {
+                    p[corner][c].0[i] = position[c];
+                    n[corner][c].0[i] = normal[c];
+                }
+            }
+        }
+        let b0 = F32x8::one() - b1 - b2;
+        let blend = |v: &[[F32x8; 3]; 3], c: usize| b0 * v[0][c] + b1 * v[1][c] + b2 * v[2][c];
+        let axes = [0, 1, 2];
+        let position = map3(axes, |c| blend(&p, c));
+        // `triangle_normal`'s common case: the cross product of the edges, normalised where its
+        // squared length is a normal f32.
+        let e1 = map3(axes, |c| p[1][c] - p[0][c]);
+        let e2 = map3(axes, |c| p[2][c] - p[0][c]);
+        let cross = [
+            e1[1] * e2[2] - e2[1] * e1[2],
+            e1[2] * e2[0] - e2[2] * e1[0],
+            e1[0] * e2[1] - e2[0] * e1[1],
+        ];
+        let squared = dot3(cross, cross);
+        let normal_length = squared.is_finite() & squared.ge(F32x8::splat(f32::MIN_POSITIVE));
+        let inv_length = squared.sqrt().recip();
+        let geometric_normal = map3(cross, |c| c * inv_length);
+        // The shading normal, where the interpolated normals do not cancel.
+        let blended = map3(axes, |c| blend(&n, c));
+        let shading_normal = normalize_or_zero(blended);
+        let rcp = dot3(blended, blended).sqrt().recip();
+        let shading_ok = rcp.is_finite() & rcp.gt(F32x8::zero());
+        let mut moved_ok = normal_length;
+        let shadow_lift = if options.smooth_shadow_origins {
+            // `smooth_origin`, lane by lane.
+            let mut moved = position;
+            for (v, b) in [b0, b1, b2].into_iter().enumerate() {
+                let below = dot3(map3(axes, |c| p[v][c] - position[c]), n[v]).max(F32x8::zero());
+                for c in 0..3 {
+                    moved[c] = moved[c] + (b * below) * n[v][c];
+                }
+            }
+            moved_ok = moved[0].is_finite() & moved[1].is_finite() & moved[2].is_finite();
+            dot3(map3(axes, |c| moved[c] - position[c]), geometric_normal)
+        } else {
+            F32x8::zero()
+        };
+        let plain = normal_length & shading_ok & moved_ok;
+        PointLanes {
+            position,
+            geometric_normal,
+            shading_normal,
+            shadow_lift,
+            plain: plain_lanes(plain),
+        }
+    }
+
+    /// Lane `i`'s surface point: [`surface_point`]'s, from the lanes or, for a lane that needs a
+    /// fallback, from `surface_point` itself.
+    #[inline(always)]
+    fn point(&self, i: usize, mesh: &TriangleMesh, hit: &Hit, direction: Vec3, options: PointOptions) -> SurfacePoint {
+        if !self.plain[i] {
+            return surface_point(mesh, hit, direction, options);
+        }
+        let lane = |v: &[F32x8; 3]| Vec3::new(v[0].0[i], v[1].0[i], v[2].0[i]);
+        let t = hit.triangle as usize;
+        let (mut uv, mut uv1) = Default::default();
+        if options.uvs {
+            let [i0, i1, i2] = mesh.triangles[t].map(|v| v as usize);
+            let (b1, b2) = (hit.b1, hit.b2);
+            let b0 = 1.0 - b1 - b2;
+            let interpolate = |uvs: &[Vec2]| b0 * uvs[i0] + b1 * uvs[i1] + b2 * uvs[i2];
+            if let Some(uvs) = &mesh.uvs {
+                uv = interpolate(uvs);
+            }
+            if let Some(uvs) = &mesh.uvs1 {
+                uv1 = interpolate(uvs);
+            }
+        }
+        SurfacePoint {
+            position: lane(&self.position),
+            shadow_lift: self.shadow_lift.0[i],
+            geometric_normal: lane(&self.geometric_normal),
+            shading_normal: lane(&self.shading_normal),
+            uv,
+            uv1,
+            material: mesh.material_of_triangle[t],
+            to_viewer: -direction,
+        }
+    }
+}
+
+/// The lanes of `mask` as booleans.
+#[inline(always)]
+fn plain_lanes(mask: crate::lanes::Mask8) -> [bool; LANES] {
+    let mut lanes = [false; LANES];
+    for (i, lane) in lanes.iter_mut().enumerate() {
+        *lane = mask.test(i);
+    }
+    lanes
+}
+
 /// `p` (barycentrics `b` of the triangle `vertices`) moved onto the smooth surface of the unit
 /// vertex `normals`: p + Σ b_i·max(0, (v_i − p)·n_i)·n_i, the barycentric blend of p's
 /// projections onto each vertex's tangent plane, taken only where p lies below it.
@@ -123,6 +292,99 @@ mod tests {
             Vec3::new(0.0, 0.0, 1.0),
         ];
         (v, v)
+    }
+
+    /// A torus with smooth normals, and triangles that take `surface_point`'s fallbacks: a
+    /// sliver whose cross product underflows, one whose squared cross product overflows, one
+    /// whose vertex normals cancel at its centre, one with zero normals, one with a vertex far
+    /// enough out for the smooth origin to overflow.
+    fn mesh_with_fallbacks() -> TriangleMesh {
+        let mut mesh = crate::scene::procedural::torus(1.0, 0.35, 24, 12).into_triangle_mesh();
+        let mut add = |p: [Vec3; 3], n: [Vec3; 3]| {
+            let first = mesh.positions.len() as u32;
+            mesh.positions.extend(p);
+            mesh.normals.extend(n);
+            mesh.triangles.push([first, first + 1, first + 2]);
+            mesh.material_of_triangle.push(0);
+        };
+        let (x, y, z) = (Vec3::X, Vec3::Y, Vec3::Z);
+        add([Vec3::ZERO, x * 1e-30, y * 1e-30], [z; 3]);
+        add([Vec3::ZERO, x * 1e30, y * 1e30], [z; 3]);
+        add([Vec3::ZERO, x, y], [z, -z, z]);
+        add([Vec3::ZERO, x, y], [Vec3::ZERO; 3]);
+        add([Vec3::ZERO, x * 3e38, y], [-x, x, z]);
+        mesh
+    }
+
+    #[test]
+    fn points_in_lanes_are_the_single_points_to_the_bit() {
+        let mesh = mesh_with_fallbacks();
+        let mut seed = 0x9e37_79b9_u32;
+        let mut unit = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed as f32 / u32::MAX as f32
+        };
+        // Every triangle, at random barycentrics and at its centre (where the cancelling normals
+        // cancel exactly), in packets of up to 16 rays with some misses among them.
+        let mut hits = Vec::new();
+        for t in 0..mesh.triangle_count() as u32 {
+            let (b1, b2) = (unit() * 0.5, unit() * 0.5);
+            hits.push(Some(Hit {
+                triangle: t,
+                t: 1.0,
+                b1,
+                b2,
+            }));
+            hits.push(Some(Hit {
+                triangle: t,
+                t: 1.0,
+                b1: 0.5,
+                b2: 0.0,
+            }));
+            if t % 3 == 0 {
+                hits.push(None);
+            }
+        }
+        let direction = |k: usize| Vec3::new(0.3, -0.5, -(k as f32 + 1.0)).normalize();
+        let bits = |p: &SurfacePoint| {
+            let v = |v: Vec3| v.to_array().map(f32::to_bits);
+            (
+                v(p.position),
+                p.shadow_lift.to_bits(),
+                v(p.geometric_normal),
+                v(p.shading_normal),
+            )
+        };
+        let mut fallbacks = 0;
+        for smooth_shadow_origins in [false, true] {
+            let options = PointOptions {
+                uvs: true,
+                smooth_shadow_origins,
+            };
+            for packet in hits.chunks(16) {
+                let mut seen = Vec::new();
+                surface_points(&mesh, packet, direction, options, |k, hit, point| {
+                    let single = surface_point(&mesh, hit, direction(k), options);
+                    assert_eq!(bits(&point), bits(&single), "hit {hit:?}: {point:?} against {single:?}");
+                    assert_eq!(
+                        (point.uv, point.material, point.to_viewer),
+                        (single.uv, single.material, single.to_viewer)
+                    );
+                    fallbacks += usize::from(
+                        point.geometric_normal == point.to_viewer || point.shading_normal == point.geometric_normal,
+                    );
+                    seen.push(k);
+                });
+                let want: Vec<usize> = (0..packet.len()).filter(|&k| packet[k].is_some()).collect();
+                assert_eq!(seen, want, "every hit once, in order");
+            }
+        }
+        assert!(
+            fallbacks >= 4,
+            "the degenerate triangles took their fallbacks ({fallbacks})"
+        );
     }
 
     #[test]
