@@ -16,6 +16,7 @@ use crate::accel::shadow::{Occluder, SceneExtent};
 use crate::accel::Bvh;
 use crate::film::sampler::Sequence;
 use crate::film::{sampler::pixel_offsets, PixelRect};
+use crate::lanes::{F32x8, LANES};
 use crate::plan::{Aov, RenderPlan};
 use crate::scene::camera::Camera;
 use crate::scene::Scene;
@@ -223,10 +224,16 @@ impl<'a> Context<'a> {
         let blocks = jobs.chunk_by(|a, b| block_of(a.film) == block_of(b.film));
         for (packet, group) in blocks.flat_map(|block| block.chunks(PACKET)).enumerate() {
             let n = group.len();
-            for (ray, job) in rays.iter_mut().zip(group) {
-                let uv = job.film / self.size;
-                let r = self.camera.ray(uv.x, uv.y);
-                *ray = (r.origin, r.direction, r.t_max);
+            // The camera rays eight at a time, each lane the single ray to the bit.
+            for (first, jobs) in (0..n).step_by(LANES).zip(group.chunks(LANES)) {
+                let film = |i: usize| jobs[i.min(jobs.len() - 1)].film / self.size;
+                let r = self
+                    .camera
+                    .rays(F32x8::from_fn(|i| film(i).x), F32x8::from_fn(|i| film(i).y));
+                for (i, ray) in rays[first..first + jobs.len()].iter_mut().enumerate() {
+                    let lane = |v: &[F32x8; 3]| Vec3::new(v[0].0[i], v[1].0[i], v[2].0[i]);
+                    *ray = (lane(&r.origin), lane(&r.direction), r.t_max.0[i]);
+                }
             }
             bvh.intersect_packet(&rays[..n], &mut hits[..n]);
             surface_points(

@@ -7,6 +7,8 @@
 
 use glam::Vec3;
 
+use crate::lanes::{dot3, map3, Real};
+
 /// Which image axis `fov` spans.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FovAxis {
@@ -51,6 +53,17 @@ pub struct CameraRay {
     pub direction: Vec3,
     /// Largest distance along `direction` that counts as a hit.
     pub t_max: f32,
+}
+
+/// Rays of [`Camera::rays`], one per lane of `R`: each coordinate in the lanes of `R`.
+#[derive(Clone, Copy, Debug)]
+pub struct CameraRays<R> {
+    /// Starts of the rays, per axis.
+    pub origin: [R; 3],
+    /// Unit directions, per axis.
+    pub direction: [R; 3],
+    /// Largest distances along `direction` that count as a hit.
+    pub t_max: R,
 }
 
 /// A camera bound to an image size, with its frame precomputed.
@@ -117,27 +130,53 @@ impl Camera {
     /// The ray through film point (u, v) ∈ [0, 1)², u to the right, v downwards.
     #[inline]
     pub fn ray(&self, u: f32, v: f32) -> CameraRay {
-        let sx = 1.0 - 2.0 * u; // along `left`
-        let sy = 1.0 - 2.0 * v; // along `up`
+        let r = self.rays(u, v);
+        CameraRay {
+            origin: Vec3::from_array(r.origin),
+            direction: Vec3::from_array(r.direction),
+            t_max: r.t_max,
+        }
+    }
+
+    /// [`Camera::ray`] of the film points in the lanes of `u` and `v` (one in a scalar, eight
+    /// in [`F32x8`](crate::lanes::F32x8)): the same operations lane by lane, as glam's `Vec3`
+    /// arithmetic does them per component, so every lane is the single ray to the bit.
+    #[inline(always)]
+    pub fn rays<R: Real>(&self, u: R, v: R) -> CameraRays<R> {
+        let sx = R::one() - R::lit(2.0) * u; // along `left`
+        let sy = R::one() - R::lit(2.0) * v; // along `up`
+        let axis = |a: Vec3| map3(a.to_array(), R::of);
+        let (left, up, forward, position) = (
+            axis(self.left),
+            axis(self.up),
+            axis(self.forward),
+            axis(self.spec.position),
+        );
+        let (near_clip, depth) = (self.spec.near_clip, self.spec.far_clip - self.spec.near_clip);
         match self.spec.projection {
             Projection::Perspective { .. } => {
-                let local = Vec3::new(sx * self.half_x, sy * self.half_y, 1.0).normalize();
-                let direction = local.x * self.left + local.y * self.up + local.z * self.forward;
-                let near = self.spec.near_clip / local.z;
-                CameraRay {
-                    origin: self.spec.position + direction * near,
+                let local = [sx * R::of(self.half_x), sy * R::of(self.half_y), R::one()];
+                let inv_length = dot3(local, local).sqrt().recip();
+                let local = map3(local, |c| c * inv_length);
+                let direction = map3([0, 1, 2], |c| {
+                    local[0] * left[c] + local[1] * up[c] + local[2] * forward[c]
+                });
+                let near = R::of(near_clip) / local[2];
+                CameraRays {
+                    origin: map3([0, 1, 2], |c| position[c] + direction[c] * near),
                     direction,
-                    t_max: (self.spec.far_clip - self.spec.near_clip) / local.z,
+                    t_max: R::of(depth) / local[2],
                 }
             }
-            Projection::Orthographic { .. } => CameraRay {
-                origin: self.spec.position
-                    + sx * self.half_x * self.left
-                    + sy * self.half_y * self.up
-                    + self.spec.near_clip * self.forward,
-                direction: self.forward,
-                t_max: self.spec.far_clip - self.spec.near_clip,
-            },
+            Projection::Orthographic { .. } => {
+                let (x, y) = (sx * R::of(self.half_x), sy * R::of(self.half_y));
+                let near = R::of(near_clip);
+                CameraRays {
+                    origin: map3([0, 1, 2], |c| position[c] + x * left[c] + y * up[c] + near * forward[c]),
+                    direction: forward,
+                    t_max: R::of(depth),
+                }
+            }
         }
     }
 
@@ -169,6 +208,89 @@ mod tests {
             projection,
             near_clip: 0.01,
             far_clip: 1e4,
+        }
+    }
+
+    /// The ray as glam's `Vec3` arithmetic writes it (what `Camera::ray` computed before it had
+    /// lanes): the reference for the bits of every lane.
+    fn glam_ray(c: &Camera, u: f32, v: f32) -> CameraRay {
+        let (sx, sy) = (1.0 - 2.0 * u, 1.0 - 2.0 * v);
+        let s = &c.spec;
+        match s.projection {
+            Projection::Perspective { .. } => {
+                let local = Vec3::new(sx * c.half_x, sy * c.half_y, 1.0).normalize();
+                let direction = local.x * c.left + local.y * c.up + local.z * c.forward;
+                let near = s.near_clip / local.z;
+                CameraRay {
+                    origin: s.position + direction * near,
+                    direction,
+                    t_max: (s.far_clip - s.near_clip) / local.z,
+                }
+            }
+            Projection::Orthographic { .. } => CameraRay {
+                origin: s.position + sx * c.half_x * c.left + sy * c.half_y * c.up + s.near_clip * c.forward,
+                direction: c.forward,
+                t_max: s.far_clip - s.near_clip,
+            },
+        }
+    }
+
+    #[test]
+    fn rays_in_lanes_are_the_single_rays_to_the_bit() {
+        use crate::lanes::F32x8;
+        let projections = [
+            Projection::Perspective {
+                fov_degrees: 39.3,
+                fov_axis: FovAxis::X,
+            },
+            Projection::Perspective {
+                fov_degrees: 70.0,
+                fov_axis: FovAxis::Y,
+            },
+            Projection::Orthographic { scale: 2.5 },
+        ];
+        let mut seed = 0x2545_f491_u32;
+        let mut unit = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed as f32 / u32::MAX as f32
+        };
+        for projection in projections {
+            for far_clip in [1e4, f32::INFINITY] {
+                let spec = CameraSpec {
+                    position: Vec3::new(-3.7, 12.25, 0.3),
+                    look_at: Vec3::new(0.4, -1.0, 2.0),
+                    far_clip,
+                    ..spec(projection)
+                };
+                let camera = Camera::new(spec, 640, 360).unwrap();
+                for _ in 0..200 {
+                    let (mut u, mut v) = (F32x8::splat(0.0), F32x8::splat(0.0));
+                    for i in 0..8 {
+                        (u.0[i], v.0[i]) = (unit(), unit());
+                    }
+                    let lanes = camera.rays(u, v);
+                    for i in 0..8 {
+                        let want = glam_ray(&camera, u.0[i], v.0[i]);
+                        let bits = |r: CameraRay| {
+                            (
+                                r.origin.to_array().map(f32::to_bits),
+                                r.direction.to_array().map(f32::to_bits),
+                                r.t_max.to_bits(),
+                            )
+                        };
+                        let lane = |a: [F32x8; 3]| Vec3::new(a[0].0[i], a[1].0[i], a[2].0[i]);
+                        let got = CameraRay {
+                            origin: lane(lanes.origin),
+                            direction: lane(lanes.direction),
+                            t_max: lanes.t_max.0[i],
+                        };
+                        assert_eq!(bits(got), bits(want), "{projection:?} at ({}, {})", u.0[i], v.0[i]);
+                        assert_eq!(bits(camera.ray(u.0[i], v.0[i])), bits(want));
+                    }
+                }
+            }
         }
     }
 
