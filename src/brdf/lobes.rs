@@ -38,6 +38,45 @@ pub fn blinn_phong<R: Real>(ks: R, n_dot_h: R, sin2_h: R, shininess: R) -> R {
     ks * R::select(shininess.eq(R::zero()), R::one(), lobe)
 }
 
+/// The largest exponent [`blinn_phong_whole`] takes: its power is then at most eight squarings
+/// and eight products.
+pub const MAX_WHOLE_EXPONENT: u32 = 256;
+
+/// `shininess` as the exponent of [`blinn_phong_whole`], when it is a whole number from 1 to
+/// [`MAX_WHOLE_EXPONENT`] (the usual Blinn-Phong exponents: 1, 8, 32, 100, …); `None` otherwise
+/// (fractions, 0, larger exponents, NaN).
+#[inline(always)]
+pub fn whole_exponent(shininess: f32) -> Option<u32> {
+    let whole = (1.0..=MAX_WHOLE_EXPONENT as f32).contains(&shininess) && shininess.fract() == 0.0;
+    whole.then_some(shininess as u32)
+}
+
+/// [`blinn_phong`] for a whole exponent 1 ≤ s ≤ [`MAX_WHOLE_EXPONENT`] ([`whole_exponent`]):
+/// f_s = k_s c^s with c = n·ω_h clamped to [0, 1], the power taken by multiplication (binary
+/// powering: s = 1 is c itself, as numpy's `c ** 1`).
+///
+/// Why: `blinn_phong`'s exp and ln_1p cost more than the rest of a Lambert + Blinn-Phong
+/// evaluation together (the normal-map `tp` preset's s = 1 took them on every pixel). The
+/// near-peak form matters where the lobe is narrower than the rounding of c (exponents of
+/// thousands and more); here c^s from the rounded c is within about s rounding errors of c's
+/// own (f32: 256 · 6e-8 = 1.5e-5 relative at most, against the validation's 1e-3).
+#[inline(always)]
+pub fn blinn_phong_whole<R: Real>(ks: R, n_dot_h: R, exponent: u32) -> R {
+    debug_assert!((1..=MAX_WHOLE_EXPONENT).contains(&exponent));
+    let mut base = n_dot_h.max(R::zero()).min(R::one());
+    let (mut power, mut e) = (R::one(), exponent);
+    loop {
+        if e & 1 == 1 {
+            power = power * base;
+        }
+        e >>= 1;
+        if e == 0 {
+            return ks * power;
+        }
+        base = base * base;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -60,6 +99,44 @@ mod tests {
             })
             .sum();
         assert!((sum - 0.6).abs() < 1e-6, "{sum}");
+    }
+
+    #[test]
+    fn whole_exponents_are_recognised_and_others_are_not() {
+        assert_eq!(whole_exponent(1.0), Some(1));
+        assert_eq!(whole_exponent(32.0), Some(32));
+        assert_eq!(whole_exponent(256.0), Some(256));
+        for s in [0.0, 0.5, 1.5, 31.999, 257.0, 1e6, -2.0, f32::NAN, f32::INFINITY] {
+            assert_eq!(whole_exponent(s), None, "{s}");
+        }
+    }
+
+    #[test]
+    fn whole_powers_agree_with_the_general_lobe() {
+        // Every whole exponent, cosines across [0, 1] and at the peak, both precisions: within a
+        // few rounding errors per squaring of the exp/ln_1p and powf forms.
+        for e in 1..=MAX_WHOLE_EXPONENT {
+            for k in 0..=200 {
+                let c = 1.0 - (k as f64 / 200.0).powi(3);
+                let s2 = (1.0 - c) * (1.0 + c);
+                let (want, got) = (blinn_phong(0.7f64, c, s2, e as f64), blinn_phong_whole(0.7f64, c, e));
+                assert!(
+                    (got - want).abs() <= 1e-13 * want.max(1e-300),
+                    "f64 s = {e}, c = {c}: {got} {want}"
+                );
+                let (c32, s2_32) = (c as f32, s2 as f32);
+                let want32 = blinn_phong(0.7f32, c32, s2_32, e as f32) as f64;
+                let got32 = blinn_phong_whole(0.7f32, c32, e) as f64;
+                let bound = 4e-7 * e as f64 * want32 + 1e-37;
+                assert!(
+                    (got32 - want32).abs() <= bound,
+                    "f32 s = {e}, c = {c32}: {got32} {want32}"
+                );
+            }
+            assert_eq!(blinn_phong_whole(0.7f64, 1.0, e), 0.7, "the peak");
+            assert_eq!(blinn_phong_whole(0.7f64, -0.2, e), 0.0, "below the horizon");
+        }
+        assert_eq!(blinn_phong_whole(1.0f64, 0.3, 1), 0.3, "s = 1 is the cosine itself");
     }
 
     #[test]
