@@ -27,5 +27,7 @@ pub mod reports;
 pub mod scene;
 pub mod shading;
 pub mod surface;
+#[cfg(test)]
+mod test_random;
 pub mod texture;
 pub mod validation;

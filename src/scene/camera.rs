@@ -249,13 +249,7 @@ mod tests {
             },
             Projection::Orthographic { scale: 2.5 },
         ];
-        let mut seed = 0x2545_f491_u32;
-        let mut unit = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            seed as f32 / u32::MAX as f32
-        };
+        let mut random = crate::test_random::XorShift32::new(0x2545_f491);
         for projection in projections {
             for far_clip in [1e4, f32::INFINITY] {
                 let spec = CameraSpec {
@@ -268,7 +262,7 @@ mod tests {
                 for _ in 0..200 {
                     let (mut u, mut v) = (F32x8::splat(0.0), F32x8::splat(0.0));
                     for i in 0..8 {
-                        (u.0[i], v.0[i]) = (unit(), unit());
+                        (u.0[i], v.0[i]) = (random.unit(), random.unit());
                     }
                     let lanes = camera.rays(u, v);
                     for i in 0..8 {

@@ -50,14 +50,9 @@ mod tests {
 
     #[test]
     fn ordinary_vectors_keep_the_bits_of_normalize() {
-        let mut x = 0x2545_f491_u32;
+        let mut random = crate::test_random::XorShift32::new(0x2545_f491);
         for _ in 0..10_000 {
-            let mut next = || {
-                x ^= x << 13;
-                x ^= x >> 17;
-                x ^= x << 5;
-                (x as f32 / u32::MAX as f32 - 0.5) * 1e3
-            };
+            let mut next = || (random.unit() - 0.5) * 1e3;
             let v = Vec3::new(next(), next(), next());
             assert_eq!(unit_or_zero(v), v.normalize_or_zero(), "{v}");
             let [a, b, c] = [v, Vec3::new(next(), next(), next()), Vec3::new(next(), next(), next())];

@@ -68,16 +68,7 @@ pub fn surface_point(mesh: &TriangleMesh, hit: &Hit, direction: Vec3, options: P
     } else {
         0.0
     };
-    let (mut uv, mut uv1) = Default::default();
-    if options.uvs {
-        let interpolate = |uvs: &[Vec2]| b0 * uvs[i0] + b1 * uvs[i1] + b2 * uvs[i2];
-        if let Some(uvs) = &mesh.uvs {
-            uv = interpolate(uvs);
-        }
-        if let Some(uvs) = &mesh.uvs1 {
-            uv1 = interpolate(uvs);
-        }
-    }
+    let (uv, uv1) = texture_coordinates(mesh, [i0, i1, i2], [b0, b1, b2], options);
     SurfacePoint {
         position,
         shadow_lift,
@@ -88,6 +79,17 @@ pub fn surface_point(mesh: &TriangleMesh, hit: &Hit, direction: Vec3, options: P
         material: mesh.material_of_triangle[t],
         to_viewer,
     }
+}
+
+/// Both sets of texture coordinates at barycentrics `b` of the triangle with vertices `corners`,
+/// where the plan asks for them (zero otherwise, and for a set the mesh lacks).
+#[inline(always)]
+fn texture_coordinates(mesh: &TriangleMesh, corners: [usize; 3], b: [f32; 3], options: PointOptions) -> (Vec2, Vec2) {
+    let interpolate = |uvs: &Option<Vec<Vec2>>| match uvs {
+        Some(uvs) if options.uvs => b[0] * uvs[corners[0]] + b[1] * uvs[corners[1]] + b[2] * uvs[corners[2]],
+        _ => Vec2::ZERO,
+    };
+    (interpolate(&mesh.uvs), interpolate(&mesh.uvs1))
 }
 
 /// [`surface_point`] of every hit among `hits` (ray `k` travelling along `direction(k)`),
@@ -222,19 +224,9 @@ impl PointLanes {
         }
         let lane = |v: &[F32x8; 3]| Vec3::new(v[0].0[i], v[1].0[i], v[2].0[i]);
         let t = hit.triangle as usize;
-        let (mut uv, mut uv1) = Default::default();
-        if options.uvs {
-            let [i0, i1, i2] = mesh.triangles[t].map(|v| v as usize);
-            let (b1, b2) = (hit.b1, hit.b2);
-            let b0 = 1.0 - b1 - b2;
-            let interpolate = |uvs: &[Vec2]| b0 * uvs[i0] + b1 * uvs[i1] + b2 * uvs[i2];
-            if let Some(uvs) = &mesh.uvs {
-                uv = interpolate(uvs);
-            }
-            if let Some(uvs) = &mesh.uvs1 {
-                uv1 = interpolate(uvs);
-            }
-        }
+        let corners = mesh.triangles[t].map(|v| v as usize);
+        let (b1, b2) = (hit.b1, hit.b2);
+        let (uv, uv1) = texture_coordinates(mesh, corners, [1.0 - b1 - b2, b1, b2], options);
         SurfacePoint {
             position: lane(&self.position),
             shadow_lift: self.shadow_lift.0[i],
@@ -319,18 +311,12 @@ mod tests {
     #[test]
     fn points_in_lanes_are_the_single_points_to_the_bit() {
         let mesh = mesh_with_fallbacks();
-        let mut seed = 0x9e37_79b9_u32;
-        let mut unit = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            seed as f32 / u32::MAX as f32
-        };
+        let mut random = crate::test_random::XorShift32::new(0x9e37_79b9);
         // Every triangle, at random barycentrics and at its centre (where the cancelling normals
         // cancel exactly), in packets of up to 16 rays with some misses among them.
         let mut hits = Vec::new();
         for t in 0..mesh.triangle_count() as u32 {
-            let (b1, b2) = (unit() * 0.5, unit() * 0.5);
+            let (b1, b2) = (random.unit() * 0.5, random.unit() * 0.5);
             hits.push(Some(Hit {
                 triangle: t,
                 t: 1.0,
