@@ -97,8 +97,8 @@ fn texture_coordinates(mesh: &TriangleMesh, corners: [usize; 3], b: [f32; 3], op
 /// to [`LANES`] at a time in [`F32x8`] lanes.
 ///
 /// Why: after the BVH walk, a camera sample's own arithmetic — two square roots and two
-/// divisions for the normals, the interpolations, the smooth shadow origin — cost about as much
-/// as the walk itself, one hit at a time (docs/performance-log.md). In lanes each operation
+/// divisions for the normals, the interpolations, the smooth shadow origin — cost about half as
+/// much as the walk itself, one hit at a time (docs/performance-log.md). In lanes each operation
 /// serves eight hits, and the vertex loads of eight hits are issued together.
 ///
 /// Exactness: each lane runs [`surface_point`]'s operations in its order (glam's `Vec3`
