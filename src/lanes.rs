@@ -70,6 +70,12 @@ pub fn map3<T: Copy, U>(v: [T; 3], f: impl Fn(T) -> U) -> [U; 3] {
     [f(v[0]), f(v[1]), f(v[2])]
 }
 
+/// Lane `i` of a 3-vector whose coordinates are in [`F32x8`] lanes, as a `Vec3`.
+#[inline(always)]
+pub fn lane_vec3(v: &[F32x8; 3], i: usize) -> glam::Vec3 {
+    glam::Vec3::new(v[0].0[i], v[1].0[i], v[2].0[i])
+}
+
 /// a·b of two 3-vectors, summed x, y, z in that order (as glam's `Vec3::dot`, so lanes and the
 /// f32 code agree to the bit).
 #[inline(always)]

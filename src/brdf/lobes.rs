@@ -19,51 +19,44 @@ pub fn lambert<R: Real>(kd: R, albedo: R) -> R {
 /// Source: J. F. Blinn, "Models of Light Reflection for Computer Synthesized Pictures",
 /// SIGGRAPH 1977 (the half-vector form of Phong's cosine power).
 ///
-/// Near the peak (cos²θ_h > 1/2) the power is evaluated as exp(s/2 · ln(1 − sin²θ_h)) with
-/// ln_1p, from the sin²θ_h of [`LocalDots`]: with s = 1e6 the lobe is 1e-3 rad wide, where
-/// n·ω_h differs from 1 by 5e-7 and a power of the rounded cosine would be off by several
-/// percent in f32. Elsewhere c itself is accurate and c^s is used.
+/// A whole exponent from 1 to [`MAX_WHOLE_EXPONENT`] (the usual ones: 1, 8, 32, 100, …) takes
+/// its power by multiplication (binary powering; s = 1 is c itself, as numpy's `c ** 1`): exp
+/// and ln_1p cost more than the rest of a Lambert + Blinn-Phong evaluation together, and from
+/// the rounded c such a power is within about s rounding errors of c's own (f32: 256 · 6e-8 =
+/// 1.5e-5 relative at most). Any other exponent, near the peak (cos²θ_h > 1/2), is evaluated as
+/// exp(s/2 · ln(1 − sin²θ_h)) with ln_1p, from the sin²θ_h of [`LocalDots`]: with s = 1e6 the
+/// lobe is 1e-3 rad wide, where n·ω_h differs from 1 by 5e-7 and a power of the rounded cosine
+/// would be off by several percent in f32. Elsewhere c itself is accurate and c^s is used.
+///
+/// The exponent is a material's constant, the same in every lane: which form is taken is decided
+/// once per call, not per lane.
 ///
 /// [`LocalDots`]: super::LocalDots
 #[inline(always)]
-pub fn blinn_phong<R: Real>(ks: R, n_dot_h: R, sin2_h: R, shininess: R) -> R {
+pub fn blinn_phong<R: Real>(ks: R, n_dot_h: R, sin2_h: R, shininess: f32) -> R {
     let c = n_dot_h.max(R::zero()).min(R::one());
-    let s2 = sin2_h.max(R::zero()).min(R::one());
-    let near_peak = s2.lt(R::lit(0.5)) & c.gt(R::zero());
-    let lobe = R::choose(
-        near_peak,
-        || (R::lit(0.5) * shininess * (-s2).ln_1p()).exp(),
-        || c.powf(shininess),
-    );
-    ks * R::select(shininess.eq(R::zero()), R::one(), lobe)
+    ks * match whole_exponent(shininess) {
+        Some(e) => whole_power(c, e),
+        None => logarithmic_lobe(c, sin2_h, R::of(shininess)),
+    }
 }
 
-/// The largest exponent [`blinn_phong_whole`] takes: its power is then at most eight squarings
-/// and eight products.
+/// The largest exponent [`blinn_phong`] takes its power of by multiplication: at most eight
+/// squarings and eight products.
 pub const MAX_WHOLE_EXPONENT: u32 = 256;
 
-/// `shininess` as the exponent of [`blinn_phong_whole`], when it is a whole number from 1 to
-/// [`MAX_WHOLE_EXPONENT`] (the usual Blinn-Phong exponents: 1, 8, 32, 100, …); `None` otherwise
+/// `shininess` as a whole exponent from 1 to [`MAX_WHOLE_EXPONENT`]; `None` otherwise
 /// (fractions, 0, larger exponents, NaN).
 #[inline(always)]
-pub fn whole_exponent(shininess: f32) -> Option<u32> {
-    let whole = (1.0..=MAX_WHOLE_EXPONENT as f32).contains(&shininess) && shininess.fract() == 0.0;
-    whole.then_some(shininess as u32)
+fn whole_exponent(shininess: f32) -> Option<u32> {
+    // `as` saturates (NaN → 0): only a whole number in range converts back to itself.
+    let e = shininess as u32;
+    ((1..=MAX_WHOLE_EXPONENT).contains(&e) && e as f32 == shininess).then_some(e)
 }
 
-/// [`blinn_phong`] for a whole exponent 1 ≤ s ≤ [`MAX_WHOLE_EXPONENT`] ([`whole_exponent`]):
-/// f_s = k_s c^s with c = n·ω_h clamped to [0, 1], the power taken by multiplication (binary
-/// powering: s = 1 is c itself, as numpy's `c ** 1`).
-///
-/// Why: `blinn_phong`'s exp and ln_1p cost more than the rest of a Lambert + Blinn-Phong
-/// evaluation together (the normal-map `tp` preset's s = 1 took them on every pixel). The
-/// near-peak form matters where the lobe is narrower than the rounding of c (exponents of
-/// thousands and more); here c^s from the rounded c is within about s rounding errors of c's
-/// own (f32: 256 · 6e-8 = 1.5e-5 relative at most, against the validation's 1e-3).
+/// c^`exponent` by binary powering (`exponent` ≥ 1).
 #[inline(always)]
-pub fn blinn_phong_whole<R: Real>(ks: R, n_dot_h: R, exponent: u32) -> R {
-    debug_assert!((1..=MAX_WHOLE_EXPONENT).contains(&exponent));
-    let mut base = n_dot_h.max(R::zero()).min(R::one());
+fn whole_power<R: Real>(mut base: R, exponent: u32) -> R {
     let (mut power, mut e) = (R::one(), exponent);
     loop {
         if e & 1 == 1 {
@@ -71,10 +64,23 @@ pub fn blinn_phong_whole<R: Real>(ks: R, n_dot_h: R, exponent: u32) -> R {
         }
         e >>= 1;
         if e == 0 {
-            return ks * power;
+            return power;
         }
         base = base * base;
     }
+}
+
+/// c^s for any exponent s ≥ 0, through ln_1p of sin²θ_h near the peak (0^0 = 1).
+#[inline(always)]
+fn logarithmic_lobe<R: Real>(c: R, sin2_h: R, shininess: R) -> R {
+    let s2 = sin2_h.max(R::zero()).min(R::one());
+    let near_peak = s2.lt(R::lit(0.5)) & c.gt(R::zero());
+    let lobe = R::choose(
+        near_peak,
+        || (R::lit(0.5) * shininess * (-s2).ln_1p()).exp(),
+        || c.powf(shininess),
+    );
+    R::select(shininess.eq(R::zero()), R::one(), lobe)
 }
 
 #[cfg(test)]
@@ -119,24 +125,24 @@ mod tests {
             for k in 0..=200 {
                 let c = 1.0 - (k as f64 / 200.0).powi(3);
                 let s2 = (1.0 - c) * (1.0 + c);
-                let (want, got) = (blinn_phong(0.7f64, c, s2, e as f64), blinn_phong_whole(0.7f64, c, e));
+                let (want, got) = (logarithmic_lobe(c, s2, e as f64), whole_power(c, e));
                 assert!(
                     (got - want).abs() <= 1e-13 * want.max(1e-300),
                     "f64 s = {e}, c = {c}: {got} {want}"
                 );
                 let (c32, s2_32) = (c as f32, s2 as f32);
-                let want32 = blinn_phong(0.7f32, c32, s2_32, e as f32) as f64;
-                let got32 = blinn_phong_whole(0.7f32, c32, e) as f64;
+                let want32 = logarithmic_lobe(c32, s2_32, e as f32) as f64;
+                let got32 = whole_power(c32, e) as f64;
                 let bound = 4e-7 * e as f64 * want32 + 1e-37;
                 assert!(
                     (got32 - want32).abs() <= bound,
                     "f32 s = {e}, c = {c32}: {got32} {want32}"
                 );
             }
-            assert_eq!(blinn_phong_whole(0.7f64, 1.0, e), 0.7, "the peak");
-            assert_eq!(blinn_phong_whole(0.7f64, -0.2, e), 0.0, "below the horizon");
+            assert_eq!(blinn_phong(0.7f64, 1.0, 0.0, e as f32), 0.7, "the peak");
+            assert_eq!(blinn_phong(0.7f64, -0.2, 0.96, e as f32), 0.0, "below the horizon");
         }
-        assert_eq!(blinn_phong_whole(1.0f64, 0.3, 1), 0.3, "s = 1 is the cosine itself");
+        assert_eq!(blinn_phong(1.0f64, 0.3, 0.91, 1.0), 0.3, "s = 1 is the cosine itself");
     }
 
     #[test]

@@ -23,7 +23,7 @@ pub use fresnel::{
     fresnel_conductor, fresnel_conductor_rgb, fresnel_schlick, fresnel_schlick_sg, schlick_f0_dielectric, FresnelTerm,
     MAX_CONDUCTOR_INDEX,
 };
-pub use lobes::{blinn_phong, blinn_phong_whole, lambert, whole_exponent, MAX_WHOLE_EXPONENT};
+pub use lobes::{blinn_phong, lambert, MAX_WHOLE_EXPONENT};
 pub use masking::{
     schlick_k_beckmann, schlick_k_karis, v_schlick, v_smith_ggx, v_smith_ggx_correlated, MaskingShadowing,
 };

@@ -8,7 +8,7 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::brdf::{blinn_phong, blinn_phong_whole, lambert, whole_exponent, LocalDots};
+use crate::brdf::{blinn_phong, lambert, LocalDots};
 
 use crate::lanes::{map3, Real};
 use crate::texture::{ColorSpace, TextureImage, TextureRef};
@@ -239,11 +239,7 @@ impl PointBrdf {
         match &self.model {
             BrdfModel::Lambert => d,
             BrdfModel::BlinnPhong(bp) => {
-                let ks = R::of(bp.ks);
-                let s = match whole_exponent(bp.shininess) {
-                    Some(e) => blinn_phong_whole(ks, dots.n_dot_h, e),
-                    None => blinn_phong(ks, dots.n_dot_h, dots.sin2_h, R::of(bp.shininess)),
-                };
+                let s = blinn_phong(R::of(bp.ks), dots.n_dot_h, dots.sin2_h, bp.shininess);
                 map3([0, 1, 2], |c| d[c] + s * R::of(bp.color[c]))
             }
             BrdfModel::CookTorrance(ct) => {

@@ -16,7 +16,7 @@ use crate::accel::shadow::{Occluder, SceneExtent};
 use crate::accel::Bvh;
 use crate::film::sampler::Sequence;
 use crate::film::{sampler::pixel_offsets, PixelRect};
-use crate::lanes::{F32x8, LANES};
+use crate::lanes::{lane_vec3, F32x8, LANES};
 use crate::plan::{Aov, RenderPlan};
 use crate::scene::camera::Camera;
 use crate::scene::Scene;
@@ -231,8 +231,7 @@ impl<'a> Context<'a> {
                     .camera
                     .rays(F32x8::from_fn(|i| film(i).x), F32x8::from_fn(|i| film(i).y));
                 for (i, ray) in rays[first..first + jobs.len()].iter_mut().enumerate() {
-                    let lane = |v: &[F32x8; 3]| Vec3::new(v[0].0[i], v[1].0[i], v[2].0[i]);
-                    *ray = (lane(&r.origin), lane(&r.direction), r.t_max.0[i]);
+                    *ray = (lane_vec3(&r.origin, i), lane_vec3(&r.direction, i), r.t_max.0[i]);
                 }
             }
             bvh.intersect_packet(&rays[..n], &mut hits[..n]);

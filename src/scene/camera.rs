@@ -274,10 +274,10 @@ mod tests {
                                 r.t_max.to_bits(),
                             )
                         };
-                        let lane = |a: [F32x8; 3]| Vec3::new(a[0].0[i], a[1].0[i], a[2].0[i]);
+
                         let got = CameraRay {
-                            origin: lane(lanes.origin),
-                            direction: lane(lanes.direction),
+                            origin: crate::lanes::lane_vec3(&lanes.origin, i),
+                            direction: crate::lanes::lane_vec3(&lanes.direction, i),
                             t_max: lanes.t_max.0[i],
                         };
                         assert_eq!(bits(got), bits(want), "{projection:?} at ({}, {})", u.0[i], v.0[i]);

@@ -19,7 +19,7 @@
 use glam::{Vec2, Vec3};
 
 use crate::accel::Hit;
-use crate::lanes::{dot3, map3, normalize_or_zero, F32x8, Real, LANES};
+use crate::lanes::{dot3, lane_vec3, map3, F32x8, Real, LANES};
 use crate::scene::mesh::TriangleMesh;
 use crate::scene::unit_vector::triangle_normal;
 use crate::surface::SurfacePoint;
@@ -187,9 +187,10 @@ impl PointLanes {
         let geometric_normal = map3(cross, |c| c * inv_length);
         // The shading normal, where the interpolated normals do not cancel.
         let blended = map3(axes, |c| blend(&n, c));
-        let shading_normal = normalize_or_zero(blended);
+        // `normalize_or_zero`'s v · (1/√(v·v)); its zero case is a fallback lane.
         let rcp = dot3(blended, blended).sqrt().recip();
         let shading_ok = rcp.is_finite() & rcp.gt(F32x8::zero());
+        let shading_normal = map3(blended, |c| c * rcp);
         let mut moved_ok = normal_length;
         let shadow_lift = if options.smooth_shadow_origins {
             // `smooth_origin`, lane by lane.
@@ -222,16 +223,15 @@ impl PointLanes {
         if !self.plain[i] {
             return surface_point(mesh, hit, direction, options);
         }
-        let lane = |v: &[F32x8; 3]| Vec3::new(v[0].0[i], v[1].0[i], v[2].0[i]);
         let t = hit.triangle as usize;
         let corners = mesh.triangles[t].map(|v| v as usize);
         let (b1, b2) = (hit.b1, hit.b2);
         let (uv, uv1) = texture_coordinates(mesh, corners, [1.0 - b1 - b2, b1, b2], options);
         SurfacePoint {
-            position: lane(&self.position),
+            position: lane_vec3(&self.position, i),
             shadow_lift: self.shadow_lift.0[i],
-            geometric_normal: lane(&self.geometric_normal),
-            shading_normal: lane(&self.shading_normal),
+            geometric_normal: lane_vec3(&self.geometric_normal, i),
+            shading_normal: lane_vec3(&self.shading_normal, i),
             uv,
             uv1,
             material: mesh.material_of_triangle[t],

@@ -81,18 +81,15 @@ impl MitsubaRunner {
     fn render(&self, xml_files: &[PathBuf], out: &Path) -> InputResult<MitsubaTiming> {
         let mut command = Command::new(&self.python);
         command.arg(&self.script).arg("--out").arg(out).args(xml_files);
-        let output = match self.timeout {
-            None => command.output().map(Some),
-            Some(limit) => output_within(command, limit),
-        }
-        .map_err(|e| InputError::new(&self.python, format!("cannot run: {e}")))?
-        .ok_or_else(|| {
-            let limit = self.timeout.unwrap_or_default().as_secs_f64();
-            InputError::new(
-                &xml_files[0],
-                format!("Mitsuba did not finish within {limit} s: stopped"),
-            )
-        })?;
+        let output = output_within(command, self.timeout)
+            .map_err(|e| InputError::new(&self.python, format!("cannot run: {e}")))?
+            .ok_or_else(|| {
+                let limit = self.timeout.unwrap_or_default().as_secs_f64();
+                InputError::new(
+                    &xml_files[0],
+                    format!("Mitsuba did not finish within {limit} s: stopped"),
+                )
+            })?;
         let stdout = String::from_utf8_lossy(&output.stdout);
         if !output.status.success() {
             let stderr = String::from_utf8_lossy(&output.stderr);
@@ -108,9 +105,10 @@ impl MitsubaRunner {
     }
 }
 
-/// `command`'s output, or `None` if it ran longer than `limit` (it is then killed). Its
-/// standard output and error are read while it runs, so that a full pipe cannot stall it.
-fn output_within(mut command: Command, limit: Duration) -> std::io::Result<Option<Output>> {
+/// `command`'s output, or `None` if it ran longer than `limit` (it is then killed; no limit:
+/// it runs to its end). Its standard output and error are read while it runs, so that a full
+/// pipe cannot stall it.
+fn output_within(mut command: Command, limit: Option<Duration>) -> std::io::Result<Option<Output>> {
     let mut child = command.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn()?;
     fn drain(pipe: Option<impl Read + Send + 'static>) -> std::thread::JoinHandle<Vec<u8>> {
         std::thread::spawn(move || {
@@ -123,17 +121,22 @@ fn output_within(mut command: Command, limit: Duration) -> std::io::Result<Optio
     }
     let stdout = drain(child.stdout.take());
     let stderr = drain(child.stderr.take());
-    let deadline = Instant::now() + limit;
-    let status = loop {
-        if let Some(status) = child.try_wait()? {
-            break status;
+    let status = match limit {
+        None => child.wait()?,
+        Some(limit) => {
+            let deadline = Instant::now() + limit;
+            loop {
+                if let Some(status) = child.try_wait()? {
+                    break status;
+                }
+                if Instant::now() >= deadline {
+                    let _ = child.kill();
+                    let _ = child.wait();
+                    return Ok(None);
+                }
+                std::thread::sleep(Duration::from_millis(10));
+            }
         }
-        if Instant::now() >= deadline {
-            let _ = child.kill();
-            let _ = child.wait();
-            return Ok(None);
-        }
-        std::thread::sleep(Duration::from_millis(10));
     };
     Ok(Some(Output {
         status,

@@ -69,7 +69,7 @@ fn value<R: Scalar>(e: &Eval) -> R {
         Eval::SchlickSg(f0, c) => fresnel_schlick_sg(r(*f0), r(*c)),
         Eval::F0(ior) => schlick_f0_dielectric(r(*ior)),
         Eval::Conductor(c, eta, k) => fresnel_conductor(r(*c), r(*eta), r(*k)),
-        Eval::BlinnPhong(c, s2, s) => blinn_phong(R::one(), r(*c), r(*s2), r(*s)),
+        Eval::BlinnPhong(c, s2, s) => blinn_phong(R::one(), r(*c), r(*s2), *s as f32),
         Eval::Lambert(kd, albedo) => lambert(r(*kd), r(*albedo)),
         Eval::Material(m, n, wi, wo) => {
             match LocalDots::from_unit_vectors(n.map(r::<R>), wi.map(r::<R>), wo.map(r::<R>)) {
