@@ -1,5 +1,6 @@
-//! Acceleration: a BVH over the scene's triangles — built by obvhs, traversed by pointshade as a
-//! 4-wide SIMD tree ([`wide`]) with a watertight ray/triangle test ([`triangle`]).
+//! Acceleration: a BVH over the scene's triangles — built by binned SAH straight into a 4-wide
+//! SIMD tree ([`binned`]; obvhs's PLOC presets, collapsed by [`wide`], stay to compare with),
+//! traversed with a watertight ray/triangle test ([`triangle`]).
 //!
 //! Choices that shape this module:
 //! - **Power-of-two rescaling.** The BVH lives in "BVH space" = world × 2^e, with e chosen so the
@@ -8,13 +9,18 @@
 //!   floating point; distances come back divided by the same factor.
 //! - **Leaf-ordered triangles.** Triangle vertices are copied into the leaves' SIMD quads in
 //!   traversal order, so traversal reads memory linearly and needs no index indirection.
-//! - **Bounded depth.** Where PLOC degenerates (boxes that all overlap, as a fan's do) the tree is
-//!   built balanced instead ([`balanced`]), so no input makes it deep or slow; trees deeper than
-//!   the fixed stack are traversed with a growable one ([`TraversalStack`]); padded leaf boxes
-//!   keep rays through shared vertices.
+//! - **Bounded depth.** The binned build splits by the median centre below a fixed depth; where
+//!   PLOC degenerates (boxes that all overlap, as a fan's do) its tree is built balanced instead
+//!   ([`balanced`]), so no input makes either deep or slow; trees deeper than the fixed stack
+//!   are traversed with a growable one ([`TraversalStack`]); padded leaf boxes keep rays through
+//!   shared vertices.
+//! - **Any tree, the same hits.** The nearest hit and its ties are decided per triangle, so
+//!   every preset gives every ray the same answer, bit for bit (`tests.rs`), and the choice of
+//!   builder is one of speed alone.
 
 pub mod alpha;
 pub mod balanced;
+pub mod binned;
 mod bvh_space;
 pub mod packet;
 pub mod shadow;
@@ -39,7 +45,8 @@ use triangle::WatertightRay;
 pub use wide::TraversalStack;
 use wide::{QuadHit, WideBvh, WideRay};
 
-/// The obvhs build presets, from fastest build to best traversal.
+/// How the tree is built: obvhs's presets (PLOC, from fastest build to best traversal, then
+/// collapsed to 4-wide), or pointshade's binned SAH.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BvhPreset {
     /// `BvhBuildParams::fastest_build`.
@@ -50,21 +57,26 @@ pub enum BvhPreset {
     Medium,
     /// `BvhBuildParams::slow_build` (spatial pre-splits).
     Slow,
+    /// Binned SAH straight into the 4-wide tree ([`binned`]): on the dragon, half the build
+    /// time of `Fast` and faster traversal (docs/performance-log.md), so the default.
+    Binned,
 }
 
 impl BvhPreset {
     /// Every preset, for benchmarks.
-    pub const ALL: [BvhPreset; 4] = [Self::Fastest, Self::Fast, Self::Medium, Self::Slow];
+    pub const ALL: [BvhPreset; 5] = [Self::Fastest, Self::Fast, Self::Medium, Self::Slow, Self::Binned];
 
     /// The preset renders use: chosen with `cargo bench --bench rays` (see README, Benchmarks).
-    pub const DEFAULT: BvhPreset = BvhPreset::Fast;
+    pub const DEFAULT: BvhPreset = BvhPreset::Binned;
 
-    fn params(self) -> BvhBuildParams {
+    /// obvhs's parameters (`None`: not an obvhs build).
+    fn params(self) -> Option<BvhBuildParams> {
         match self {
-            Self::Fastest => BvhBuildParams::fastest_build(),
-            Self::Fast => BvhBuildParams::fast_build(),
-            Self::Medium => BvhBuildParams::medium_build(),
-            Self::Slow => BvhBuildParams::slow_build(),
+            Self::Fastest => Some(BvhBuildParams::fastest_build()),
+            Self::Fast => Some(BvhBuildParams::fast_build()),
+            Self::Medium => Some(BvhBuildParams::medium_build()),
+            Self::Slow => Some(BvhBuildParams::slow_build()),
+            Self::Binned => None,
         }
     }
 
@@ -75,6 +87,7 @@ impl BvhPreset {
             Self::Fast => "fast",
             Self::Medium => "medium",
             Self::Slow => "slow",
+            Self::Binned => "binned",
         }
     }
 }
@@ -133,24 +146,29 @@ impl Bvh {
             .par_iter()
             .map(|&t| mesh.triangle_positions(t as usize).map(|p| Vec3A::from(p * scale)))
             .collect();
-        let boxes: Vec<_> = triangles.par_iter().map(padded_box).collect();
-        let params = BvhBuildParams {
-            max_prims_per_leaf: 4,
-            ..preset.params()
-        };
-        // PLOC, unless the boxes overlap so that it would take quadratic time; its tree rebuilt
-        // balanced if it came out too deep all the same ([`balanced`]).
-        let bvh2 = if balanced::overlaps_too_much(&boxes) {
-            balanced::balanced_bvh2(&boxes, 4)
-        } else {
-            let bvh2 = obvhs::bvh2::builder::build_bvh2(&boxes, params, &mut Duration::default());
-            if balanced::bvh2_depth(&bvh2) > balanced::MAX_BINARY_DEPTH {
-                balanced::balanced_bvh2(&boxes, 4)
-            } else {
-                bvh2
+        let mut wide = match preset.params() {
+            None => binned::build(&triangles),
+            Some(params) => {
+                let boxes: Vec<_> = triangles.par_iter().map(padded_box).collect();
+                let params = BvhBuildParams {
+                    max_prims_per_leaf: 4,
+                    ..params
+                };
+                // PLOC, unless the boxes overlap so that it would take quadratic time; its tree
+                // rebuilt balanced if it came out too deep all the same ([`balanced`]).
+                let bvh2 = if balanced::overlaps_too_much(&boxes) {
+                    balanced::balanced_bvh2(&boxes, 4)
+                } else {
+                    let bvh2 = obvhs::bvh2::builder::build_bvh2(&boxes, params, &mut Duration::default());
+                    if balanced::bvh2_depth(&bvh2) > balanced::MAX_BINARY_DEPTH {
+                        balanced::balanced_bvh2(&boxes, 4)
+                    } else {
+                        bvh2
+                    }
+                };
+                WideBvh::from_bvh2(&bvh2, &triangles)
             }
         };
-        let mut wide = WideBvh::from_bvh2(&bvh2, &triangles);
         wide.map_primitives(|p| kept[p as usize]);
         Bvh {
             wide,

@@ -30,12 +30,18 @@ fn fans_build_balanced_trees_and_are_hit_where_they_are() {
         (Vec3::ZERO, 5.7e27),
     ] {
         let mesh = fan(30_000, offset, radius);
-        let bvh = Bvh::build(&mesh, BvhPreset::DEFAULT);
-        let depth = bvh.depth();
-        assert!(depth <= 12, "depth {depth} at offset {offset}, radius {radius:e}");
-        if offset == Vec3::ZERO && radius == 1.0 {
-            let hit = bvh.intersect(Vec3::new(0.3, 0.4, 1.0), Vec3::NEG_Z, f32::INFINITY);
-            assert!(hit.is_some_and(|h| (h.t - 1.0).abs() < 1e-5), "{hit:?}");
+        // The default (binned SAH) and PLOC with its balanced fallback.
+        for preset in [BvhPreset::DEFAULT, BvhPreset::Fast] {
+            let bvh = Bvh::build(&mesh, preset);
+            let depth = bvh.depth();
+            assert!(
+                depth <= 12,
+                "{preset:?}: depth {depth} at offset {offset}, radius {radius:e}"
+            );
+            if offset == Vec3::ZERO && radius == 1.0 {
+                let hit = bvh.intersect(Vec3::new(0.3, 0.4, 1.0), Vec3::NEG_Z, f32::INFINITY);
+                assert!(hit.is_some_and(|h| (h.t - 1.0).abs() < 1e-5), "{preset:?}: {hit:?}");
+            }
         }
     }
 }
@@ -44,8 +50,10 @@ fn fans_build_balanced_trees_and_are_hit_where_they_are() {
 fn a_fan_of_subnormal_size_builds() {
     // The geometry fuzz target's third finding: a scale of 2^133 was infinite, and obvhs's
     // PLOC indexed with −1 on the boxes it made.
-    let bvh = Bvh::build(&fan(160, Vec3::ZERO, 1.1755033e-38), BvhPreset::DEFAULT);
-    assert!(bvh.depth() <= 64 && bvh.scene_unit().is_finite());
+    for preset in [BvhPreset::DEFAULT, BvhPreset::Fast] {
+        let bvh = Bvh::build(&fan(160, Vec3::ZERO, 1.1755033e-38), preset);
+        assert!(bvh.depth() <= 64 && bvh.scene_unit().is_finite(), "{preset:?}");
+    }
 }
 
 fn quad(y: f32, half: f32, offset: Vec3) -> TriangleMesh {

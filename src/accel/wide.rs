@@ -14,6 +14,7 @@ use rayon::prelude::*;
 
 use super::alpha::HitFilter;
 use super::triangle::WatertightRay;
+use obvhs::aabb::Aabb;
 use obvhs::bvh2::Bvh2;
 
 /// Marks a child slot that holds a leaf (the rest of the value is the quad index).
@@ -173,7 +174,7 @@ impl WideRay {
 impl TriangleQuad {
     /// The quad of triangles `triangle(0)`, …, `triangle(n − 1)` (1 ≤ n ≤ 4).
     #[inline]
-    fn from_fn(n: usize, triangle: impl Fn(usize) -> [Vec3A; 3]) -> Self {
+    pub(super) fn from_fn(n: usize, triangle: impl Fn(usize) -> [Vec3A; 3]) -> Self {
         debug_assert!((1..=4).contains(&n));
         let lanes = [0, 1, 2, 3].map(|k| triangle(k.min(n - 1)));
         let mut v = [[Vec4::ZERO; 3]; 3];
@@ -335,13 +336,9 @@ impl WideBvh {
         }
         if bvh2.nodes[0].is_leaf() {
             // A tree of one leaf: a root whose only child is that leaf.
-            out.nodes.push(Node4 {
-                bounds: empty_bounds(),
-                child: [EMPTY; 4],
-            });
+            out.push_empty_node(1);
             let leaf = out.push_leaf(bvh2, 0, triangles);
             out.set_bounds(0, 0, bvh2, 0, leaf);
-            out.depth = 1;
         } else {
             out.emit(bvh2, 0, triangles, 1, parallel);
         }
@@ -404,7 +401,6 @@ impl WideBvh {
     /// bvh2 nodes of its children (`slots[..count]`): the largest inner child opened until there
     /// are four children or only leaves are left.
     fn push_node(&mut self, bvh2: &Bvh2, node2: usize, depth: u32) -> (usize, [usize; 4], usize) {
-        self.depth = self.depth.max(depth);
         let first = bvh2.nodes[node2].first_index as usize;
         let mut slots = [first, first + 1, 0, 0];
         let mut count = 2;
@@ -421,11 +417,7 @@ impl WideBvh {
             slots[count] = opened + 1;
             count += 1;
         }
-        self.nodes.push(Node4 {
-            bounds: empty_bounds(),
-            child: [EMPTY; 4],
-        });
-        (self.nodes.len() - 1, slots, count)
+        (self.push_empty_node(depth), slots, count)
     }
 
     /// Appends the quad of `bvh2` leaf `slot`; returns its child reference.
@@ -442,11 +434,33 @@ impl WideBvh {
         LEAF | (self.quads.len() as u32 - 1)
     }
 
+    /// Appends a node without children (its slots [`EMPTY`], its boxes empty) at `depth`;
+    /// returns its index.
+    pub(super) fn push_empty_node(&mut self, depth: u32) -> usize {
+        self.depth = self.depth.max(depth);
+        self.nodes.push(Node4 {
+            bounds: empty_bounds(),
+            child: [EMPTY; 4],
+        });
+        self.nodes.len() - 1
+    }
+
     /// Appends `subtree` (its root first), renumbering its node and quad references; returns
     /// the index of its root.
     fn append(&mut self, subtree: WideBvh) -> u32 {
-        let (node_base, quad_base) = (self.nodes.len() as u32, self.quads.len() as u32);
-        self.nodes.extend(subtree.nodes.into_iter().map(|mut node| {
+        let root = self.append_nodes(subtree.nodes, subtree.depth, self.quads.len() as u32);
+        self.quads.extend(subtree.quads);
+        self.quad_triangles.extend(subtree.quad_triangles);
+        self.quad_bounds.extend(subtree.quad_bounds);
+        root
+    }
+
+    /// Appends the nodes of a subtree of depth `depth` (its root first), renumbering their
+    /// node references to follow this tree's nodes and their quad references to count from
+    /// `quad_base`; returns the index of its root.
+    pub(super) fn append_nodes(&mut self, nodes: Vec<Node4>, depth: u32, quad_base: u32) -> u32 {
+        let node_base = self.nodes.len() as u32;
+        self.nodes.extend(nodes.into_iter().map(|mut node| {
             for c in node.child.iter_mut().filter(|c| **c != EMPTY) {
                 *c = if *c & LEAF != 0 {
                     LEAF | ((*c & !LEAF) + quad_base)
@@ -456,16 +470,17 @@ impl WideBvh {
             }
             node
         }));
-        self.quads.extend(subtree.quads);
-        self.quad_triangles.extend(subtree.quad_triangles);
-        self.quad_bounds.extend(subtree.quad_bounds);
-        self.depth = self.depth.max(subtree.depth);
+        self.depth = self.depth.max(depth);
         node_base
     }
 
     /// Child slot `k` of node `index` becomes `child`, with the box of `bvh2` node `slot`.
     fn set_bounds(&mut self, index: usize, k: usize, bvh2: &Bvh2, slot: usize, child: u32) {
-        let b = bvh2.nodes[slot].aabb();
+        self.set_child(index, k, bvh2.nodes[slot].aabb(), child);
+    }
+
+    /// Child slot `k` of node `index` becomes `child`, with box `b`.
+    pub(super) fn set_child(&mut self, index: usize, k: usize, b: &Aabb, child: u32) {
         let node = &mut self.nodes[index];
         for axis in 0..3 {
             node.bounds[axis][0][k] = b.min[axis];
@@ -475,7 +490,7 @@ impl WideBvh {
     }
 
     /// An empty tree with room for `leaves` leaves (one quad each, and a node per three).
-    fn with_capacity(leaves: usize) -> Self {
+    pub(super) fn with_capacity(leaves: usize) -> Self {
         WideBvh {
             nodes: Vec::with_capacity(leaves / 3 + 1),
             quads: Vec::with_capacity(leaves),
