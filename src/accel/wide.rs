@@ -1,6 +1,7 @@
-//! A 4-wide BVH for traversal: obvhs builds a binary tree (PLOC, reinsertion, leaves of up to
-//! four triangles, padded leaf boxes), and this module collapses it into nodes of four children
-//! with their boxes stored as float lanes, and leaves of four triangles stored as float lanes.
+//! A 4-wide BVH for traversal: nodes of four children with their boxes stored as float lanes,
+//! and leaves of four triangles stored as float lanes. `binned.rs` builds it directly (the
+//! default); for obvhs's presets, obvhs builds a binary tree (PLOC, reinsertion, leaves of up to
+//! four triangles, padded leaf boxes) and this module collapses it ([`WideBvh::from_bvh2`]).
 //!
 //! One node test is then 12 lane-wise subtractions/multiplications and a few min/max — four
 //! boxes at once, with no dequantisation — and one leaf test runs the watertight
