@@ -26,7 +26,7 @@ use obvhs::aabb::Aabb;
 use rayon::prelude::*;
 
 use super::bvh_space::padded_box;
-use super::wide::{TriangleQuad, WideBvh, EMPTY, LEAF};
+use super::wide::{leaf_parts, WideBvh, EMPTY, LEAF};
 
 /// Bins per split.
 const BINS: usize = 16;
@@ -76,26 +76,22 @@ struct Part {
 
 impl Part {
     fn of(prims: &[PrimRef], start: usize, end: usize, depth: u32) -> Part {
-        let mut part = Part {
-            start,
-            end,
-            bounds: Aabb::empty(),
-            centres: Aabb::empty(),
-            depth,
-        };
+        let mut all = Bin::EMPTY;
         for p in &prims[start..end] {
-            part.add(p);
+            all.add(p);
         }
-        part
+        Part::with(&all, start, end, depth)
     }
 
-    #[inline(always)]
-    fn add(&mut self, p: &PrimRef) {
-        self.bounds.min = self.bounds.min.min(p.lo);
-        self.bounds.max = self.bounds.max.max(p.hi);
-        let c = p.centre2();
-        self.centres.min = self.centres.min.min(c);
-        self.centres.max = self.centres.max.max(c);
+    /// The part `start..end` whose primitives `bin` summarises.
+    fn with(bin: &Bin, start: usize, end: usize, depth: u32) -> Part {
+        Part {
+            start,
+            end,
+            bounds: bin.bounds,
+            centres: bin.centres,
+            depth,
+        }
     }
 
     fn len(&self) -> usize {
@@ -123,7 +119,7 @@ struct Leaf {
 /// A tree while it is built: its nodes (in a [`WideBvh`] without quads yet), whose leaf
 /// references index `leaves`.
 struct Tree {
-    nodes: WideBvh,
+    wide: WideBvh,
     leaves: Vec<Leaf>,
 }
 
@@ -131,10 +127,10 @@ impl Tree {
     /// An empty tree with room for the nodes and leaves that `triangles` triangles usually
     /// take (leaves of three, nodes of three or four children).
     fn with_capacity(triangles: usize) -> Tree {
-        let mut nodes = WideBvh::with_capacity(0);
-        nodes.nodes.reserve(triangles / 8 + 1);
+        let mut wide = WideBvh::with_capacity(0);
+        wide.nodes.reserve(triangles / 8 + 1);
         Tree {
-            nodes,
+            wide,
             leaves: Vec::with_capacity(triangles / 3 + 1),
         }
     }
@@ -152,10 +148,10 @@ impl Tree {
     /// Appends `subtree`, whose leaves start at `offset` in the primitives; returns the index
     /// of its root.
     fn append(&mut self, subtree: Tree, offset: usize) -> u32 {
-        let depth = subtree.nodes.depth();
+        let depth = subtree.wide.depth();
         let root = self
-            .nodes
-            .append_nodes(subtree.nodes.nodes, depth, self.leaves.len() as u32);
+            .wide
+            .append_nodes(subtree.wide.nodes, depth, self.leaves.len() as u32);
         self.leaves.extend(subtree.leaves.into_iter().map(|leaf| Leaf {
             start: leaf.start + offset,
             ..leaf
@@ -182,14 +178,14 @@ pub(super) fn build(triangles: &[[Vec3A; 3]]) -> WideBvh {
         .collect();
     let mut tree = Tree::with_capacity(n);
     if n == 0 {
-        return tree.nodes;
+        return tree.wide;
     }
     let root = Part::of(&prims, 0, n, 0);
     if n <= LEAF_SIZE {
         // A root whose only child is the one leaf.
-        let index = tree.nodes.push_empty_node(1);
+        let index = tree.wide.push_empty_node(1);
         let leaf = tree.push_leaf(&root);
-        tree.nodes.set_child(index, 0, &root.bounds, leaf);
+        tree.wide.set_child(index, 0, &root.bounds, leaf);
     } else {
         let mut top = Builder {
             task_size: (n / TASKS).max(MIN_TASK),
@@ -198,32 +194,21 @@ pub(super) fn build(triangles: &[[Vec3A; 3]]) -> WideBvh {
         top.emit(&mut tree, &mut prims, &root, 1);
         build_tasks(&mut tree, &mut prims, top.tasks);
     }
-    // The quads, from the primitives in their final order.
-    let Tree {
-        nodes: mut wide,
-        leaves,
-    } = tree;
+    // The leaves' quads, from the primitives in their final order.
+    let Tree { mut wide, leaves } = tree;
     let prims = &prims;
-    wide.quads = leaves
-        .par_iter()
-        .map(|leaf| TriangleQuad::from_fn(leaf.count, |l| triangles[prims[leaf.start + l].index as usize]))
-        .collect();
-    wide.quad_triangles = leaves
+    let (quads, (quad_triangles, quad_bounds)) = leaves
         .par_iter()
         .map(|leaf| {
-            [0, 1, 2, 3].map(|l| {
-                if l < leaf.count {
-                    prims[leaf.start + l].index
-                } else {
-                    EMPTY
-                }
-            })
+            let mut indices = [0; LEAF_SIZE];
+            for (index, p) in indices.iter_mut().zip(&prims[leaf.start..leaf.start + leaf.count]) {
+                *index = p.index;
+            }
+            let (quad, primitives, bounds) = leaf_parts(&indices[..leaf.count], triangles, &leaf.bounds);
+            (quad, (primitives, bounds))
         })
-        .collect();
-    wide.quad_bounds = leaves
-        .iter()
-        .map(|leaf| [leaf.bounds.min.to_array(), leaf.bounds.max.to_array()])
-        .collect();
+        .unzip();
+    (wide.quads, wide.quad_triangles, wide.quad_bounds) = (quads, quad_triangles, quad_bounds);
     wide
 }
 
@@ -263,7 +248,7 @@ fn build_tasks(tree: &mut Tree, prims: &mut [PrimRef], tasks: Vec<Task>) {
     for (t, subtree) in subtrees {
         let task = &tasks[t];
         let root = tree.append(subtree, task.part.start);
-        tree.nodes.set_child(task.node, task.slot, &task.part.bounds, root);
+        tree.wide.set_child(task.node, task.slot, &task.part.bounds, root);
     }
 }
 
@@ -278,7 +263,7 @@ impl Builder {
     /// Writes the node of `part` (more than one leaf's worth) and its subtree at 4-wide depth
     /// `depth`; returns its index. Children left as tasks have the slot [`EMPTY`] until then.
     fn emit(&mut self, tree: &mut Tree, prims: &mut [PrimRef], part: &Part, depth: u32) -> u32 {
-        let index = tree.nodes.push_empty_node(depth);
+        let index = tree.wide.push_empty_node(depth);
         let (children, count) = children(prims, part);
         for (slot, child) in children[..count].iter().enumerate() {
             let reference = if child.len() <= LEAF_SIZE {
@@ -294,7 +279,7 @@ impl Builder {
             } else {
                 self.emit(tree, prims, child, depth + 1)
             };
-            tree.nodes.set_child(index, slot, &child.bounds, reference);
+            tree.wide.set_child(index, slot, &child.bounds, reference);
         }
         index as u32
     }
@@ -354,7 +339,8 @@ fn split(prims: &mut [PrimRef], part: &Part) -> (Part, Part) {
     halves(prims, mid)
 }
 
-/// Bins of centres along one axis of a part.
+/// Some primitives summed up — one bin of a split, or a whole part: the box of their boxes,
+/// the box of their [`PrimRef::centre2`], and how many they are.
 #[derive(Clone, Copy)]
 struct Bin {
     bounds: Aabb,
@@ -368,6 +354,16 @@ impl Bin {
         centres: Aabb::INVALID,
         count: 0,
     };
+
+    #[inline(always)]
+    fn add(&mut self, p: &PrimRef) {
+        self.bounds.min = self.bounds.min.min(p.lo);
+        self.bounds.max = self.bounds.max.max(p.hi);
+        let c = p.centre2();
+        self.centres.min = self.centres.min.min(c);
+        self.centres.max = self.centres.max.max(c);
+        self.count += 1;
+    }
 
     fn merge(&mut self, other: &Bin) {
         self.bounds = self.bounds.union(&other.bounds);
@@ -404,13 +400,7 @@ impl Binning {
     fn fill(&self, prims: &[PrimRef]) -> [Bin; BINS] {
         let mut bins = [Bin::EMPTY; BINS];
         for p in prims {
-            let b = &mut bins[self.of(p)];
-            b.bounds.min = b.bounds.min.min(p.lo);
-            b.bounds.max = b.bounds.max.max(p.hi);
-            let c = p.centre2();
-            b.centres.min = b.centres.min.min(c);
-            b.centres.max = b.centres.max.max(c);
-            b.count += 1;
+            bins[self.of(p)].add(p);
         }
         bins
     }
@@ -469,16 +459,9 @@ fn split_by_sah(run: &mut [PrimRef], part: &Part, axis: usize) -> Option<(Part, 
         sides[usize::from(b >= k)].merge(bin);
     }
     let depth = part.depth + 1;
-    let side = |bin: &Bin, start: usize, end: usize| Part {
-        start,
-        end,
-        bounds: bin.bounds,
-        centres: bin.centres,
-        depth,
-    };
     Some((
-        side(&sides[0], part.start, part.start + mid),
-        side(&sides[1], part.start + mid, part.end),
+        Part::with(&sides[0], part.start, part.start + mid, depth),
+        Part::with(&sides[1], part.start + mid, part.end, depth),
     ))
 }
 

@@ -175,7 +175,7 @@ impl WideRay {
 impl TriangleQuad {
     /// The quad of triangles `triangle(0)`, …, `triangle(n − 1)` (1 ≤ n ≤ 4).
     #[inline]
-    pub(super) fn from_fn(n: usize, triangle: impl Fn(usize) -> [Vec3A; 3]) -> Self {
+    fn from_fn(n: usize, triangle: impl Fn(usize) -> [Vec3A; 3]) -> Self {
         debug_assert!((1..=4).contains(&n));
         let lanes = [0, 1, 2, 3].map(|k| triangle(k.min(n - 1)));
         let mut v = [[Vec4::ZERO; 3]; 3];
@@ -425,13 +425,10 @@ impl WideBvh {
     fn push_leaf(&mut self, bvh2: &Bvh2, slot: usize, triangles: &[[Vec3A; 3]]) -> u32 {
         let node2 = &bvh2.nodes[slot];
         let range = node2.first_index as usize..(node2.first_index + node2.prim_count) as usize;
-        let prims = &bvh2.primitive_indices[range];
-        self.quads
-            .push(TriangleQuad::from_fn(prims.len(), |l| triangles[prims[l] as usize]));
-        self.quad_triangles
-            .push([0, 1, 2, 3].map(|l| prims.get(l).copied().unwrap_or(EMPTY)));
-        let b = node2.aabb();
-        self.quad_bounds.push([b.min.to_array(), b.max.to_array()]);
+        let (quad, primitives, bounds) = leaf_parts(&bvh2.primitive_indices[range], triangles, node2.aabb());
+        self.quads.push(quad);
+        self.quad_triangles.push(primitives);
+        self.quad_bounds.push(bounds);
         LEAF | (self.quads.len() as u32 - 1)
     }
 
@@ -534,6 +531,21 @@ impl WideBvh {
     pub fn primitive(&self, quad: u32, lane: usize) -> u32 {
         self.quad_triangles[quad as usize][lane]
     }
+}
+
+/// What the tree stores of a leaf of primitives `prims` (one to four; `triangles[p]` are the
+/// vertices of primitive p) with box `bounds`: its quad, its primitives (padded with [`EMPTY`])
+/// and its box.
+pub(super) fn leaf_parts(
+    prims: &[u32],
+    triangles: &[[Vec3A; 3]],
+    bounds: &Aabb,
+) -> (TriangleQuad, [u32; 4], [[f32; 3]; 2]) {
+    (
+        TriangleQuad::from_fn(prims.len(), |l| triangles[prims[l] as usize]),
+        [0, 1, 2, 3].map(|l| prims.get(l).copied().unwrap_or(EMPTY)),
+        [bounds.min.to_array(), bounds.max.to_array()],
+    )
 }
 
 /// Boxes that no ray enters (min = +∞, max = −∞ on every axis).
