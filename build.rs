@@ -2,15 +2,20 @@
 //! is beside the repository. Tests that need it carry
 //! `#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]`, so that without the data
 //! `cargo test` counts them as ignored, with the reason, instead of passing them unrun.
-//! Likewise `cfg(system_font)` when the convergence plot will find a font to draw text with.
+//! Likewise `cfg(system_font)` when the convergence plot will find a font to draw text with,
+//! and `cfg(cpu_avx2)`, `cfg(cpu_avx512)` when this machine runs those instructions (the tests
+//! of the lane code compiled for them; the build itself stays portable and picks at run time).
 
 use std::path::Path;
 
 fn main() {
     println!("cargo::rustc-check-cfg=cfg(shared_data)");
     println!("cargo::rustc-check-cfg=cfg(system_font)");
+    println!("cargo::rustc-check-cfg=cfg(cpu_avx2)");
+    println!("cargo::rustc-check-cfg=cfg(cpu_avx512)");
     println!("cargo::rerun-if-changed=build.rs");
     system_font();
+    cpu_features();
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data");
     if data.is_dir() {
         println!("cargo::rustc-cfg=shared_data");
@@ -23,6 +28,21 @@ fn main() {
             "cargo::warning=../shared/data is missing: the tests that need it are ignored \
              (touch build.rs after adding it)"
         );
+    }
+}
+
+/// `cfg(cpu_avx2)` and `cfg(cpu_avx512)` (AVX-512F with AVX2) from this CPU, for a build whose
+/// tests run here (the target is this machine's architecture).
+fn cpu_features() {
+    #[cfg(target_arch = "x86_64")]
+    if std::env::var("CARGO_CFG_TARGET_ARCH").as_deref() == Ok("x86_64") {
+        let avx2 = std::arch::is_x86_feature_detected!("avx2");
+        if avx2 {
+            println!("cargo::rustc-cfg=cpu_avx2");
+        }
+        if avx2 && std::arch::is_x86_feature_detected!("avx512f") {
+            println!("cargo::rustc-cfg=cpu_avx512");
+        }
     }
 }
 

@@ -244,7 +244,16 @@ fn main() {
     let (f64_, f32_) = (MinMaxPrecision::Float64, MinMaxPrecision::Float32);
     let one_thread = [f64_, f32_].map(|p| time_shading(1, best, p));
     let all_threads = [f64_, f32_].map(|p| time_shading(all, best, p));
-    let portable = (best != LaneInstructions::Portable).then(|| time_shading(all, LaneInstructions::Portable, f64_));
+    // The narrower instruction sets this CPU also runs, for the machines that have only those.
+    let narrower: Vec<(LaneInstructions, Times)> = [
+        #[cfg(target_arch = "x86_64")]
+        LaneInstructions::Avx2,
+        LaneInstructions::Portable,
+    ]
+    .into_iter()
+    .filter(|&set| set < best)
+    .map(|set| (set, time_shading(all, set, f64_)))
+    .collect();
     let (ours, stats) = shade_with(best, f64_);
     let (ours_f32, _) = shade_with(best, f32_);
     let eval_only = time_material_eval(&scene, &image, repeats);
@@ -314,11 +323,8 @@ fn main() {
         all_threads[0],
     );
     row(&format!("pointshade shading, f32, {all} threads"), all_threads[1]);
-    if let Some(portable) = portable {
-        row(
-            &format!("  float64 with the portable (baseline) lanes, {all} threads"),
-            portable,
-        );
+    for (set, times) in narrower {
+        row(&format!("  float64 with {set:?} lanes, {all} threads"), times);
     }
     row("pointshade normalmap process (decode + shade + encode)", process);
     match &numpy {

@@ -8,9 +8,13 @@
 //! replaces; for lanes every lane follows its own side. Every lane operation is the scalar
 //! operation of that lane (IEEE-exact division and square root, the same `max`/`min` NaN rules,
 //! the same `exp`/`powf`), so a lane computes what the scalar code computes, to the bit except
-//! for the sign of a zero (`max(-0.0, 0.0)` may be either).
+//! for the sign of a zero (`max(-0.0, 0.0)` may be either). `lanes::x86` holds float64 lanes as
+//! vector registers, for the kernels where the compiler's grouping of array lanes falls short.
 
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
+
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod x86;
 
 /// Which instructions the eight-lane code may be compiled for, best last. Lanes give the same
 /// bits with every choice (no fused multiply-add is enabled); wider registers only take fewer
@@ -22,11 +26,19 @@ pub enum LaneInstructions {
     /// AVX2 (x86-64 only): one 256-bit operation per [`F32x8`] operation.
     #[cfg(target_arch = "x86_64")]
     Avx2,
+    /// AVX-512F (x86-64 only): the float64 normal-map kernel runs eight lanes to a 512-bit
+    /// register; the other lane code runs its AVX2 form.
+    #[cfg(target_arch = "x86_64")]
+    Avx512,
 }
 
 impl LaneInstructions {
     /// The best this CPU runs, detected at run time (so the binary stays portable).
     pub fn detect() -> LaneInstructions {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx512f") && std::arch::is_x86_feature_detected!("avx2") {
+            return LaneInstructions::Avx512;
+        }
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             return LaneInstructions::Avx2;
@@ -199,12 +211,14 @@ pub trait Real:
 /// A scalar [`Real`] (f32 or f64): ordered, printable, convertible to f64 — what the stability
 /// checks and conversions between precisions need.
 pub trait Scalar: Real<Mask = bool> + PartialOrd + std::fmt::Display {
+    /// The word of a lane mask of this precision ([`MaskWord`]).
+    type Word: MaskWord;
     /// This value as f64 (exact for both precisions).
     fn as_f64(self) -> f64;
 }
 
 macro_rules! scalar_real {
-    ($t:ty $(, $extra:item)*) => {
+    ($t:ty, $word:ty $(, $extra:item)*) => {
         impl Real for $t {
             type Mask = bool;
             $($extra)*
@@ -291,6 +305,7 @@ macro_rules! scalar_real {
         }
 
         impl Scalar for $t {
+            type Word = $word;
             #[inline(always)]
             fn as_f64(self) -> f64 {
                 self as f64
@@ -301,15 +316,42 @@ macro_rules! scalar_real {
 
 scalar_real!(
     f32,
+    u32,
     #[inline(always)]
     fn as_single_f32(self) -> Option<f32> {
         Some(self)
     }
 );
-scalar_real!(f64);
+scalar_real!(f64, u64);
 
 /// Lanes of [`F32x8`].
 pub const LANES: usize = 8;
+
+/// A [`Real`] of several lanes of one scalar precision that a kernel fills from scalars and
+/// reads back: [`Lanes`], and on x86-64 the register types of the float64 kernels.
+pub trait LaneArray: Real {
+    /// The precision of a lane.
+    type Scalar: Scalar;
+    /// Lanes.
+    const WIDTH: usize;
+    /// Lane `i` is `f(i)`.
+    fn from_fn(f: impl Fn(usize) -> Self::Scalar) -> Self;
+    /// Lane `i` into `out[i]`, for every lane (`out` holds at least [`LaneArray::WIDTH`]).
+    fn write_to(self, out: &mut [Self::Scalar]);
+}
+
+impl<T: Scalar, const N: usize> LaneArray for Lanes<T, N> {
+    type Scalar = T;
+    const WIDTH: usize = N;
+    #[inline(always)]
+    fn from_fn(f: impl Fn(usize) -> T) -> Self {
+        Lanes::from_fn(f)
+    }
+    #[inline(always)]
+    fn write_to(self, out: &mut [T]) {
+        out[..N].copy_from_slice(&self.0);
+    }
+}
 
 /// N values of one scalar precision operated on together. Plain arrays with per-lane loops: the
 /// compiler turns them into SIMD instructions on any target, with no `unsafe`. Each lane
@@ -327,21 +369,65 @@ pub type F32x4 = Lanes<f32, 4>;
 /// in float64.
 pub type F64x4 = Lanes<f64, 4>;
 
+/// The word of one lane of a [`LaneMask`]: as wide as the lane's number (u32 for f32, u64 for
+/// f64), so a comparison's result is used as the SIMD instruction produced it, with no packing
+/// or widening between the compare and the blend.
+pub trait MaskWord: Copy + PartialEq + Eq + std::fmt::Debug + Send + Sync + 'static {
+    /// All bits clear (false).
+    const CLEAR: Self;
+    /// All bits set (true).
+    const SET: Self;
+    /// Whether the sign bit is set: the one bit a blend instruction reads.
+    fn is_set(self) -> bool;
+    /// Bitwise and.
+    fn and(self, other: Self) -> Self;
+    /// Bitwise or.
+    fn or(self, other: Self) -> Self;
+    /// Bitwise not.
+    fn not(self) -> Self;
+}
+
+macro_rules! mask_word {
+    ($($w:ty => $signed:ty),+) => {$(
+        impl MaskWord for $w {
+            const CLEAR: Self = 0;
+            const SET: Self = <$w>::MAX;
+            #[inline(always)]
+            fn is_set(self) -> bool {
+                (self as $signed) < 0
+            }
+            #[inline(always)]
+            fn and(self, other: Self) -> Self {
+                self & other
+            }
+            #[inline(always)]
+            fn or(self, other: Self) -> Self {
+                self | other
+            }
+            #[inline(always)]
+            fn not(self) -> Self {
+                !self
+            }
+        }
+    )+};
+}
+mask_word!(u32 => i32, u64 => i64);
+
 /// A per-lane condition of `Lanes`: all bits set for true, clear for false (the layout SIMD
-/// comparisons produce).
+/// comparisons produce), in words as wide as the lanes' numbers ([`MaskWord`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct LaneMask<const N: usize>(pub [u32; N]);
+pub struct LaneMask<W, const N: usize>(pub [W; N]);
 
 /// The mask of [`F32x8`].
-pub type Mask8 = LaneMask<LANES>;
+pub type Mask8 = LaneMask<u32, LANES>;
 
-impl<const N: usize> LaneMask<N> {
+impl<W: MaskWord, const N: usize> LaneMask<W, N> {
     /// Lane `i` is `f(i)`.
     #[inline(always)]
     pub fn from_fn(f: impl Fn(usize) -> bool) -> Self {
-        let mut m = [0; N];
+        let mut m = [W::CLEAR; N];
         for (i, m) in m.iter_mut().enumerate() {
-            *m = if f(i) { u32::MAX } else { 0 };
+            *m = if f(i) { W::SET } else { W::CLEAR };
         }
         LaneMask(m)
     }
@@ -349,7 +435,7 @@ impl<const N: usize> LaneMask<N> {
     /// Lane `i`.
     #[inline(always)]
     pub fn test(self, i: usize) -> bool {
-        self.0[i] != 0
+        self.0[i] != W::CLEAR
     }
 }
 
@@ -381,7 +467,7 @@ impl<T: Scalar, const N: usize> Lanes<T, N> {
     }
 
     #[inline(always)]
-    fn compare(self, other: Self, f: impl Fn(T, T) -> bool) -> LaneMask<N> {
+    fn compare(self, other: Self, f: impl Fn(T, T) -> bool) -> LaneMask<T::Word, N> {
         LaneMask::from_fn(|i| f(self.0[i], other.0[i]))
     }
 }
@@ -408,51 +494,51 @@ impl<T: Scalar, const N: usize> Neg for Lanes<T, N> {
 }
 
 macro_rules! mask_ops {
-    ($($op:ident $method:ident $sym:tt),+) => {$(
-        impl<const N: usize> $op for LaneMask<N> {
+    ($($op:ident $method:ident $word:ident),+) => {$(
+        impl<W: MaskWord, const N: usize> $op for LaneMask<W, N> {
             type Output = Self;
             #[inline(always)]
             fn $method(self, other: Self) -> Self {
                 let mut m = self.0;
                 for (m, o) in m.iter_mut().zip(other.0) {
-                    *m $sym o;
+                    *m = m.$word(o);
                 }
                 LaneMask(m)
             }
         }
     )+};
 }
-mask_ops!(BitAnd bitand &=, BitOr bitor |=);
+mask_ops!(BitAnd bitand and, BitOr bitor or);
 
-impl<const N: usize> Not for LaneMask<N> {
+impl<W: MaskWord, const N: usize> Not for LaneMask<W, N> {
     type Output = Self;
     #[inline(always)]
     fn not(self) -> Self {
         let mut m = self.0;
         for m in m.iter_mut() {
-            *m = !*m;
+            *m = m.not();
         }
         LaneMask(m)
     }
 }
 
-impl<const N: usize> Mask for LaneMask<N> {
+impl<W: MaskWord, const N: usize> Mask for LaneMask<W, N> {
     #[inline(always)]
     fn splat(v: bool) -> Self {
         LaneMask::from_fn(|_| v)
     }
     #[inline(always)]
     fn all(self) -> bool {
-        self.0.iter().fold(u32::MAX, |a, &m| a & m) != 0
+        self.0.iter().fold(W::SET, |a, &m| a.and(m)) != W::CLEAR
     }
     #[inline(always)]
     fn any(self) -> bool {
-        self.0.iter().fold(0, |a, &m| a | m) != 0
+        self.0.iter().fold(W::CLEAR, |a, &m| a.or(m)) != W::CLEAR
     }
 }
 
 impl<T: Scalar, const N: usize> Real for Lanes<T, N> {
-    type Mask = LaneMask<N>;
+    type Mask = LaneMask<T::Word, N>;
     #[inline(always)]
     fn lit(v: f64) -> Self {
         Self::splat(T::lit(v))
@@ -508,33 +594,33 @@ impl<T: Scalar, const N: usize> Real for Lanes<T, N> {
         self.map(T::acos)
     }
     #[inline(always)]
-    fn gt(self, other: Self) -> LaneMask<N> {
+    fn gt(self, other: Self) -> LaneMask<T::Word, N> {
         self.compare(other, |a, b| a > b)
     }
     #[inline(always)]
-    fn ge(self, other: Self) -> LaneMask<N> {
+    fn ge(self, other: Self) -> LaneMask<T::Word, N> {
         self.compare(other, |a, b| a >= b)
     }
     #[inline(always)]
-    fn lt(self, other: Self) -> LaneMask<N> {
+    fn lt(self, other: Self) -> LaneMask<T::Word, N> {
         self.compare(other, |a, b| a < b)
     }
     #[inline(always)]
-    fn eq(self, other: Self) -> LaneMask<N> {
+    fn eq(self, other: Self) -> LaneMask<T::Word, N> {
         self.compare(other, |a, b| a == b)
     }
     #[inline(always)]
-    fn is_finite(self) -> LaneMask<N> {
+    fn is_finite(self) -> LaneMask<T::Word, N> {
         // a·0 = 0 exactly when a is finite (∞·0 and NaN·0 are NaN): a vector multiply and
         // compare. Written as a class test (`is_finite`, or |a| < ∞ next to a > 0), the
         // compiler merges it into one floating-point class query that x86 evaluates lane by lane.
         (self * Self::splat(T::zero())).eq(Self::splat(T::zero()))
     }
     #[inline(always)]
-    fn select(mask: LaneMask<N>, a: Self, b: Self) -> Self {
+    fn select(mask: LaneMask<T::Word, N>, a: Self, b: Self) -> Self {
         // A lane of a mask is all ones or all zeros, so its sign bit decides: the form the
         // compiler turns into one blend instruction (a bitwise and/andnot/or takes three).
-        Self::from_fn(|i| if (mask.0[i] as i32) < 0 { a.0[i] } else { b.0[i] })
+        Self::from_fn(|i| if mask.0[i].is_set() { a.0[i] } else { b.0[i] })
     }
 }
 

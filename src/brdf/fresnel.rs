@@ -134,7 +134,12 @@ pub fn fresnel_conductor_rgb<R: Real>(i_dot_h: R, eta: [f32; 3], k: [f32; 3]) ->
         let f = fresnel_conductor(F32x4::splat(c), lanes(eta), lanes(k));
         return map3([0, 1, 2], |ch| R::of(f.0[ch]));
     }
-    map3([0, 1, 2], |ch| fresnel_conductor(i_dot_h, R::of(eta[ch]), R::of(k[ch])))
+    // Channels written out, not through a closure (see `CookTorrance::fresnel`).
+    [
+        fresnel_conductor(i_dot_h, R::of(eta[0]), R::of(k[0])),
+        fresnel_conductor(i_dot_h, R::of(eta[1]), R::of(k[1])),
+        fresnel_conductor(i_dot_h, R::of(eta[2]), R::of(k[2])),
+    ]
 }
 
 #[cfg(test)]

@@ -68,9 +68,21 @@ impl CookTorrance {
     /// F(ω_i·ω_h) per channel.
     #[inline(always)]
     pub fn fresnel<R: Real>(&self, i_dot_h: R) -> [R; 3] {
+        // Each channel written out, not through a closure: a closure is inlined only when the
+        // compiler deems it small, and in the float64 register lanes (`lanes::x86`) one left
+        // as a call would run its lane operations as calls too.
+        let f0 = self.f0::<R>();
         match self.f {
-            FresnelTerm::Schlick => map3(self.f0::<R>(), |f0| fresnel_schlick(f0, i_dot_h)),
-            FresnelTerm::SchlickSg => map3(self.f0::<R>(), |f0| fresnel_schlick_sg(f0, i_dot_h)),
+            FresnelTerm::Schlick => [
+                fresnel_schlick(f0[0], i_dot_h),
+                fresnel_schlick(f0[1], i_dot_h),
+                fresnel_schlick(f0[2], i_dot_h),
+            ],
+            FresnelTerm::SchlickSg => [
+                fresnel_schlick_sg(f0[0], i_dot_h),
+                fresnel_schlick_sg(f0[1], i_dot_h),
+                fresnel_schlick_sg(f0[2], i_dot_h),
+            ],
             FresnelTerm::Conductor => {
                 let f = fresnel_conductor_rgb(i_dot_h, self.eta, self.k);
                 map3([0, 1, 2], |c| f[c] * R::of(self.specular_color[c]))

@@ -22,10 +22,12 @@ use crate::accel::shadow::NoOcclusion;
 use crate::accel::shadow::SceneExtent;
 use crate::error::{InputError, InputResult};
 use crate::film::{overflow_error, Image};
-use crate::lanes::{LaneInstructions, Lanes, Scalar, LANES};
+#[cfg(target_arch = "x86_64")]
+use crate::lanes::x86::{F64x4Avx, F64x8Avx512};
+use crate::lanes::{LaneArray, LaneInstructions, Lanes, Real, Scalar, LANES};
 use crate::normal_map::image::NormalImage;
 use crate::normal_map::likeness::NormalLikeness;
-use crate::normal_map::pixels::{ImageSurface, MinMaxScaling, NormalDecoding, PixelPositions};
+use crate::normal_map::pixels::{ImageSurface, MinMaxDecoding, MinMaxScaling, NormalDecoding, PixelPositions};
 use crate::normal_map::plan::NormalMapPlan;
 use crate::normal_map::scene_file::{NormalMapScene, Preset};
 use crate::shading::convention::ShadingConvention;
@@ -127,8 +129,8 @@ pub fn shade_image(scene: &NormalMapScene, image: &NormalImage, surface: &ImageS
     )
 }
 
-/// [`shade_image`] with the lane path compiled for `instructions` (which must be available on
-/// this CPU: [`LaneInstructions::detect`] says which are; others fall back to the portable code)
+/// [`shade_image`] with the lane path compiled for `instructions` (at most what this CPU runs:
+/// [`LaneInstructions::detect`] says which; a better choice falls back to the best available)
 /// and the `tp` preset in `precision`. Every choice of instructions gives the same image, bit
 /// for bit: the benchmark compares their speed, a test their results.
 pub fn shade_image_with(
@@ -138,14 +140,27 @@ pub fn shade_image_with(
     instructions: LaneInstructions,
     precision: MinMaxPrecision,
 ) -> (Image, NormalMapStats) {
+    let instructions = instructions.min(LaneInstructions::detect());
+    let rows = Rows { scene, image, surface };
     match (surface.decoding, precision) {
-        (NormalDecoding::MinMax(s), MinMaxPrecision::Float64) => {
-            shade_rows::<MinMaxLanes<f64, 4>>(scene, image, surface, &s, instructions)
-        }
+        (NormalDecoding::MinMax(s), MinMaxPrecision::Float64) => match (instructions, &MinMaxDecoding::new(s)) {
+            (LaneInstructions::Portable, s) => {
+                rows.shade::<MinMaxLanes<Lanes<f64, 4>>>(s, |job, buffers, pixels| job.run(buffers, pixels))
+            }
+            // SAFETY (both): `instructions` is at most what `detect` found on this CPU.
+            #[cfg(target_arch = "x86_64")]
+            (LaneInstructions::Avx2, s) => {
+                rows.shade::<MinMaxLanes<F64x4Avx>>(s, |job, buffers, pixels| unsafe { job.run_avx2(buffers, pixels) })
+            }
+            #[cfg(target_arch = "x86_64")]
+            (LaneInstructions::Avx512, s) => rows.shade::<MinMaxLanes<F64x8Avx512>>(s, |job, buffers, pixels| unsafe {
+                job.run_avx512(buffers, pixels)
+            }),
+        },
         (NormalDecoding::MinMax(s), MinMaxPrecision::Float32) => {
-            shade_rows::<MinMaxLanes<f32, LANES>>(scene, image, surface, &s, instructions)
+            rows.shade_f32::<MinMaxLanes<Lanes<f32, LANES>>>(&MinMaxDecoding::new(s), instructions)
         }
-        (NormalDecoding::Signed, _) => shade_rows::<PhysicalLanes>(scene, image, surface, &(), instructions),
+        (NormalDecoding::Signed, _) => rows.shade_f32::<PhysicalLanes>(&(), instructions),
     }
 }
 
@@ -156,57 +171,78 @@ pub fn shade_image_with(
 /// always f32.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MinMaxPrecision {
-    /// Four float64 lanes (the default).
+    /// Float64 lanes (the default): four, or eight with AVX-512.
     Float64,
     /// Eight f32 lanes.
     Float32,
 }
 
-/// [`shade_image_with`] for one kind of lane group.
-fn shade_rows<G: LaneGroup>(
-    scene: &NormalMapScene,
-    image: &NormalImage,
-    surface: &ImageSurface,
-    decoding: &G::Decoding,
-    instructions: LaneInstructions,
-) -> (Image, NormalMapStats) {
-    let instructions = instructions.min(LaneInstructions::detect());
-    let start = Instant::now();
-    let shader = shader(scene, scene.preset.convention());
-    debug_assert!(shader.has_lanes());
-    let (surface_ns, shading_ns, points) = (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
-    let out = Image::par_from_rows(
-        image.width,
-        image.height,
-        RowBuffers::<G>::default,
-        |buffers, row, pixels| {
-            let t0 = Instant::now();
-            let job = LaneRow {
-                shader: &shader,
-                surface,
-                decoding,
-                image,
-                row,
-            };
-            let t1 = match instructions {
-                LaneInstructions::Portable => job.run(buffers, pixels),
-                #[cfg(target_arch = "x86_64")]
-                // SAFETY: `instructions` is at most what `detect` found on this CPU.
-                LaneInstructions::Avx2 => unsafe { job.run_avx2(buffers, pixels) },
-            };
-            let t2 = Instant::now();
-            surface_ns.fetch_add((t1 - t0).as_nanos() as u64, Ordering::Relaxed);
-            shading_ns.fetch_add((t2 - t1).as_nanos() as u64, Ordering::Relaxed);
-            points.fetch_add(buffers.columns.len() as u64, Ordering::Relaxed);
-        },
-    );
-    let stats = NormalMapStats {
-        surface_points: points.into_inner(),
-        surface_time: Duration::from_nanos(surface_ns.into_inner()),
-        shading_time: Duration::from_nanos(shading_ns.into_inner()),
-        wall_time: start.elapsed(),
-    };
-    (out, stats)
+/// What every row of one shading reads.
+#[derive(Clone, Copy)]
+struct Rows<'a> {
+    scene: &'a NormalMapScene,
+    image: &'a NormalImage,
+    surface: &'a ImageSurface,
+}
+
+impl Rows<'_> {
+    /// [`Rows::shade`] for f32 lane groups, whose code the AVX2 form serves on AVX-512
+    /// machines too.
+    fn shade_f32<G: LaneGroup>(
+        self,
+        decoding: &G::Decoding,
+        instructions: LaneInstructions,
+    ) -> (Image, NormalMapStats) {
+        match instructions {
+            LaneInstructions::Portable => self.shade::<G>(decoding, |job, buffers, pixels| job.run(buffers, pixels)),
+            // SAFETY: `instructions` is at most what `detect` found on this CPU, and AVX-512F
+            // implies AVX2.
+            #[cfg(target_arch = "x86_64")]
+            LaneInstructions::Avx2 | LaneInstructions::Avx512 => self
+                .shade::<G>(decoding, |job, buffers, pixels| unsafe {
+                    job.run_avx2(buffers, pixels)
+                }),
+        }
+    }
+
+    /// Every row, in parallel, as lane groups `G` run by `run` (one of [`LaneRow`]'s forms).
+    fn shade<G: LaneGroup>(
+        self,
+        decoding: &G::Decoding,
+        run: impl Fn(&LaneRow<G>, &mut RowBuffers<G>, &mut [Vec3]) -> Instant + Sync,
+    ) -> (Image, NormalMapStats) {
+        let start = Instant::now();
+        let shader = shader(self.scene, self.scene.preset.convention());
+        debug_assert!(shader.has_lanes());
+        let (surface_ns, shading_ns, points) = (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
+        let out = Image::par_from_rows(
+            self.image.width,
+            self.image.height,
+            RowBuffers::<G>::default,
+            |buffers, row, pixels| {
+                let t0 = Instant::now();
+                let job = LaneRow {
+                    shader: &shader,
+                    surface: self.surface,
+                    decoding,
+                    image: self.image,
+                    row,
+                };
+                let t1 = run(&job, buffers, pixels);
+                let t2 = Instant::now();
+                surface_ns.fetch_add((t1 - t0).as_nanos() as u64, Ordering::Relaxed);
+                shading_ns.fetch_add((t2 - t1).as_nanos() as u64, Ordering::Relaxed);
+                points.fetch_add(buffers.columns.len() as u64, Ordering::Relaxed);
+            },
+        );
+        let stats = NormalMapStats {
+            surface_points: points.into_inner(),
+            surface_time: Duration::from_nanos(surface_ns.into_inner()),
+            shading_time: Duration::from_nanos(shading_ns.into_inner()),
+            wall_time: start.elapsed(),
+        };
+        (out, stats)
+    }
 }
 
 /// Pixels of one row shaded together: how they are read from the image and shaded.
@@ -241,26 +277,33 @@ impl LaneGroup for PhysicalLanes {
     }
 }
 
-/// `tp` pixels in `Lanes<T, N>`: four float64 ones for the preset, eight f32 ones to compare.
+/// `tp` pixels in the lanes of `V`: float64 ones for the preset, f32 ones to compare.
 #[derive(Clone, Copy)]
-struct MinMaxLanes<T: Scalar, const N: usize>(SurfaceLanes<Lanes<T, N>>);
+struct MinMaxLanes<V: LaneArray>(SurfaceLanes<V>);
 
-impl<T: Scalar, const N: usize> LaneGroup for MinMaxLanes<T, N> {
-    const WIDTH: usize = N;
-    type Decoding = MinMaxScaling;
+impl<V: LaneArray + Send> LaneGroup for MinMaxLanes<V> {
+    const WIDTH: usize = V::WIDTH;
+    type Decoding = MinMaxDecoding<V::Scalar>;
     #[inline(always)]
-    fn read(surface: &ImageSurface, scaling: &MinMaxScaling, image: &NormalImage, row: u32, cols: &[u32]) -> Self {
-        MinMaxLanes(surface.tp_lanes(scaling, image, row, std::array::from_fn(|i| cols[i])))
+    fn read(surface: &ImageSurface, decoding: &Self::Decoding, image: &NormalImage, row: u32, cols: &[u32]) -> Self {
+        MinMaxLanes(surface.tp_lanes(decoding, image, row, cols))
     }
     #[inline(always)]
     fn shade(&self, shader: &Shader<NoOcclusion>, mut out: impl FnMut(usize, Vec3)) {
         let radiance = shader.shade_clamped_lanes(&self.0);
-        let channel = |c: usize, i: usize| radiance[c].0[i].as_f64() as f32;
-        for i in 0..N {
+        let mut channels = [[V::Scalar::zero(); MAX_GROUP]; 3];
+        for (c, lanes) in radiance.into_iter().enumerate() {
+            lanes.write_to(&mut channels[c]);
+        }
+        let channel = |c: usize, i: usize| channels[c][i].as_f64() as f32;
+        for i in 0..V::WIDTH {
             out(i, Vec3::new(channel(0, i), channel(1, i), channel(2, i)));
         }
     }
 }
+
+/// The widest lane group.
+const MAX_GROUP: usize = 8;
 
 /// One thread's surface points of the row it is shading, reused from row to row.
 struct RowBuffers<G> {
@@ -294,16 +337,25 @@ impl<G: LaneGroup> LaneRow<'_, G> {
     /// Returns the time at which the surface stage ended.
     #[inline(always)]
     fn run(&self, buffers: &mut RowBuffers<G>, pixels: &mut [Vec3]) -> Instant {
+        debug_assert!(G::WIDTH <= MAX_GROUP);
         buffers.columns.clear();
         buffers.groups.clear();
         self.surface
             .foreground_columns(self.image, self.row, &mut buffers.columns);
-        let mut cols = [0u32; LANES];
+        let mut padded = [0u32; MAX_GROUP];
         for group in buffers.columns.chunks(G::WIDTH) {
-            for (i, col) in cols.iter_mut().take(G::WIDTH).enumerate() {
-                *col = group[i.min(group.len() - 1)];
-            }
-            let lanes = G::read(self.surface, self.decoding, self.image, self.row, &cols);
+            // Full groups are read where the columns are (copied, the lanes' wide load of them
+            // would wait for the copy's narrow stores to land); the last one is padded.
+            let cols = match group.len() == G::WIDTH {
+                true => group,
+                false => {
+                    for (i, col) in padded.iter_mut().take(G::WIDTH).enumerate() {
+                        *col = group[i.min(group.len() - 1)];
+                    }
+                    &padded[..G::WIDTH]
+                }
+            };
+            let lanes = G::read(self.surface, self.decoding, self.image, self.row, cols);
             buffers.groups.push(lanes);
         }
         let t1 = Instant::now();
@@ -312,11 +364,18 @@ impl<G: LaneGroup> LaneRow<'_, G> {
     }
 
     /// [`LaneRow::run`] compiled with AVX2 (256-bit registers: an
-    /// [`F32x8`](crate::lanes::F32x8) or `F64x4` operation is one instruction instead of
+    /// [`F32x8`](crate::lanes::F32x8) or four-float64 operation is one instruction instead of
     /// two). No FMA: fused products round differently, and every path must give the same bits.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     fn run_avx2(&self, buffers: &mut RowBuffers<G>, pixels: &mut [Vec3]) -> Instant {
+        self.run(buffers, pixels)
+    }
+
+    /// [`LaneRow::run`] compiled with AVX-512F, for the eight-float64 lane groups. No FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,avx512f")]
+    fn run_avx512(&self, buffers: &mut RowBuffers<G>, pixels: &mut [Vec3]) -> Instant {
         self.run(buffers, pixels)
     }
 }

@@ -20,7 +20,7 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::lanes::{map3, normalize_or_zero, F32x8, Lanes, Real, Scalar, LANES};
+use crate::lanes::{map3, normalize_or_zero, F32x8, LaneArray, Real, Scalar, LANES};
 use crate::normal_map::image::NormalImage;
 use crate::normal_map::image::Sample;
 use crate::normal_map::image::TP_BACKGROUND_LEVEL;
@@ -92,6 +92,25 @@ impl MinMaxScaling {
     pub fn normal<R: Real>(&self, v: [R; 3]) -> [R; 3] {
         let (min, range) = (R::lit(self.min), R::lit(self.max - self.min));
         map3(v, |c| (c - min) / range)
+    }
+}
+
+/// What the `tp` lane path decodes with: the scaling, and the normal component of every 8-bit
+/// level in precision `T` — (v − min)/(max − min) computed once per level, so a pixel's normal
+/// is three table reads with the same bits as three divisions.
+#[derive(Clone, Debug)]
+pub struct MinMaxDecoding<T> {
+    /// The image's scaling.
+    pub scaling: MinMaxScaling,
+    /// [`MinMaxScaling::normal`] of each 8-bit level (unused for other samples).
+    eight_bit: [T; 256],
+}
+
+impl<T: Scalar> MinMaxDecoding<T> {
+    /// The table of `scaling`.
+    pub fn new(scaling: MinMaxScaling) -> Self {
+        let eight_bit = std::array::from_fn(|v| scaling.normal([T::lit(v as f64); 3])[0]);
+        MinMaxDecoding { scaling, eight_bit }
     }
 }
 
@@ -308,29 +327,41 @@ impl ImageSurface {
         }
     }
 
-    /// The `tp` surface points of the pixels at columns `cols` (foreground) of row `row`, in the
-    /// lanes of `Lanes<T, N>` (four float64 lanes for the preset; f32 lanes for comparison):
-    /// [`ImageSurface::tp_point`] of each.
+    /// The `tp` surface points of the pixels at columns `cols` (foreground; one per lane) of row
+    /// `row`, in the lanes of `V` (float64 lanes for the preset; f32 lanes for comparison):
+    /// [`ImageSurface::tp_point`] of each. 8-bit levels take their normal from `decoding`'s table
+    /// (the same quotients), other samples divide.
     #[inline(always)]
-    pub fn tp_lanes<T: Scalar, const N: usize>(
+    pub fn tp_lanes<V: LaneArray>(
         &self,
-        scaling: &MinMaxScaling,
+        decoding: &MinMaxDecoding<V::Scalar>,
         image: &NormalImage,
         row: u32,
-        cols: [u32; N],
-    ) -> SurfaceLanes<Lanes<T, N>> {
-        fn levels<S: Sample, T: Scalar, const N: usize>(samples: &[[S; 4]], cols: [u32; N]) -> [Lanes<T, N>; 3] {
+        cols: &[u32],
+    ) -> SurfaceLanes<V> {
+        #[inline(always)]
+        fn levels<S: Sample, V: LaneArray>(samples: &[[S; 4]], cols: &[u32]) -> [V; 3] {
             map3([0, 1, 2], |c| {
-                Lanes::from_fn(|i| T::lit(samples[cols[i] as usize][c].level()))
+                V::from_fn(|i| V::Scalar::lit(samples[cols[i] as usize][c].level()))
             })
         }
-        let v = match &image.samples {
-            Samples::Eight(s) => levels(&s[self.row_range(row)], cols),
-            Samples::Sixteen(s) => levels(&s[self.row_range(row)], cols),
-            Samples::Float(s) => levels(&s[self.row_range(row)], cols),
+        let scaling = &decoding.scaling;
+        let normal = match &image.samples {
+            Samples::Eight(s) => {
+                // A function per channel, not a closure over the channels: the compiler does
+                // not always inline a closure, and an outlined one costs more than the lookups.
+                #[inline(always)]
+                fn channel<V: LaneArray>(table: &[V::Scalar; 256], s: &[[u8; 4]], cols: &[u32], c: usize) -> V {
+                    V::from_fn(|i| table[s[cols[i] as usize][c] as usize])
+                }
+                let (s, n) = (&s[self.row_range(row)], &decoding.eight_bit);
+                [channel(n, s, cols, 0), channel(n, s, cols, 1), channel(n, s, cols, 2)]
+            }
+            Samples::Sixteen(s) => scaling.normal(levels::<_, V>(&s[self.row_range(row)], cols)),
+            Samples::Float(s) => scaling.normal(levels::<_, V>(&s[self.row_range(row)], cols)),
         };
-        let col = Lanes::from_fn(|i| T::lit(cols[i] as f64));
-        self.tp_point(scaling, v, col, Lanes::splat(T::lit(row as f64)))
+        let col = V::from_fn(|i| V::Scalar::lit(cols[i] as f64));
+        self.tp_point_with_normal(normal, col, V::lit(row as f64))
     }
 
     /// The `tp` surface point of a foreground pixel at (`col`, `row`) with values `v` in
@@ -339,6 +370,12 @@ impl ImageSurface {
     /// ([`unit_by_division`]) — so that, in float64, n·ω_o is the numpy implementation's to the bit.
     #[inline(always)]
     pub fn tp_point<R: Real>(&self, scaling: &MinMaxScaling, v: [R; 3], col: R, row: R) -> SurfaceLanes<R> {
+        self.tp_point_with_normal(scaling.normal(v), col, row)
+    }
+
+    /// [`ImageSurface::tp_point`] of a pixel whose normal `n` is decoded.
+    #[inline(always)]
+    fn tp_point_with_normal<R: Real>(&self, n: [R; 3], col: R, row: R) -> SurfaceLanes<R> {
         let position = self.position_of(col, row);
         let to_viewer = match self.viewer {
             Viewer::Direction(d) => map3(d.to_array(), R::of),
@@ -349,7 +386,7 @@ impl ImageSurface {
         };
         SurfaceLanes {
             position,
-            shading_normal: scaling.normal(v),
+            shading_normal: n,
             to_viewer,
             material: self.material,
         }

@@ -223,7 +223,9 @@ impl<O: Occluder> Shader<'_, O> {
             LaneInstructions::Portable => self.batch_lanes(points, out, shadow_rays),
             #[cfg(target_arch = "x86_64")]
             // SAFETY: `detect` found AVX2 on this CPU.
-            LaneInstructions::Avx2 => unsafe { self.batch_lanes_avx2(points, out, shadow_rays) },
+            LaneInstructions::Avx2 | LaneInstructions::Avx512 => unsafe {
+                self.batch_lanes_avx2(points, out, shadow_rays)
+            },
         }
     }
 

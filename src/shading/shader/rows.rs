@@ -186,14 +186,12 @@ pub enum RowInstructions {
 impl RowInstructions {
     /// The best this CPU runs, detected at run time (the binary stays portable).
     pub fn detect() -> RowInstructions {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            return RowInstructions::Avx512;
-        }
         match LaneInstructions::detect() {
             LaneInstructions::Portable => RowInstructions::Portable,
             #[cfg(target_arch = "x86_64")]
             LaneInstructions::Avx2 => RowInstructions::Avx2,
+            #[cfg(target_arch = "x86_64")]
+            LaneInstructions::Avx512 => RowInstructions::Avx512,
         }
     }
 }
