@@ -23,6 +23,7 @@ pub mod balanced;
 pub mod binned;
 mod bvh_space;
 pub mod packet;
+pub mod quad;
 pub mod shadow;
 pub mod triangle;
 mod walk;
