@@ -214,10 +214,34 @@ pub fn normal_samples(value: &Bound<'_, PyAny>) -> PyResult<(u32, u32, Samples, 
         full: T,
         to: impl Fn(S) -> T + Sync,
     ) -> Vec<[T; 4]> {
+        match c {
+            3 => rgba_of::<3, S, T>(v, full, to),
+            _ => rgba_of::<4, S, T>(v, full, to),
+        }
+    }
+    /// [`rgba`] for `C` channels: a loop of fixed shape per block of pixels, which the
+    /// compiler turns into vector shuffles (a copy for four 8-bit channels).
+    fn rgba_of<const C: usize, S: Copy + Sync, T: Copy + Send + Sync>(
+        v: &[S],
+        full: T,
+        to: impl Fn(S) -> T + Sync,
+    ) -> Vec<[T; 4]> {
         use rayon::prelude::*;
-        v.par_chunks_exact(c)
-            .map(|p| [to(p[0]), to(p[1]), to(p[2]), if c == 4 { to(p[3]) } else { full }])
-            .collect()
+        const BLOCK: usize = 16384;
+        let n = v.len() / C;
+        let mut out = Vec::with_capacity(n);
+        out.spare_capacity_mut()[..n]
+            .par_chunks_mut(BLOCK)
+            .zip(v.par_chunks(C * BLOCK))
+            .for_each(|(out, v)| {
+                for (o, p) in out.iter_mut().zip(v.chunks_exact(C)) {
+                    o.write([to(p[0]), to(p[1]), to(p[2]), if C == 4 { to(p[3]) } else { full }]);
+                }
+            });
+        // SAFETY: the blocks above cover the first n elements (v holds n whole pixels, C
+        // samples each), and each was written once.
+        unsafe { out.set_len(n) };
+        out
     }
     let unit = UnitSample(1.0);
     let samples = if let Some(s) = with_elements(a, |v| rgba(v, c, u8::MAX, |x| x)) {

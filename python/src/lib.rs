@@ -230,16 +230,16 @@ fn shade_normal_image<'py>(
     let confinement = confinement(confine)?;
     let source = Path::new("shade_normal_image");
     let dir = dir.unwrap_or_else(|| PathBuf::from("."));
-    let samples = normals.map(|a| arrays::normal_samples(&a)).transpose()?;
+    let mut samples = normals.map(|a| arrays::normal_samples(&a)).transpose()?;
     let workers = options::workers(threads.as_ref())?;
     // Milliseconds of work: without the GIL, but not worth a thread that watches for Ctrl-C.
     let outcome = py.detach(|| {
         workers.install(|| -> Result<_, LibError> {
             let (scene, image) = confinement.run(|| -> Result<_, LibError> {
                 let scene = NormalMapScene::from_text(source, text.clone(), &dir, None)?;
-                let image = match &samples {
+                let image = match samples.take() {
                     Some((w, h, samples, alpha)) => {
-                        NormalImage::from_samples(Path::new("normals"), *w, *h, samples.clone(), *alpha)?
+                        NormalImage::from_samples(Path::new("normals"), w, h, samples, alpha)?
                     }
                     None => NormalImage::load(&scene.image)?,
                 };

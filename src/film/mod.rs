@@ -219,6 +219,21 @@ pub struct Image {
     pub pixels: Vec<Vec3>,
 }
 
+/// Whether every channel of `pixels` is finite: no channel's bits without the sign reach
+/// infinity's (all exponent bits set is infinity or NaN). One branch-free reduction of integer
+/// compares, which the compiler runs in vector instructions (SSE2 has signed compares but no
+/// integer max; the magnitudes are below 2^31, so the signed compare is exact).
+#[inline]
+pub fn all_finite(pixels: &[Vec3]) -> bool {
+    // The channels as one run of words: a reduction over a stride of three floats is left
+    // scalar.
+    let bits: &[u32] = bytemuck::cast_slice(pixels);
+    let infinity = f32::INFINITY.to_bits() as i32;
+    !bits
+        .iter()
+        .fold(false, |any, &b| any | ((b & 0x7fff_ffff) as i32 >= infinity))
+}
+
 impl Image {
     /// The first pixel, row-major, with a non-finite channel: its column, row and value. A
     /// renderer returns an error instead of such an image ([`overflow_error`]).
@@ -226,12 +241,11 @@ impl Image {
         // Blocks on every core, each tested without a branch per value (the compiler packs the
         // test into vector instructions); the pixel itself is then found in the first bad block.
         const BLOCK: usize = 4096;
-        let finite = |p: &Vec3| p.x.is_finite() & p.y.is_finite() & p.z.is_finite();
-        let block = self
-            .pixels
-            .par_chunks(BLOCK)
-            .position_first(|b| !b.iter().fold(true, |all, p| all & finite(p)))?;
-        let i = block * BLOCK + self.pixels[block * BLOCK..].iter().position(|p| !finite(p))?;
+        let block = self.pixels.par_chunks(BLOCK).position_first(|b| !all_finite(b))?;
+        let i = block * BLOCK
+            + self.pixels[block * BLOCK..]
+                .iter()
+                .position(|p| !all_finite(std::slice::from_ref(p)))?;
         Some((i as u32 % self.width, i as u32 / self.width, self.pixels[i]))
     }
 
@@ -253,9 +267,10 @@ impl Image {
             .par_chunks_mut(w.max(1))
             .enumerate()
             .for_each_init(init, |state, (y, chunk)| {
-                chunk.fill(MaybeUninit::new(Vec3::ZERO));
-                // SAFETY: every element of `chunk` was initialised on the line above, and
-                // `MaybeUninit<Vec3>` has the layout of `Vec3`.
+                // SAFETY (both): the bytes of `chunk` are set to zero, which is `Vec3::ZERO`
+                // (three 0.0 floats), so every element is initialised; `MaybeUninit<Vec3>` has
+                // the layout of `Vec3`. (A memset: `fill` with the value was a loop of stores.)
+                unsafe { chunk.as_mut_ptr().write_bytes(0, chunk.len()) };
                 let chunk = unsafe { &mut *(chunk as *mut [MaybeUninit<Vec3>] as *mut [Vec3]) };
                 row(state, y as u32, chunk);
             });
@@ -303,6 +318,39 @@ mod tests {
         let (x, y, p) = image.first_non_finite().unwrap();
         assert_eq!((x, y), (1, 2));
         assert!(overflow_error(x, y, p).starts_with("radiance overflowed at pixel (1, 2): [1.000e0, -inf, 0.000e0]"));
+    }
+
+    #[test]
+    fn all_finite_is_every_channels_is_finite() {
+        let finite = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            f32::MAX,
+            -f32::MAX,
+            f32::MIN_POSITIVE,
+            1e-45,
+            -1e-45,
+        ];
+        let not = [
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            -f32::NAN,
+            f32::from_bits(0xff80_0001),
+        ];
+        for &v in &finite {
+            assert!(all_finite(&[Vec3::ONE, Vec3::new(1.0, v, 2.0)]), "{v}");
+        }
+        for &v in &not {
+            for c in 0..3 {
+                let mut p = Vec3::ONE;
+                p[c] = v;
+                assert!(!all_finite(&[Vec3::ZERO, p, Vec3::ONE]), "{v} in channel {c}");
+            }
+        }
+        assert!(all_finite(&[]));
     }
 
     #[test]

@@ -21,7 +21,7 @@ use glam::{DVec3, Vec3};
 use crate::accel::shadow::NoOcclusion;
 use crate::accel::shadow::SceneExtent;
 use crate::error::{InputError, InputResult};
-use crate::film::{overflow_error, Image};
+use crate::film::{all_finite, overflow_error, Image};
 #[cfg(target_arch = "x86_64")]
 use crate::lanes::x86::{F64x4Avx, F64x8Avx512};
 use crate::lanes::{LaneArray, LaneInstructions, Lanes, Real, Scalar, LANES};
@@ -45,6 +45,9 @@ pub struct NormalMapStats {
     pub shading_time: Duration,
     /// Wall-clock time of surface points + shading.
     pub wall_time: Duration,
+    /// Rows holding a pixel that is not finite (an overflow [`shade`] reports), counted by the
+    /// worker that wrote the row while it is in its cache.
+    pub non_finite_rows: u64,
 }
 
 /// A normal image shaded: what both front ends make of it.
@@ -70,7 +73,10 @@ pub fn shade(scene: &NormalMapScene, image: &NormalImage, output: &str) -> Input
     }
     let surface = image_surface(scene, image).map_err(|e| InputError::new(&image.source, e))?;
     let (radiance, stats) = shade_image(scene, image, &surface);
-    if let Some((x, y, p)) = radiance.first_non_finite() {
+    if stats.non_finite_rows > 0 {
+        let (x, y, p) = radiance
+            .first_non_finite()
+            .expect("a row holds a pixel that is not finite");
         return Err(InputError::new(&image.source, overflow_error(x, y, p)));
     }
     Ok(ShadedNormalImage {
@@ -215,6 +221,7 @@ impl Rows<'_> {
         let shader = shader(self.scene, self.scene.preset.convention());
         debug_assert!(shader.has_lanes());
         let (surface_ns, shading_ns, points) = (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
+        let non_finite_rows = AtomicU64::new(0);
         let out = Image::par_from_rows(
             self.image.width,
             self.image.height,
@@ -233,6 +240,9 @@ impl Rows<'_> {
                 surface_ns.fetch_add((t1 - t0).as_nanos() as u64, Ordering::Relaxed);
                 shading_ns.fetch_add((t2 - t1).as_nanos() as u64, Ordering::Relaxed);
                 points.fetch_add(buffers.columns.len() as u64, Ordering::Relaxed);
+                if !all_finite(pixels) {
+                    non_finite_rows.fetch_add(1, Ordering::Relaxed);
+                }
             },
         );
         let stats = NormalMapStats {
@@ -240,6 +250,7 @@ impl Rows<'_> {
             surface_time: Duration::from_nanos(surface_ns.into_inner()),
             shading_time: Duration::from_nanos(shading_ns.into_inner()),
             wall_time: start.elapsed(),
+            non_finite_rows: non_finite_rows.into_inner(),
         };
         (out, stats)
     }
