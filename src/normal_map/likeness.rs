@@ -88,7 +88,7 @@ fn count<S: Verdicts>(samples: &[[S; 4]]) -> NormalLikeness {
 }
 
 /// The verdicts of `block` summed: eight pixels per instruction in AVX2 registers, four in
-/// the portable build's SSE2 ones (`cargo bench --bench normalmap` times the whole check).
+/// the portable build's SSE2 ones.
 #[inline(always)]
 fn count_block<S: Verdicts>(block: &[[S; 4]]) -> [u32; 3] {
     block.iter().fold([0u32; 3], |sum, &p| {
