@@ -269,7 +269,7 @@ impl Image {
             .for_each_init(init, |state, (y, chunk)| {
                 // SAFETY (both): the bytes of `chunk` are set to zero, which is `Vec3::ZERO`
                 // (three 0.0 floats), so every element is initialised; `MaybeUninit<Vec3>` has
-                // the layout of `Vec3`. (A memset: `fill` with the value was a loop of stores.)
+                // the layout of `Vec3`.
                 unsafe { chunk.as_mut_ptr().write_bytes(0, chunk.len()) };
                 let chunk = unsafe { &mut *(chunk as *mut [MaybeUninit<Vec3>] as *mut [Vec3]) };
                 row(state, y as u32, chunk);
