@@ -45,8 +45,10 @@ pub struct NormalMapStats {
     pub shading_time: Duration,
     /// Wall-clock time of surface points + shading.
     pub wall_time: Duration,
-    /// Rows holding a pixel that is not finite (an overflow [`shade`] reports), counted by the
-    /// worker that wrote the row while it is in its cache.
+    /// Rows holding a pixel that is not finite, counted by the worker that wrote the row while it
+    /// is in its cache. The shader saturates L_o at `f32::MAX` (`shading::shader`), so this is 0
+    /// today: it is defence in depth, so that a shader change letting an infinity or a NaN
+    /// through would be an error [`shade`] reports, never a pixel of the output.
     pub non_finite_rows: u64,
 }
 
@@ -65,7 +67,8 @@ pub struct ShadedNormalImage {
 /// Shades `image` as `scene` says: the normal-map mode's one call, which the CLI
 /// (`pointshade normalmap`) and the Python module (`shade_normal_image`) make. `output`
 /// describes what the caller makes of L_o, for the plan. An error names the image (a `tp`
-/// image whose values are all equal) or says where a pixel overflowed.
+/// image whose values are all equal) or, should the shader ever let one through, the pixel that
+/// is not finite ([`NormalMapStats::non_finite_rows`]).
 pub fn shade(scene: &NormalMapScene, image: &NormalImage, output: &str) -> InputResult<ShadedNormalImage> {
     let mut warnings = Vec::new();
     if let Some(warning) = NormalLikeness::of(image).warning() {
