@@ -1,11 +1,12 @@
-//! Normal-map speed: pointshade's `tp` shading of normal.png with Cook-Torrance, in float64 (the
-//! preset) and in f32 lanes, against a
+//! Normal-map speed: pointshade's `tp` shading of normal.png with Cook-Torrance (or the BRDF
+//! `--brdf` names), in float64 (the preset) and in f32 lanes, against a
 //! straightforward numpy float64 implementation of the same formulas
 //! (`benches/normalmap_numpy.py`), measured in the same run, plus the library's whole call
 //! (`normal_map::shade`: the image check too) and the whole `pointshade normalmap` process
 //! (decode + shade + encode) timed as a process.
 //!
-//! `cargo bench --bench normalmap` prints a table of medians (`--quick`: fewer repeats). The
+//! `cargo bench --bench normalmap [-- --brdf lambert|blinn-phong|cook-torrance]` prints a table of
+//! medians (`--quick`: fewer repeats). The
 //! numpy part needs python3 with numpy (`POINTSHADE_PYTHON` names the interpreter; CI gives it
 //! the validation's virtual environment, which pins numpy); without them it says SKIPPED loudly
 //! and the ratios are not printed. Both implementations' L_o are compared, so the times are for
@@ -100,13 +101,13 @@ const AGREEMENT_F32: f64 = 1e-5;
 
 /// Runs the numpy script on `npy` with `POINTSHADE_PYTHON` (default `python3`); `None` (after a
 /// loud SKIPPED) when python or numpy are absent.
-fn run_numpy(npy: &Path, out: &Path, repeats: usize, ours: [&Image; 2]) -> Option<Numpy> {
+fn run_numpy(npy: &Path, out: &Path, brdf: ModelName, repeats: usize, ours: [&Image; 2]) -> Option<Numpy> {
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/normalmap_numpy.py");
     let python = std::env::var_os("POINTSHADE_PYTHON").unwrap_or_else(|| "python3".into());
     let result = Command::new(&python)
         .arg(&script)
         .arg(npy)
-        .args(["--brdf", "cook-torrance", "--repeats", &repeats.to_string(), "--save"])
+        .args(["--brdf", brdf.name(), "--repeats", &repeats.to_string(), "--save"])
         .arg(out)
         .output();
     let output = match result {
@@ -198,7 +199,15 @@ fn time_material_eval(scene: &NormalMapScene, image: &NormalImage, repeats: usiz
 }
 
 fn main() {
-    let quick = std::env::args().any(|a| a == "--quick");
+    let args: Vec<String> = std::env::args().collect();
+    let quick = args.iter().any(|a| a == "--quick");
+    let brdf: ModelName = match args.iter().position(|a| a == "--brdf") {
+        Some(i) => args.get(i + 1).map_or("", String::as_str).parse().unwrap_or_else(|e| {
+            eprintln!("error: --brdf: {e}");
+            std::process::exit(2)
+        }),
+        None => ModelName::CookTorrance,
+    };
     let repeats = if quick { 5 } else { 51 };
     let process_repeats = if quick { 3 } else { 11 };
     let numpy_repeats = if quick { 3 } else { 7 };
@@ -211,7 +220,7 @@ fn main() {
         return;
     }
     let image = NormalImage::load(&path).expect("normal.png decodes");
-    let scene = NormalMapScene::from_preset(&path, Preset::Tp, ModelName::CookTorrance);
+    let scene = NormalMapScene::from_preset(&path, Preset::Tp, brdf);
     // What numpy's shade() does too: the tp scaling's global min and max, then every pixel.
     let shade_with = |instructions: LaneInstructions, precision: MinMaxPrecision| {
         let surface = image_surface(&scene, &image).expect("normal.png has a range");
@@ -278,7 +287,7 @@ fn main() {
             let status = Command::new(env!("CARGO_BIN_EXE_pointshade"))
                 .arg("normalmap")
                 .arg(&path)
-                .args(["--preset", "tp", "--brdf", "cook-torrance", "--quiet", "-o"])
+                .args(["--preset", "tp", "--brdf", brdf.name(), "--quiet", "-o"])
                 .arg(&out_png)
                 .status()
                 .expect("pointshade runs");
@@ -291,13 +300,16 @@ fn main() {
 
     let npy = tmp.join("normal-rgb.npy");
     write_npy_u8(&npy, &image);
-    let numpy = run_numpy(&npy, &tmp.join("numpy-lo.npy"), numpy_repeats, [&ours, &ours_f32]);
+    let numpy = run_numpy(&npy, &tmp.join("numpy-lo.npy"), brdf, numpy_repeats, [&ours, &ours_f32]);
     let _ = std::fs::remove_dir_all(&tmp);
 
     println!(
-        "normal.png {}x{} ({} shaded points), tp preset, Cook-Torrance; medians of {repeats} runs \
+        "normal.png {}x{} ({} shaded points), tp preset, {}; medians of {repeats} runs \
          ({process_repeats} processes, {numpy_repeats} numpy runs)",
-        image.width, image.height, stats.surface_points
+        image.width,
+        image.height,
+        stats.surface_points,
+        brdf.name()
     );
     println!(
         "{:<58} {:>10} {:>14} {:>10} {:>12}",
