@@ -151,23 +151,27 @@ pub fn shade_image_with(
 ) -> (Image, NormalMapStats) {
     let instructions = instructions.min(LaneInstructions::detect());
     let rows = Rows { scene, image, surface };
+    // The clamped convention's Lambert reads no ω_o (`MinMaxDecoding::forms_to_viewer`).
+    let forms_to_viewer = scene.material.has_specular();
     match (surface.decoding, precision) {
-        (NormalDecoding::MinMax(s), MinMaxPrecision::Float64) => match (instructions, &MinMaxDecoding::new(s)) {
-            (LaneInstructions::Portable, s) => {
-                rows.shade::<MinMaxLanes<Lanes<f64, 4>>>(s, |job, buffers, pixels| job.run(buffers, pixels))
+        (NormalDecoding::MinMax(s), MinMaxPrecision::Float64) => {
+            match (instructions, &MinMaxDecoding::new(s, forms_to_viewer)) {
+                (LaneInstructions::Portable, s) => {
+                    rows.shade::<MinMaxLanes<Lanes<f64, 4>>>(s, |job, buffers, pixels| job.run(buffers, pixels))
+                }
+                // SAFETY (both): `instructions` is at most what `detect` found on this CPU.
+                #[cfg(target_arch = "x86_64")]
+                (LaneInstructions::Avx2, s) => rows
+                    .shade::<MinMaxLanes<F64x4Avx>>(s, |job, buffers, pixels| unsafe { job.run_avx2(buffers, pixels) }),
+                #[cfg(target_arch = "x86_64")]
+                (LaneInstructions::Avx512, s) => rows
+                    .shade::<MinMaxLanes<F64x8Avx512>>(s, |job, buffers, pixels| unsafe {
+                        job.run_avx512(buffers, pixels)
+                    }),
             }
-            // SAFETY (both): `instructions` is at most what `detect` found on this CPU.
-            #[cfg(target_arch = "x86_64")]
-            (LaneInstructions::Avx2, s) => {
-                rows.shade::<MinMaxLanes<F64x4Avx>>(s, |job, buffers, pixels| unsafe { job.run_avx2(buffers, pixels) })
-            }
-            #[cfg(target_arch = "x86_64")]
-            (LaneInstructions::Avx512, s) => rows.shade::<MinMaxLanes<F64x8Avx512>>(s, |job, buffers, pixels| unsafe {
-                job.run_avx512(buffers, pixels)
-            }),
-        },
+        }
         (NormalDecoding::MinMax(s), MinMaxPrecision::Float32) => {
-            rows.shade_f32::<MinMaxLanes<Lanes<f32, LANES>>>(&MinMaxDecoding::new(s), instructions)
+            rows.shade_f32::<MinMaxLanes<Lanes<f32, LANES>>>(&MinMaxDecoding::new(s, forms_to_viewer), instructions)
         }
         (NormalDecoding::Signed, _) => rows.shade_f32::<PhysicalLanes>(&(), instructions),
     }

@@ -95,22 +95,31 @@ impl MinMaxScaling {
     }
 }
 
-/// What the `tp` lane path decodes with: the scaling, and the normal component of every 8-bit
+/// What the `tp` lane path decodes with: the scaling, the normal component of every 8-bit
 /// level in precision `T` — (v − min)/(max − min) computed once per level, so a pixel's normal
-/// is three table reads with the same bits as three divisions.
+/// is three table reads with the same bits as three divisions — and whether ω_o is formed.
 #[derive(Clone, Debug)]
 pub struct MinMaxDecoding<T> {
     /// The image's scaling.
     pub scaling: MinMaxScaling,
     /// [`MinMaxScaling::normal`] of each 8-bit level (unused for other samples).
     eight_bit: [T; 256],
+    /// Whether the points get their ω_o; without it `to_viewer` is the zero vector. Under the
+    /// clamped convention ω_o enters only n·ω_o and ω_h, which only a specular lobe reads: a
+    /// Lambert material's L_o is the same without it, and its square root and three divisions
+    /// (a third of a Lambert pixel's) are saved.
+    pub forms_to_viewer: bool,
 }
 
 impl<T: Scalar> MinMaxDecoding<T> {
-    /// The table of `scaling`.
-    pub fn new(scaling: MinMaxScaling) -> Self {
+    /// The table of `scaling`, for points that get their ω_o where `forms_to_viewer`.
+    pub fn new(scaling: MinMaxScaling, forms_to_viewer: bool) -> Self {
         let eight_bit = std::array::from_fn(|v| scaling.normal([T::lit(v as f64); 3])[0]);
-        MinMaxDecoding { scaling, eight_bit }
+        MinMaxDecoding {
+            scaling,
+            eight_bit,
+            forms_to_viewer,
+        }
     }
 }
 
@@ -361,7 +370,7 @@ impl ImageSurface {
             Samples::Float(s) => scaling.normal(levels::<_, V>(&s[self.row_range(row)], cols)),
         };
         let col = V::from_fn(|i| V::Scalar::lit(cols[i] as f64));
-        self.tp_point_with_normal(normal, col, V::lit(row as f64))
+        self.tp_point_with_normal(normal, col, V::lit(row as f64), decoding.forms_to_viewer)
     }
 
     /// The `tp` surface point of a foreground pixel at (`col`, `row`) with values `v` in
@@ -370,14 +379,16 @@ impl ImageSurface {
     /// ([`unit_by_division`]) — so that, in float64, n·ω_o is the numpy implementation's to the bit.
     #[inline(always)]
     pub fn tp_point<R: Real>(&self, scaling: &MinMaxScaling, v: [R; 3], col: R, row: R) -> SurfaceLanes<R> {
-        self.tp_point_with_normal(scaling.normal(v), col, row)
+        self.tp_point_with_normal(scaling.normal(v), col, row, true)
     }
 
-    /// [`ImageSurface::tp_point`] of a pixel whose normal `n` is decoded.
+    /// [`ImageSurface::tp_point`] of a pixel whose normal `n` is decoded; ω_o the zero vector
+    /// unless `forms_to_viewer` ([`MinMaxDecoding::forms_to_viewer`]).
     #[inline(always)]
-    fn tp_point_with_normal<R: Real>(&self, n: [R; 3], col: R, row: R) -> SurfaceLanes<R> {
+    fn tp_point_with_normal<R: Real>(&self, n: [R; 3], col: R, row: R, forms_to_viewer: bool) -> SurfaceLanes<R> {
         let position = self.position_of(col, row);
         let to_viewer = match self.viewer {
+            _ if !forms_to_viewer => [R::zero(); 3],
             Viewer::Direction(d) => map3(d.to_array(), R::of),
             Viewer::Position(c) => {
                 let c = map3(c.to_array(), R::of);
