@@ -223,7 +223,7 @@ pub struct Image {
 /// infinity's (all exponent bits set is infinity or NaN). One branch-free reduction of integer
 /// compares, which the compiler runs in vector instructions (SSE2 has signed compares but no
 /// integer max; the magnitudes are below 2^31, so the signed compare is exact).
-#[inline]
+#[inline(always)]
 pub fn all_finite(pixels: &[Vec3]) -> bool {
     // The channels as one run of words: a reduction over a stride of three floats is left
     // scalar.

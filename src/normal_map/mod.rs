@@ -222,7 +222,7 @@ impl Rows<'_> {
     fn shade<G: LaneGroup>(
         self,
         decoding: &G::Decoding,
-        run: impl Fn(&LaneRow<G>, &mut RowBuffers<G>, &mut [Vec3]) -> Instant + Sync,
+        run: impl Fn(&LaneRow<G>, &mut RowBuffers<G>, &mut [Vec3]) -> RowShaded + Sync,
     ) -> (Image, NormalMapStats) {
         let start = Instant::now();
         let shader = shader(self.scene, self.scene.preset.convention());
@@ -242,12 +242,12 @@ impl Rows<'_> {
                     image: self.image,
                     row,
                 };
-                let t1 = run(&job, buffers, pixels);
-                let t2 = Instant::now();
+                let shaded = run(&job, buffers, pixels);
+                let (t1, t2) = (shaded.surface_end, Instant::now());
                 surface_ns.fetch_add((t1 - t0).as_nanos() as u64, Ordering::Relaxed);
                 shading_ns.fetch_add((t2 - t1).as_nanos() as u64, Ordering::Relaxed);
                 points.fetch_add(buffers.columns.len() as u64, Ordering::Relaxed);
-                if !all_finite(pixels) {
+                if !shaded.finite {
                     non_finite_rows.fetch_add(1, Ordering::Relaxed);
                 }
             },
@@ -350,11 +350,18 @@ struct LaneRow<'a, G: LaneGroup> {
     row: u32,
 }
 
+/// What a row's run reports.
+struct RowShaded {
+    /// When its surface stage ended.
+    surface_end: Instant,
+    /// Whether every pixel of the row is finite (tested in the run, in its wider instructions).
+    finite: bool,
+}
+
 impl<G: LaneGroup> LaneRow<'_, G> {
     /// The row's foreground pixels' lane groups into `buffers`, then shaded into `pixels`.
-    /// Returns the time at which the surface stage ended.
     #[inline(always)]
-    fn run(&self, buffers: &mut RowBuffers<G>, pixels: &mut [Vec3]) -> Instant {
+    fn run(&self, buffers: &mut RowBuffers<G>, pixels: &mut [Vec3]) -> RowShaded {
         debug_assert!(G::WIDTH <= MAX_GROUP);
         buffers.columns.clear();
         buffers.groups.clear();
@@ -376,9 +383,12 @@ impl<G: LaneGroup> LaneRow<'_, G> {
             let lanes = G::read(self.surface, self.decoding, self.image, self.row, cols);
             buffers.groups.push(lanes);
         }
-        let t1 = Instant::now();
+        let surface_end = Instant::now();
         shade_row(self.shader, buffers, pixels);
-        t1
+        RowShaded {
+            surface_end,
+            finite: all_finite(pixels),
+        }
     }
 
     /// [`LaneRow::run`] compiled with AVX2 (256-bit registers: an
@@ -386,14 +396,14 @@ impl<G: LaneGroup> LaneRow<'_, G> {
     /// two). No FMA: fused products round differently, and every path must give the same bits.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn run_avx2(&self, buffers: &mut RowBuffers<G>, pixels: &mut [Vec3]) -> Instant {
+    fn run_avx2(&self, buffers: &mut RowBuffers<G>, pixels: &mut [Vec3]) -> RowShaded {
         self.run(buffers, pixels)
     }
 
     /// [`LaneRow::run`] compiled with AVX-512F, for the eight-float64 lane groups. No FMA.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,avx512f")]
-    fn run_avx512(&self, buffers: &mut RowBuffers<G>, pixels: &mut [Vec3]) -> Instant {
+    fn run_avx512(&self, buffers: &mut RowBuffers<G>, pixels: &mut [Vec3]) -> RowShaded {
         self.run(buffers, pixels)
     }
 }
