@@ -89,13 +89,7 @@ pub struct LightSample {
 pub struct LightSamples<R: Real> {
     /// Unit direction towards the light.
     pub wi: [R; 3],
-    /// The light's direction of travel at the points, not normalised: x − x_s for a point or
-    /// spot light at x_s (of length `distance`), the unit `direction` of a directional one.
-    /// The clamped convention divides it by `distance` itself (as numpy does), where `wi` is a
-    /// product with 1/d; set wherever the light is, lit or not.
-    pub from_light: [R; 3],
-    /// Distance to the light: √((x − x_s)·(x − x_s)), the length of `from_light` (infinity for
-    /// a directional light).
+    /// Distance to the light.
     pub distance: R,
     /// Irradiance on a surface facing the light.
     pub irradiance: [R; 3],
@@ -186,7 +180,6 @@ impl Light {
         match self.kind {
             LightKind::Directional { direction } => LightSamples {
                 wi: lane(-direction),
-                from_light: lane(direction),
                 distance: R::of(f32::INFINITY),
                 irradiance: lane(self.power),
                 lit: R::Mask::splat(true),
@@ -200,7 +193,8 @@ impl Light {
                 profile,
             } => {
                 let position = lane(position);
-                let to_point = normalize_or_zero(from_light(p, position));
+                let v = [p[0] - position[0], p[1] - position[1], p[2] - position[2]];
+                let to_point = normalize_or_zero(v);
                 let cos = dot(to_point, lane(direction));
                 let factor = match profile {
                     SpotProfile::Gltf => {
@@ -220,9 +214,7 @@ impl Light {
     #[inline(always)]
     fn positional<R: Real>(&self, p: [R; 3], position: [R; 3], factor: R) -> LightSamples<R> {
         let offset = [position[0] - p[0], position[1] - p[1], position[2] - p[2]];
-        let from_light = from_light(p, position);
-        // The same bits as ‖offset‖: each square is of a value and of its negation.
-        let distance = dot(from_light, from_light).sqrt();
+        let distance = dot(offset, offset).sqrt();
         // d = 0: no direction; d underflowing in d² would give an infinite irradiance.
         let d2 = distance * distance;
         let mut lit = d2.gt(R::zero()) & d2.is_finite();
@@ -248,18 +240,11 @@ impl Light {
         let inv_distance = R::select(lit, distance, R::one()).recip();
         LightSamples {
             wi: map3(offset, |c| R::select(lit, c * inv_distance, R::zero())),
-            from_light,
             distance,
             irradiance,
             lit,
         }
     }
-}
-
-/// x − x_s: from a light at `position` to the points `p`.
-#[inline(always)]
-fn from_light<R: Real>(p: [R; 3], position: [R; 3]) -> [R; 3] {
-    [p[0] - position[0], p[1] - position[1], p[2] - position[2]]
 }
 
 /// The spot profile of Mitsuba 3 at cos θ = `cos`: 1 where cos θ ≥ cos θ_inner, 0 where
@@ -334,33 +319,6 @@ mod tests {
         let s = l.sample(Vec3::new(5.0, -3.0, 1.0)).unwrap();
         assert_eq!((s.wi, s.irradiance), (Vec3::Y, Vec3::ONE));
         assert!(s.distance.is_infinite());
-    }
-
-    #[test]
-    fn from_light_is_the_direction_of_travel_and_distance_its_length() {
-        // Point: x − x_s, whose length is the distance to the bit (the clamped convention
-        // divides by it instead of taking a second square root), lit or not.
-        let x = [0.3f64, -1.7, 2.9];
-        let s = point(Falloff::None).sample_points(x);
-        assert_eq!(s.from_light, [0.3, -1.7 - 2.0, 2.9]);
-        assert_eq!(s.distance, dot(s.from_light, s.from_light).sqrt());
-        for c in 0..3 {
-            // wi is a product with 1/d: within an ulp of the quotient, the other way.
-            assert!((s.wi[c] + s.from_light[c] / s.distance).abs() < 1e-15, "{c}");
-        }
-        let at_light = point(Falloff::None).sample_points([0.0f32, 2.0, 0.0]);
-        assert_eq!((at_light.from_light, at_light.distance), ([0.0; 3], 0.0));
-        // Spot: the same vector, outside its cone too.
-        let spot = spot_between_10_and_20_degrees(SpotProfile::Gltf).sample_points([5.0f32, 1.0, 0.0]);
-        assert!(!spot.lit);
-        assert_eq!((spot.from_light, spot.distance), ([5.0, 1.0, 0.0], 26f32.sqrt()));
-        // Directional: its unit direction.
-        let l = Light {
-            kind: LightKind::Directional { direction: Vec3::NEG_Y },
-            power: Vec3::ONE,
-            falloff: Falloff::None,
-        };
-        assert_eq!(l.sample_points([1.0f32, 2.0, 3.0]).from_light, [0.0, -1.0, 0.0]);
     }
 
     /// A unit spot at the origin facing −y, its inner cone 10° and its outer 20° wide.

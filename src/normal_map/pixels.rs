@@ -107,7 +107,7 @@ pub struct MinMaxDecoding<T> {
     /// Whether the points get their ω_o; without it `to_viewer` is the zero vector. Under the
     /// clamped convention ω_o enters only n·ω_o and ω_h, which only a specular lobe reads: a
     /// Lambert material's L_o is the same without it, and its square root and three divisions
-    /// (a third of a Lambert pixel's) are saved.
+    /// are saved.
     pub forms_to_viewer: bool,
 }
 

@@ -17,7 +17,7 @@ use crate::brdf::LocalDots;
 use crate::lanes::{dot3, map3, F32x8, LaneInstructions, LaneMask, Mask, Mask8, Real, LANES};
 use crate::light::{Light, LightSamples};
 use crate::material::Material;
-use crate::shading::convention::{divided_by_length, ShadingConvention};
+use crate::shading::convention::{unit_by_division, ShadingConvention};
 use crate::surface::{SurfaceLanes, SurfacePoint};
 
 /// Most groups of one material a batch of [`BATCH`] points is cut into: two of eight, and one more
@@ -177,12 +177,14 @@ impl<O: Occluder> Shader<'_, O> {
             // Where the light sends nothing (a light at the point), its irradiance is 0 and its
             // direction the zero vector: the term is 0 and finite.
             let ls = light.sample_points(x);
-            // ω_i = (x − x_s)/‖x − x_s‖, each component divided by the length (as
-            // `unit_by_division`, of the light's distance: one square root); a directional
-            // light's direction of travel.
+            // ω_i = (x − x_s)/‖x − x_s‖, each component divided by the length (`unit_by_division`); a
+            // directional light's direction of travel.
             let wi_from_light = match light.position() {
-                Some(_) => divided_by_length(ls.from_light, ls.distance).0,
-                None => ls.from_light,
+                Some(x_s) => {
+                    let x_s = map3(x_s.to_array(), R::of);
+                    unit_by_division([x[0] - x_s[0], x[1] - x_s[1], x[2] - x_s[2]]).0
+                }
+                None => map3(ls.wi, |c| -c),
             };
             let term = clamped_term(
                 material,
