@@ -102,6 +102,23 @@ pub trait Sample: Copy + Send + Sync + Ord {
     }
 }
 
+/// Pixels per [`foreground_mask`]: the bits of one `u32`.
+pub const MASK_PIXELS: usize = 32;
+
+/// Bit i set where `foreground(block[i])`, for a block of at most [`MASK_PIXELS`] pixels.
+///
+/// One word per block lets a scan decide an all-background or all-foreground block with one
+/// comparison. Written as an OR of shifted flags, which the compiler turns into vector
+/// compares; a flag per byte summed afterwards was left as 32 scalar loads and adds.
+#[inline(always)]
+pub fn foreground_mask<S: Copy>(block: &[S], foreground: impl Fn(S) -> bool) -> u32 {
+    debug_assert!(block.len() <= MASK_PIXELS);
+    block
+        .iter()
+        .enumerate()
+        .fold(0, |mask, (i, &p)| mask | (foreground(p) as u32) << i)
+}
+
 /// v / 255 for every 8-bit value, computed once (at compile time) by exact division.
 const UNIT8: [f32; 256] = {
     let mut t = [0.0f32; 256];

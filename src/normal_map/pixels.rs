@@ -22,8 +22,8 @@ use glam::{Vec2, Vec3};
 
 use crate::lanes::{map3, normalize_or_zero, F32x8, LaneArray, Real, Scalar, LANES};
 use crate::normal_map::image::NormalImage;
-use crate::normal_map::image::Sample;
 use crate::normal_map::image::TP_BACKGROUND_LEVEL;
+use crate::normal_map::image::{foreground_mask, Sample, MASK_PIXELS};
 use crate::normal_map::image::{Samples, UnitSample};
 use crate::shading::convention::unit_by_division;
 use crate::surface::{SurfaceLanes, SurfacePoint};
@@ -104,10 +104,10 @@ pub struct MinMaxDecoding<T> {
     pub scaling: MinMaxScaling,
     /// [`MinMaxScaling::normal`] of each 8-bit level (unused for other samples).
     eight_bit: [T; 256],
-    /// Whether the points get their ω_o; without it `to_viewer` is the zero vector. Under the
-    /// clamped convention ω_o enters only n·ω_o and ω_h, which only a specular lobe reads: a
-    /// Lambert material's L_o is the same without it, and its square root and three divisions
-    /// are saved.
+    /// Whether the points get their ω_o; without it `to_viewer` is the zero vector, which is
+    /// the same L_o where the material's does not read it
+    /// ([`clamped_reads_to_viewer`](crate::shading::shader::clamped_reads_to_viewer)), and
+    /// saves a square root and three divisions a pixel.
     pub forms_to_viewer: bool,
 }
 
@@ -273,25 +273,20 @@ impl ImageSurface {
     pub fn foreground_columns(&self, image: &NormalImage, row: u32, out: &mut Vec<u32>) {
         #[inline(always)]
         fn push<S: Sample>(samples: &[[S; 4]], out: &mut Vec<u32>, foreground: impl Fn([S; 4]) -> bool) {
-            // Blocks of 32 pixels: the flags are computed without branches (the compiler
-            // vectorises them), blocks all background or all foreground are decided at once,
-            // and the others compacted without a branch per pixel. A per-pixel `if` here
+            // Blocks of 32 pixels: their mask is computed without branches (in vector
+            // instructions), blocks all background or all foreground are decided at once, and
+            // the others compacted without a branch per pixel. A per-pixel `if` here
             // mispredicts along every silhouette and cost more than the shading.
-            const BLOCK: usize = 32;
-            for (k, block) in samples.chunks(BLOCK).enumerate() {
-                let mut flags = [0u8; BLOCK];
-                for (flag, &p) in flags.iter_mut().zip(block) {
-                    *flag = foreground(p) as u8;
-                }
-                let count = flags.iter().map(|&f| f as usize).sum::<usize>();
-                let base = (k * BLOCK) as u32;
-                if count == block.len() {
-                    out.extend(base..base + count as u32);
-                } else if count > 0 {
-                    let (mut columns, mut n) = ([0u32; BLOCK], 0);
-                    for (i, &f) in flags.iter().enumerate() {
-                        columns[n] = base + i as u32;
-                        n += f as usize;
+            for (k, block) in samples.chunks(MASK_PIXELS).enumerate() {
+                let mask = foreground_mask(block, &foreground);
+                let base = (k * MASK_PIXELS) as u32;
+                if mask == u32::MAX >> (MASK_PIXELS - block.len()) {
+                    out.extend(base..base + block.len() as u32);
+                } else if mask != 0 {
+                    let (mut columns, mut n) = ([0u32; MASK_PIXELS], 0);
+                    for (i, column) in (base..base + block.len() as u32).enumerate() {
+                        columns[n] = column;
+                        n += (mask >> i) as usize & 1;
                     }
                     out.extend_from_slice(&columns[..n]);
                 }
