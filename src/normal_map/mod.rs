@@ -31,7 +31,7 @@ use crate::normal_map::pixels::{ImageSurface, MinMaxDecoding, MinMaxScaling, Nor
 use crate::normal_map::plan::NormalMapPlan;
 use crate::normal_map::scene_file::{NormalMapScene, Preset};
 use crate::shading::convention::ShadingConvention;
-use crate::shading::shader::Shader;
+use crate::shading::shader::{clamped_reads_to_viewer, Shader};
 use crate::surface::SurfaceLanes;
 
 /// Counters and per-stage times of one normal-map shading.
@@ -151,8 +151,7 @@ pub fn shade_image_with(
 ) -> (Image, NormalMapStats) {
     let instructions = instructions.min(LaneInstructions::detect());
     let rows = Rows { scene, image, surface };
-    // The clamped convention's Lambert reads no ω_o (`MinMaxDecoding::forms_to_viewer`).
-    let forms_to_viewer = scene.material.has_specular();
+    let forms_to_viewer = clamped_reads_to_viewer(&scene.material);
     match (surface.decoding, precision) {
         (NormalDecoding::MinMax(s), MinMaxPrecision::Float64) => {
             match (instructions, &MinMaxDecoding::new(s, forms_to_viewer)) {

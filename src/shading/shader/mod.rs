@@ -295,6 +295,14 @@ fn front_lift(lift: f32, facing_ng: Vec3, ng: Vec3) -> f32 {
     }
 }
 
+/// Whether the clamped convention's L_o of `material` reads ω_o. It enters only n·ω_o and the
+/// half vector, which only a specular lobe reads (`clamped_term`): a Lambert material's points
+/// may come without it (the normal-map driver then skips its square root and divisions).
+#[inline(always)]
+pub fn clamped_reads_to_viewer(material: &Material) -> bool {
+    material.has_specular()
+}
+
 /// One light's L_i · f(ω_i, ω_o) · (n·ω_i) under the clamped convention, per channel, in any
 /// [`Real`] (f32 for one point, [`F32x8`] for eight).
 #[inline(always)]
@@ -305,7 +313,7 @@ fn clamped_term<R: Real>(
     wo: [R; 3],
     irradiance: [R; 3],
 ) -> [R; 3] {
-    let a = clamped_dots(n, wi_from_light, wo, material.has_specular());
+    let a = clamped_dots(n, wi_from_light, wo, clamped_reads_to_viewer(material));
     let diffuse = material.diffuse::<R>();
     let f = if a.half_vector.any() {
         let e = material.eval(&a.dots);
