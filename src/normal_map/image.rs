@@ -109,7 +109,7 @@ pub const MASK_PIXELS: usize = 32;
 ///
 /// One word per block lets a scan decide an all-background or all-foreground block with one
 /// comparison. Written as an OR of shifted flags, which the compiler turns into vector
-/// compares; a flag per byte summed afterwards was left as 32 scalar loads and adds.
+/// compares and an OR reduction.
 #[inline(always)]
 pub fn foreground_mask<S: Copy>(block: &[S], foreground: impl Fn(S) -> bool) -> u32 {
     debug_assert!(block.len() <= MASK_PIXELS);
