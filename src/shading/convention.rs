@@ -65,7 +65,13 @@ fn clamp01<R: Real>(v: R) -> R {
 /// guarded Cook-Torrance denominator is discontinuous there — it rounds to the side numpy does.
 #[inline(always)]
 pub fn unit_by_division<R: Real>(v: [R; 3]) -> ([R; 3], R::Mask) {
-    let len = dot(v, v).sqrt();
+    unit_by_division_of_length(v, dot(v, v).sqrt())
+}
+
+/// [`unit_by_division`] of `v` whose length `len` = √(v · v) the caller has taken (for a second
+/// use of the same root).
+#[inline(always)]
+pub fn unit_by_division_of_length<R: Real>(v: [R; 3], len: R) -> ([R; 3], R::Mask) {
     let defined = len.gt(R::zero()) & len.is_finite();
     let safe = R::select(defined, len, R::one());
     (map3(v, |c| R::select(defined, c / safe, R::zero())), defined)
