@@ -250,34 +250,37 @@ impl Image {
     }
 
     /// An image made row by row in parallel: `row(state, y, pixels)` writes row `y`, whose pixels
-    /// start black; `init` makes each worker's scratch `state` (as rayon's `for_each_init`).
+    /// start black, and returns what it counted; `init` makes each worker's scratch `state` (as
+    /// rayon's `map_init`). The rows' counts are summed (in a tree, in any order: `R`'s sum
+    /// must not depend on it), so that no two workers update one counter per row.
     ///
     /// Unlike [`Image::new`] followed by a parallel pass, no thread zeroes the whole buffer first:
     /// each row is cleared by the worker that is about to write it, in its cache, so the
     /// memory is written once, in parallel.
-    pub fn par_from_rows<T>(
+    pub fn par_from_rows<T, R: Send + Default + std::ops::Add<Output = R>>(
         width: u32,
         height: u32,
         init: impl Fn() -> T + Sync + Send,
-        row: impl Fn(&mut T, u32, &mut [Vec3]) + Sync + Send,
-    ) -> Image {
+        row: impl Fn(&mut T, u32, &mut [Vec3]) -> R + Sync + Send,
+    ) -> (Image, R) {
         let (w, n) = (width as usize, width as usize * height as usize);
         let mut pixels: Vec<Vec3> = Vec::with_capacity(n);
-        pixels.spare_capacity_mut()[..n]
+        let sum = pixels.spare_capacity_mut()[..n]
             .par_chunks_mut(w.max(1))
             .enumerate()
-            .for_each_init(init, |state, (y, chunk)| {
+            .map_init(init, |state, (y, chunk)| {
                 // SAFETY (both): the bytes of `chunk` are set to zero, which is `Vec3::ZERO`
                 // (three 0.0 floats), so every element is initialised; `MaybeUninit<Vec3>` has
                 // the layout of `Vec3`.
                 unsafe { chunk.as_mut_ptr().write_bytes(0, chunk.len()) };
                 let chunk = unsafe { &mut *(chunk as *mut [MaybeUninit<Vec3>] as *mut [Vec3]) };
-                row(state, y as u32, chunk);
-            });
+                row(state, y as u32, chunk)
+            })
+            .reduce(R::default, |a, b| a + b);
         // SAFETY: the chunks above cover the first `n` elements, and each was initialised (a
         // panic in `row` propagates before this line, leaving the vector empty).
         unsafe { pixels.set_len(n) };
-        Image { width, height, pixels }
+        (Image { width, height, pixels }, sum)
     }
 
     /// A black image.
@@ -368,7 +371,7 @@ mod tests {
     fn rows_made_in_parallel_start_black_and_keep_what_was_written() {
         // Fill the allocator with non-zero memory first, so a missed clear would show.
         drop(vec![Vec3::splat(7.0); 64 * 64]);
-        let image = Image::par_from_rows(
+        let (image, rows) = Image::par_from_rows(
             13,
             9,
             || 0u32,
@@ -377,8 +380,10 @@ mod tests {
                 assert_eq!(pixels.len(), 13);
                 assert!(pixels.iter().all(|p| *p == Vec3::ZERO), "row {y} starts black");
                 pixels[y as usize] = Vec3::new(y as f32, 1.0, *calls as f32);
+                1u32
             },
         );
+        assert_eq!(rows, 9, "every row's count is summed once");
         assert_eq!((image.width, image.height, image.pixels.len()), (13, 9, 117));
         for y in 0..9 {
             for x in 0..13 {
@@ -390,8 +395,7 @@ mod tests {
                 }
             }
         }
-        assert!(Image::par_from_rows(0, 0, || (), |_, _, _| panic!("no rows"))
-            .pixels
-            .is_empty());
+        let (empty, rows) = Image::par_from_rows(0, 0, || (), |_, _, _| -> u32 { panic!("no rows") });
+        assert!(empty.pixels.is_empty() && rows == 0);
     }
 }

@@ -13,7 +13,6 @@ pub mod pixels;
 pub mod plan;
 pub mod scene_file;
 
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use glam::{DVec3, Vec3};
@@ -226,9 +225,7 @@ impl Rows<'_> {
         let start = Instant::now();
         let shader = shader(self.scene, self.scene.preset.convention());
         debug_assert!(shader.has_lanes());
-        let (surface_ns, shading_ns, points) = (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
-        let non_finite_rows = AtomicU64::new(0);
-        let out = Image::par_from_rows(
+        let (out, counts) = Image::par_from_rows(
             self.image.width,
             self.image.height,
             RowBuffers::<G>::default,
@@ -243,22 +240,43 @@ impl Rows<'_> {
                 };
                 let shaded = run(&job, buffers, pixels);
                 let (t1, t2) = (shaded.surface_end, Instant::now());
-                surface_ns.fetch_add((t1 - t0).as_nanos() as u64, Ordering::Relaxed);
-                shading_ns.fetch_add((t2 - t1).as_nanos() as u64, Ordering::Relaxed);
-                points.fetch_add(buffers.columns.len() as u64, Ordering::Relaxed);
-                if !shaded.finite {
-                    non_finite_rows.fetch_add(1, Ordering::Relaxed);
+                RowCounts {
+                    surface_ns: (t1 - t0).as_nanos() as u64,
+                    shading_ns: (t2 - t1).as_nanos() as u64,
+                    points: buffers.columns.len() as u64,
+                    non_finite_rows: u64::from(!shaded.finite),
                 }
             },
         );
         let stats = NormalMapStats {
-            surface_points: points.into_inner(),
-            surface_time: Duration::from_nanos(surface_ns.into_inner()),
-            shading_time: Duration::from_nanos(shading_ns.into_inner()),
+            surface_points: counts.points,
+            surface_time: Duration::from_nanos(counts.surface_ns),
+            shading_time: Duration::from_nanos(counts.shading_ns),
             wall_time: start.elapsed(),
-            non_finite_rows: non_finite_rows.into_inner(),
+            non_finite_rows: counts.non_finite_rows,
         };
         (out, stats)
+    }
+}
+
+/// What the rows of one shading counted, summed over rows ([`NormalMapStats`]' sources).
+#[derive(Clone, Copy, Default)]
+struct RowCounts {
+    surface_ns: u64,
+    shading_ns: u64,
+    points: u64,
+    non_finite_rows: u64,
+}
+
+impl std::ops::Add for RowCounts {
+    type Output = RowCounts;
+    fn add(self, b: RowCounts) -> RowCounts {
+        RowCounts {
+            surface_ns: self.surface_ns + b.surface_ns,
+            shading_ns: self.shading_ns + b.shading_ns,
+            points: self.points + b.points,
+            non_finite_rows: self.non_finite_rows + b.non_finite_rows,
+        }
     }
 }
 
