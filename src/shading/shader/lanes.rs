@@ -17,7 +17,7 @@ use crate::brdf::LocalDots;
 use crate::lanes::{dot3, map3, F32x8, LaneInstructions, LaneMask, Mask, Mask8, Real, LANES};
 use crate::light::{Light, LightKind, LightSamples};
 use crate::material::Material;
-use crate::shading::convention::{unit_by_division, unit_by_division_of_length, ShadingConvention};
+use crate::shading::convention::{unit_by_division_of_length, ShadingConvention};
 use crate::surface::{SurfaceLanes, SurfacePoint};
 
 /// Most groups of one material a batch of [`BATCH`] points is cut into: two of eight, and one more
@@ -177,22 +177,20 @@ impl<O: Occluder> Shader<'_, O> {
             // Where the light sends nothing (a light at the point), its irradiance is 0 and its
             // direction the zero vector: the term is 0 and finite.
             // ω_i = (x − x_s)/‖x − x_s‖, each component divided by the length (`unit_by_division`); a
-            // directional light's direction of travel. A point light's sample takes the same
+            // directional light's direction of travel. A point light's sample needs the same
             // length, so it is taken once.
-            let (ls, wi_from_light) = match light.kind {
-                LightKind::Point { position } => {
-                    let x_s = map3(position.to_array(), R::of);
+            let (ls, wi_from_light) = match light.position() {
+                Some(x_s) => {
+                    let x_s = map3(x_s.to_array(), R::of);
                     let from_light = [x[0] - x_s[0], x[1] - x_s[1], x[2] - x_s[2]];
                     let distance = dot3(from_light, from_light).sqrt();
-                    let ls = light.sample_point_light_from(from_light, distance);
+                    let ls = match light.kind {
+                        LightKind::Point { .. } => light.sample_point_light_from(from_light, distance),
+                        _ => light.sample_points(x),
+                    };
                     (ls, unit_by_division_of_length(from_light, distance).0)
                 }
-                LightKind::Spot { position, .. } => {
-                    let x_s = map3(position.to_array(), R::of);
-                    let from_light = [x[0] - x_s[0], x[1] - x_s[1], x[2] - x_s[2]];
-                    (light.sample_points(x), unit_by_division(from_light).0)
-                }
-                LightKind::Directional { .. } => {
+                None => {
                     let ls = light.sample_points(x);
                     (ls, map3(ls.wi, |c| -c))
                 }
