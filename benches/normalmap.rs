@@ -2,7 +2,7 @@
 //! `--brdf` names), in float64 (the preset) and in f32 lanes, against a
 //! straightforward numpy float64 implementation of the same formulas
 //! (`benches/normalmap_numpy.py`), measured in the same run, plus the library's whole call
-//! (`normal_map::shade`: the image check too) and the whole `pointshade normalmap` process
+//! (`normal_map::shade`: the image check and level range too, each also timed alone) and the whole `pointshade normalmap` process
 //! (decode + shade + encode) timed as a process.
 //!
 //! `cargo bench --bench normalmap [-- --brdf lambert|blinn-phong|cook-torrance]` prints a table of
@@ -22,6 +22,7 @@ use pointshade::brdf::LocalDots;
 use pointshade::film::Image;
 use pointshade::lanes::LaneInstructions;
 use pointshade::normal_map::image::NormalImage;
+use pointshade::normal_map::likeness::NormalLikeness;
 use pointshade::normal_map::scene_file::{ModelName, NormalMapScene, Preset};
 use pointshade::normal_map::{self, image_surface, shade_image_with, MinMaxPrecision};
 use pointshade::shading::convention::clamped_dots;
@@ -228,30 +229,31 @@ fn main() {
     };
     let best = LaneInstructions::detect();
 
-    // Median and best of `repeats` calls of `shade` on a pool of `threads`.
-    let time_calls = |threads: usize, shade: &(dyn Fn() -> Image + Sync)| {
+    // Median and best of `repeats` calls of `call` (which black-boxes its result) on a pool of
+    // `threads`.
+    let time_calls = |threads: usize, call: &(dyn Fn() + Sync)| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| {
             // Warm-up for a second: short runs on a cold core measure the clock ramping up, not
             // the code (about 1.5x slower here); numpy's runs are long enough not to need it.
             let warm = Instant::now();
             while warm.elapsed().as_secs_f64() < 1.0 {
-                std::hint::black_box(shade());
+                call();
             }
             let times: Vec<f64> = (0..repeats)
                 .map(|_| {
                     let t = Instant::now();
-                    let shaded = shade();
-                    let s = t.elapsed().as_secs_f64();
-                    std::hint::black_box(shaded);
-                    s
+                    call();
+                    t.elapsed().as_secs_f64()
                 })
                 .collect();
             Times::of(times)
         })
     };
     let time_shading = |threads: usize, instructions: LaneInstructions, precision: MinMaxPrecision| {
-        time_calls(threads, &|| shade_with(instructions, precision).0)
+        time_calls(threads, &|| {
+            std::hint::black_box(shade_with(instructions, precision));
+        })
     };
     let all = rayon::current_num_threads();
     let (f64_, f32_) = (MinMaxPrecision::Float64, MinMaxPrecision::Float32);
@@ -270,9 +272,14 @@ fn main() {
     // The library's whole call, as both front ends make it: the image check (NormalLikeness),
     // the tp level range, the shading above and the finiteness check.
     let whole_call = time_calls(all, &|| {
-        normal_map::shade(&scene, &image, "bench")
-            .expect("normal.png shades")
-            .radiance
+        std::hint::black_box(normal_map::shade(&scene, &image, "bench").expect("normal.png shades"));
+    });
+    // Its passes before the shading, alone.
+    let image_check = time_calls(all, &|| {
+        std::hint::black_box(NormalLikeness::of(&image));
+    });
+    let level_range = time_calls(all, &|| {
+        std::hint::black_box(image.level_range());
     });
     let (ours, stats) = shade_with(best, f64_);
     let (ours_f32, _) = shade_with(best, f32_);
@@ -353,6 +360,8 @@ fn main() {
         &format!("normal_map::shade (image check + range + shading), {all} threads"),
         whole_call,
     );
+    row("  its image check (NormalLikeness::of) alone", image_check);
+    row("  its tp level range (NormalImage::level_range) alone", level_range);
     row("pointshade normalmap process (decode + shade + encode)", process);
     match &numpy {
         Some(n) => {

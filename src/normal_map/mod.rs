@@ -38,9 +38,10 @@ use crate::surface::SurfaceLanes;
 pub struct NormalMapStats {
     /// Pixels that became surface points (the others are background).
     pub surface_points: u64,
-    /// Time summed over threads spent turning pixels into surface points.
+    /// Time summed over threads spent finding the foreground pixels of each row.
     pub surface_time: Duration,
-    /// Time summed over threads spent in the shader.
+    /// Time summed over threads spent decoding the foreground pixels into surface points and
+    /// shading them: one loop, a lane group at a time, so the two are not timed apart.
     pub shading_time: Duration,
     /// Wall-clock time of surface points + shading.
     pub wall_time: Duration,
@@ -220,7 +221,7 @@ impl Rows<'_> {
     fn shade<G: LaneGroup>(
         self,
         decoding: &G::Decoding,
-        run: impl Fn(&LaneRow<G>, &mut RowBuffers<G>, &mut [Vec3]) -> RowShaded + Sync,
+        run: impl Fn(&LaneRow<G>, &mut RowBuffers, &mut [Vec3]) -> RowShaded + Sync,
     ) -> (Image, NormalMapStats) {
         let start = Instant::now();
         let shader = shader(self.scene, self.scene.preset.convention());
@@ -228,7 +229,7 @@ impl Rows<'_> {
         let (out, counts) = Image::par_from_rows(
             self.image.width,
             self.image.height,
-            RowBuffers::<G>::default,
+            RowBuffers::default,
             |buffers, row, pixels| {
                 let t0 = Instant::now();
                 let job = LaneRow {
@@ -340,22 +341,10 @@ impl<V: LaneArray + Send> LaneGroup for MinMaxLanes<V> {
 /// The widest lane group.
 const MAX_GROUP: usize = 8;
 
-/// One thread's surface points of the row it is shading, reused from row to row.
-struct RowBuffers<G> {
-    /// The columns of the foreground pixels…
+/// One thread's foreground columns of the row it is shading, reused from row to row.
+#[derive(Default)]
+struct RowBuffers {
     columns: Vec<u32>,
-    /// …and their surface points, `G::WIDTH` per entry; the last entry is padded with copies of
-    /// the row's last foreground pixel.
-    groups: Vec<G>,
-}
-
-impl<G> Default for RowBuffers<G> {
-    fn default() -> Self {
-        RowBuffers {
-            columns: Vec::new(),
-            groups: Vec::new(),
-        }
-    }
 }
 
 /// One row of the lane path: what it shades and with what.
@@ -376,14 +365,17 @@ struct RowShaded {
 }
 
 impl<G: LaneGroup> LaneRow<'_, G> {
-    /// The row's foreground pixels' lane groups into `buffers`, then shaded into `pixels`.
+    /// The row's foreground columns into `buffers`, then their pixels read and shaded into
+    /// `pixels` a lane group at a time (the decoding's loads and the shading's divisions of
+    /// neighbouring groups overlap in the core; a row of groups stored first would not stay in
+    /// L1).
     #[inline(always)]
-    fn run(&self, buffers: &mut RowBuffers<G>, pixels: &mut [Vec3]) -> RowShaded {
+    fn run(&self, buffers: &mut RowBuffers, pixels: &mut [Vec3]) -> RowShaded {
         debug_assert!(G::WIDTH <= MAX_GROUP);
         buffers.columns.clear();
-        buffers.groups.clear();
         self.surface
             .foreground_columns(self.image, self.row, &mut buffers.columns);
+        let surface_end = Instant::now();
         let mut padded = [0u32; MAX_GROUP];
         for group in buffers.columns.chunks(G::WIDTH) {
             // Full groups are read where the columns are (copied, the lanes' wide load of them
@@ -398,10 +390,8 @@ impl<G: LaneGroup> LaneRow<'_, G> {
                 }
             };
             let lanes = G::read(self.surface, self.decoding, self.image, self.row, cols);
-            buffers.groups.push(lanes);
+            shade_group(self.shader, group, &lanes, pixels);
         }
-        let surface_end = Instant::now();
-        shade_row(self.shader, buffers, pixels);
         RowShaded {
             surface_end,
             finite: all_finite(pixels),
@@ -413,35 +403,33 @@ impl<G: LaneGroup> LaneRow<'_, G> {
     /// two). No FMA: fused products round differently, and every path must give the same bits.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn run_avx2(&self, buffers: &mut RowBuffers<G>, pixels: &mut [Vec3]) -> RowShaded {
+    fn run_avx2(&self, buffers: &mut RowBuffers, pixels: &mut [Vec3]) -> RowShaded {
         self.run(buffers, pixels)
     }
 
     /// [`LaneRow::run`] compiled with AVX-512F, for the eight-float64 lane groups. No FMA.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,avx512f")]
-    fn run_avx512(&self, buffers: &mut RowBuffers<G>, pixels: &mut [Vec3]) -> RowShaded {
+    fn run_avx512(&self, buffers: &mut RowBuffers, pixels: &mut [Vec3]) -> RowShaded {
         self.run(buffers, pixels)
     }
 }
 
-/// Shades the groups of `buffers` into `pixels` (indexed by column); the padding lanes' results
-/// are dropped.
+/// Shades the pixels at columns `group` (the lanes of `lanes`; padding lanes' results are
+/// dropped) into `pixels` (indexed by column).
 #[inline(always)]
-fn shade_row<G: LaneGroup>(shader: &Shader<NoOcclusion>, buffers: &RowBuffers<G>, pixels: &mut [Vec3]) {
-    for (group, lanes) in buffers.columns.chunks(G::WIDTH).zip(&buffers.groups) {
-        let first = group[0] as usize;
-        match pixels.get_mut(first..first + G::WIDTH) {
-            // Neighbours (inside an object, most groups): one run of stores.
-            Some(run) if group.len() == G::WIDTH && group[G::WIDTH - 1] as usize == first + G::WIDTH - 1 => {
-                lanes.shade(shader, |i, v| run[i] = v);
-            }
-            _ => lanes.shade(shader, |i, v| {
-                if let Some(&col) = group.get(i) {
-                    pixels[col as usize] = v;
-                }
-            }),
+fn shade_group<G: LaneGroup>(shader: &Shader<NoOcclusion>, group: &[u32], lanes: &G, pixels: &mut [Vec3]) {
+    let first = group[0] as usize;
+    match pixels.get_mut(first..first + G::WIDTH) {
+        // Neighbours (inside an object, most groups): one run of stores.
+        Some(run) if group.len() == G::WIDTH && group[G::WIDTH - 1] as usize == first + G::WIDTH - 1 => {
+            lanes.shade(shader, |i, v| run[i] = v);
         }
+        _ => lanes.shade(shader, |i, v| {
+            if let Some(&col) = group.get(i) {
+                pixels[col as usize] = v;
+            }
+        }),
     }
 }
 
