@@ -25,7 +25,7 @@ use pointshade::normal_map::image::NormalImage;
 use pointshade::normal_map::likeness::NormalLikeness;
 use pointshade::normal_map::scene_file::{ModelName, NormalMapScene, Preset};
 use pointshade::normal_map::{self, image_surface, shade_image_with, MinMaxPrecision};
-use pointshade::shading::convention::clamped_dots;
+use pointshade::shading::convention::{clamped_dots, UnitForm};
 use pointshade::surface::SurfacePoint;
 
 /// Median and minimum of a set of times.
@@ -180,7 +180,13 @@ fn time_material_eval(scene: &NormalMapScene, image: &NormalImage, repeats: usiz
         .filter_map(|sp| {
             let ls = scene.lights[0].sample(sp.position)?;
             let n = sp.shading_normal.to_array();
-            let a = clamped_dots(n, (-ls.wi).to_array(), sp.to_viewer.to_array(), true);
+            let a = clamped_dots(
+                n,
+                (-ls.wi).to_array(),
+                sp.to_viewer.to_array(),
+                true,
+                UnitForm::Quotients,
+            );
             a.half_vector.then_some(a.dots)
         })
         .collect();

@@ -30,7 +30,7 @@ use crate::normal_map::pixels::{ImageSurface, MinMaxDecoding, MinMaxScaling, Nor
 use crate::normal_map::plan::NormalMapPlan;
 use crate::normal_map::scene_file::{NormalMapScene, Preset};
 use crate::shading::convention::ShadingConvention;
-use crate::shading::shader::{clamped_reads_to_viewer, Shader};
+use crate::shading::shader::{clamped_reads_to_viewer, clamped_unit_form, Shader};
 use crate::surface::SurfaceLanes;
 
 /// Counters and per-stage times of one normal-map shading.
@@ -152,9 +152,10 @@ pub fn shade_image_with(
     let instructions = instructions.min(LaneInstructions::detect());
     let rows = Rows { scene, image, surface };
     let forms_to_viewer = clamped_reads_to_viewer(&scene.material);
+    let unit_form = clamped_unit_form(&scene.material);
     match (surface.decoding, precision) {
         (NormalDecoding::MinMax(s), MinMaxPrecision::Float64) => {
-            match (instructions, &MinMaxDecoding::new(s, forms_to_viewer)) {
+            match (instructions, &MinMaxDecoding::new(s, forms_to_viewer, unit_form)) {
                 (LaneInstructions::Portable, s) => {
                     rows.shade::<MinMaxLanes<Lanes<f64, 4>>>(s, |job, buffers, pixels| job.run(buffers, pixels))
                 }
@@ -170,7 +171,8 @@ pub fn shade_image_with(
             }
         }
         (NormalDecoding::MinMax(s), MinMaxPrecision::Float32) => {
-            rows.shade_f32::<MinMaxLanes<Lanes<f32, LANES>>>(&MinMaxDecoding::new(s, forms_to_viewer), instructions)
+            let decoding = MinMaxDecoding::new(s, forms_to_viewer, unit_form);
+            rows.shade_f32::<MinMaxLanes<Lanes<f32, LANES>>>(&decoding, instructions)
         }
         (NormalDecoding::Signed, _) => rows.shade_f32::<PhysicalLanes>(&(), instructions),
     }
@@ -458,6 +460,6 @@ pub fn shade_min_max_pixel(scene: &NormalMapScene, scaling: MinMaxScaling, v: [f
         height: row.saturating_add(1),
         material: 0,
     };
-    let point = surface.tp_point(&scaling, v, col as f64, row as f64);
+    let point = surface.tp_point(&scaling, v, col as f64, row as f64, clamped_unit_form(&scene.material));
     DVec3::from(shader(scene, ShadingConvention::Clamped).shade_clamped_lanes(&point))
 }

@@ -16,16 +16,17 @@
 //! | position | (row, column, 0), in pixels | image plane z = 0, centred, image height = 2 units, +x right, +y up |
 //!
 //! ω_o comes from a [`Viewer`]: a direction (orthographic) or a position (ω_o = (x_c − x)/‖x_c − x‖;
-//! under `tp` formed as the report writes it, [`unit_by_division`]).
+//! under `tp` in the material's [`UnitForm`]: as the report writes it for Cook-Torrance, by one
+//! reciprocal for Lambert and Blinn-Phong).
 
 use glam::{Vec2, Vec3};
 
-use crate::lanes::{map3, normalize_or_zero, F32x8, LaneArray, Real, Scalar, LANES};
+use crate::lanes::{dot3, map3, normalize_or_zero, F32x8, LaneArray, Real, Scalar, LANES};
 use crate::normal_map::image::NormalImage;
 use crate::normal_map::image::TP_BACKGROUND_LEVEL;
 use crate::normal_map::image::{foreground_mask, Sample, MASK_PIXELS};
 use crate::normal_map::image::{Samples, UnitSample};
-use crate::shading::convention::unit_by_division;
+use crate::shading::convention::{unit_of_length, UnitForm};
 use crate::surface::{SurfaceLanes, SurfacePoint};
 
 /// The `tp` preset's scaling: n = (v − min)/(max − min) with one min and max over every RGB value
@@ -109,16 +110,21 @@ pub struct MinMaxDecoding<T> {
     /// ([`clamped_reads_to_viewer`](crate::shading::shader::clamped_reads_to_viewer)), and
     /// saves a square root and three divisions a pixel.
     pub forms_to_viewer: bool,
+    /// How ω_o is formed from the offset to the viewer (the material's
+    /// [`clamped_unit_form`](crate::shading::shader::clamped_unit_form)).
+    pub unit_form: UnitForm,
 }
 
 impl<T: Scalar> MinMaxDecoding<T> {
-    /// The table of `scaling`, for points that get their ω_o where `forms_to_viewer`.
-    pub fn new(scaling: MinMaxScaling, forms_to_viewer: bool) -> Self {
+    /// The table of `scaling`, for points that get their ω_o where `forms_to_viewer`, in
+    /// `unit_form`.
+    pub fn new(scaling: MinMaxScaling, forms_to_viewer: bool, unit_form: UnitForm) -> Self {
         let eight_bit = std::array::from_fn(|v| scaling.normal([T::lit(v as f64); 3])[0]);
         MinMaxDecoding {
             scaling,
             eight_bit,
             forms_to_viewer,
+            unit_form,
         }
     }
 }
@@ -365,29 +371,40 @@ impl ImageSurface {
             Samples::Float(s) => scaling.normal(levels::<_, V>(&s[self.row_range(row)], cols)),
         };
         let col = V::from_fn(|i| V::Scalar::lit(cols[i] as f64));
-        self.tp_point_with_normal(normal, col, V::lit(row as f64), decoding.forms_to_viewer)
+        let to_viewer = decoding.forms_to_viewer.then_some(decoding.unit_form);
+        self.tp_point_with_normal(normal, col, V::lit(row as f64), to_viewer)
     }
 
     /// The `tp` surface point of a foreground pixel at (`col`, `row`) with values `v` in
     /// `scaling`'s units, in any [`Real`] (float64 for the preset): n = (v − min)/(max − min),
-    /// x = (row, col, 0), and ω_o = (x_c − x)/‖x_c − x‖ formed as the report writes it
-    /// ([`unit_by_division`]) — so that, in float64, n·ω_o is the numpy implementation's to the bit.
+    /// x = (row, col, 0), and ω_o = (x_c − x)/‖x_c − x‖ in `form` — as the report writes it
+    /// ([`UnitForm::Quotients`]: in float64, n·ω_o is then the numpy implementation's to the bit)
+    /// or by one reciprocal.
     #[inline(always)]
-    pub fn tp_point<R: Real>(&self, scaling: &MinMaxScaling, v: [R; 3], col: R, row: R) -> SurfaceLanes<R> {
-        self.tp_point_with_normal(scaling.normal(v), col, row, true)
+    pub fn tp_point<R: Real>(
+        &self,
+        scaling: &MinMaxScaling,
+        v: [R; 3],
+        col: R,
+        row: R,
+        form: UnitForm,
+    ) -> SurfaceLanes<R> {
+        self.tp_point_with_normal(scaling.normal(v), col, row, Some(form))
     }
 
-    /// [`ImageSurface::tp_point`] of a pixel whose normal `n` is decoded; ω_o the zero vector
-    /// unless `forms_to_viewer` ([`MinMaxDecoding::forms_to_viewer`]).
+    /// [`ImageSurface::tp_point`] of a pixel whose normal `n` is decoded; ω_o formed in
+    /// `to_viewer`'s form, or the zero vector where it is `None`
+    /// ([`MinMaxDecoding::forms_to_viewer`]).
     #[inline(always)]
-    fn tp_point_with_normal<R: Real>(&self, n: [R; 3], col: R, row: R, forms_to_viewer: bool) -> SurfaceLanes<R> {
+    fn tp_point_with_normal<R: Real>(&self, n: [R; 3], col: R, row: R, to_viewer: Option<UnitForm>) -> SurfaceLanes<R> {
         let position = self.position_of(col, row);
-        let to_viewer = match self.viewer {
-            _ if !forms_to_viewer => [R::zero(); 3],
-            Viewer::Direction(d) => map3(d.to_array(), R::of),
-            Viewer::Position(c) => {
+        let to_viewer = match (self.viewer, to_viewer) {
+            (_, None) => [R::zero(); 3],
+            (Viewer::Direction(d), _) => map3(d.to_array(), R::of),
+            (Viewer::Position(c), Some(form)) => {
                 let c = map3(c.to_array(), R::of);
-                unit_by_division([c[0] - position[0], c[1] - position[1], c[2] - position[2]]).0
+                let offset = [c[0] - position[0], c[1] - position[1], c[2] - position[2]];
+                unit_of_length(offset, dot3(offset, offset).sqrt(), form).0
             }
         };
         SurfaceLanes {

@@ -77,20 +77,61 @@ pub fn unit_by_division_of_length<R: Real>(v: [R; 3], len: R) -> ([R; 3], R::Mas
     (map3(v, |c| R::select(defined, c / safe, R::zero())), defined)
 }
 
+/// How the clamped convention turns a vector into a direction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UnitForm {
+    /// Each component divided by the length ([`unit_by_division`]): a numpy implementation's
+    /// bits, for a BRDF whose value jumps where a cosine crosses 0 (the Cook-Torrance
+    /// denominator), so that an exact 0 rounds to numpy's side.
+    Quotients,
+    /// One reciprocal of the length and three products ([`unit_by_reciprocal_of_length`]): a
+    /// third of the divisions, each component within an ulp or two of the quotient — for BRDFs
+    /// continuous in the clamped cosines (Lambert, Blinn-Phong), where that moves L_o by a few
+    /// ulps and no output level by more than the f32 image's own rounding can.
+    Reciprocal,
+}
+
+/// [`unit_by_division_of_length`] or [`unit_by_reciprocal_of_length`], as `form` says.
+#[inline(always)]
+pub fn unit_of_length<R: Real>(v: [R; 3], len: R, form: UnitForm) -> ([R; 3], R::Mask) {
+    match form {
+        UnitForm::Quotients => unit_by_division_of_length(v, len),
+        UnitForm::Reciprocal => unit_by_reciprocal_of_length(v, len),
+    }
+}
+
+/// v · (1/‖v‖) for `v` of length `len` = √(v · v); the zero vector where `len` is below the
+/// smallest normal f32 (1.2e-38, also in float64: no direction is taken from a vector that
+/// short) or not finite, with the lanes where it is defined. Above that bound 1/`len` is finite
+/// in f32 and float64, and each product at most about 1 in magnitude.
+#[inline(always)]
+pub fn unit_by_reciprocal_of_length<R: Real>(v: [R; 3], len: R) -> ([R; 3], R::Mask) {
+    let defined = len.ge(R::lit(f32::MIN_POSITIVE as f64)) & len.is_finite();
+    let inverse = R::one() / R::select(defined, len, R::one());
+    (map3(v, |c| R::select(defined, c * inverse, R::zero())), defined)
+}
+
 /// The clamped convention's dot products for normal `n` (used as given, any length),
 /// `wi_from_light` (unit, from the light towards the point) and `wo` (unit or zero,
 /// from the point towards the viewer); the half-vector products only `with_half_vector`.
 /// Generic over [`Real`]: the `tp` preset runs it on float64 lanes, the stability checks on f64.
 ///
-/// ω_h = (ω_i + ω_o)/‖ω_i + ω_o‖ ([`unit_by_division`]), with the sum formed once and its own length
+/// ω_h = (ω_i + ω_o)/‖ω_i + ω_o‖ (in `form`), with the sum formed once and its own length
 /// taken (no √(2 + 2 ω_i·ω_o), which cancels as ω_i → −ω_o); a zero (or NaN) length means no half vector.
 #[inline(always)]
-pub fn clamped_dots<R: Real>(n: [R; 3], wi_from_light: [R; 3], wo: [R; 3], with_half_vector: bool) -> ClampedDots<R> {
+pub fn clamped_dots<R: Real>(
+    n: [R; 3],
+    wi_from_light: [R; 3],
+    wo: [R; 3],
+    with_half_vector: bool,
+    form: UnitForm,
+) -> ClampedDots<R> {
     let wi = wi_from_light;
     let n_dot_i = clamp01(dot(n, wi));
     let n_dot_o = clamp01(dot(n, wo));
     let (wh, half_vector) = if with_half_vector {
-        unit_by_division([wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]])
+        let sum = [wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]];
+        unit_of_length(sum, dot(sum, sum).sqrt(), form)
     } else {
         ([R::zero(); 3], R::Mask::splat(false))
     };
@@ -111,7 +152,7 @@ mod tests {
     fn products_are_clamped_and_the_normal_is_not_normalised() {
         // n of length > 1 (as a min-max-scaled colour can be): n·ω_i = 1.2 is clamped to 1.
         let n = [0.0, 0.0, 1.2f64];
-        let d = clamped_dots(n, [0.0, 0.0, 1.0], [0.0, 0.6, 0.8], true);
+        let d = clamped_dots(n, [0.0, 0.0, 1.0], [0.0, 0.6, 0.8], true, UnitForm::Quotients);
         assert!(d.half_vector);
         assert_eq!(d.dots.n_dot_i, 1.0);
         assert!((d.dots.n_dot_o - 0.96).abs() < 1e-15, "1.2 · 0.8");
@@ -120,7 +161,13 @@ mod tests {
         let ih = 1.8 / 3.6f64.sqrt();
         assert!((d.dots.i_dot_h - ih).abs() < 1e-15);
         // Negative products become 0.
-        let back = clamped_dots([0.0, 0.0, -1.0f32], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0], true);
+        let back = clamped_dots(
+            [0.0, 0.0, -1.0f32],
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, 1.0],
+            true,
+            UnitForm::Reciprocal,
+        );
         assert_eq!(
             (back.dots.n_dot_i, back.dots.n_dot_o, back.dots.n_dot_h),
             (0.0, 0.0, 0.0)
@@ -129,7 +176,13 @@ mod tests {
 
     #[test]
     fn opposite_light_and_view_directions_have_no_half_vector() {
-        let d = clamped_dots([0.3, 0.4, 0.5f32], [0.0, 0.6, 0.8], [0.0, -0.6, -0.8], true);
+        let d = clamped_dots(
+            [0.3, 0.4, 0.5f32],
+            [0.0, 0.6, 0.8],
+            [0.0, -0.6, -0.8],
+            true,
+            UnitForm::Reciprocal,
+        );
         assert!(!d.half_vector);
         assert_eq!((d.dots.n_dot_h, d.dots.i_dot_h), (0.0, 0.0));
         assert!((d.dots.n_dot_i - 0.64).abs() < 1e-6);
@@ -138,19 +191,70 @@ mod tests {
 
     #[test]
     fn zero_normal_and_zero_view_direction_give_finite_zeros() {
-        let d = clamped_dots([0.0f32; 3], [0.6, 0.0, 0.8], [0.0, 0.0, 1.0], true);
+        let d = clamped_dots([0.0f32; 3], [0.6, 0.0, 0.8], [0.0, 0.0, 1.0], true, UnitForm::Quotients);
         assert_eq!(d.dots.n_dot_i, 0.0);
         assert_eq!(d.dots.n_dot_h, 0.0);
         // ω_o = 0 (the viewer at the point): ω_h = ω_i.
-        let d = clamped_dots([0.0, 0.0, 1.0f32], [0.6, 0.0, 0.8], [0.0; 3], true);
+        let d = clamped_dots(
+            [0.0, 0.0, 1.0f32],
+            [0.6, 0.0, 0.8],
+            [0.0; 3],
+            true,
+            UnitForm::Reciprocal,
+        );
         assert!(d.half_vector);
         assert_eq!(d.dots.n_dot_o, 0.0);
         assert!((d.dots.i_dot_h - 1.0).abs() < 1e-6);
     }
 
     #[test]
+    fn a_reciprocal_direction_is_within_two_ulps_of_the_quotients_and_never_nan() {
+        let mut random = crate::test_random::XorShift32::new(45);
+        for i in 0..20_000 {
+            // Lengths from 1e-30 to 1e30, signs and zeros in every component.
+            let scale = 10f64.powi(i % 61 - 30);
+            let v: [f64; 3] = std::array::from_fn(|c| match (i as usize + c) % 7 {
+                0 => 0.0,
+                _ => (random.unit() as f64 * 2.0 - 1.0 + random.unit() as f64 * 1e-7) * scale,
+            });
+            let len = dot(v, v).sqrt();
+            let (q, q_defined) = unit_by_division_of_length(v, len);
+            let (r, r_defined) = unit_by_reciprocal_of_length(v, len);
+            assert_eq!(q_defined, r_defined, "{v:?}");
+            for c in 0..3 {
+                let ulp = f64::EPSILON * q[c].abs();
+                assert!((q[c] - r[c]).abs() <= 2.0 * ulp, "{v:?}: {q:?} vs {r:?}");
+            }
+        }
+        // Where no direction is taken: zero, subnormal, infinite and NaN lengths give the zero
+        // vector, never NaN.
+        for v in [
+            [0.0; 3],
+            [1e-300, 0.0, 0.0],
+            [f64::INFINITY, 1.0, 0.0],
+            [f64::NAN, 0.0, 0.0],
+        ] {
+            let len = dot(v, v).sqrt();
+            let (r, defined) = unit_by_reciprocal_of_length(v, len);
+            assert!(!defined && r == [0.0; 3], "{v:?}: {r:?}");
+        }
+        // In f32 too, down to the bound (1/len stays finite).
+        let v = [f32::MIN_POSITIVE, 0.0, 0.0];
+        assert_eq!(
+            unit_by_reciprocal_of_length(v, f32::MIN_POSITIVE),
+            ([1.0, 0.0, 0.0], true)
+        );
+    }
+
+    #[test]
     fn lambert_asks_for_no_half_vector() {
-        let d = clamped_dots([0.0, 0.0, 1.0f64], [0.0, 0.6, 0.8], [0.0, 0.0, 1.0], false);
+        let d = clamped_dots(
+            [0.0, 0.0, 1.0f64],
+            [0.0, 0.6, 0.8],
+            [0.0, 0.0, 1.0],
+            false,
+            UnitForm::Reciprocal,
+        );
         assert!(!d.half_vector);
         assert!((d.dots.n_dot_i - 0.8).abs() < 1e-15);
         assert_eq!((d.dots.n_dot_h, d.dots.i_dot_h), (0.0, 0.0));

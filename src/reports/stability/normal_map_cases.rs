@@ -18,7 +18,7 @@ use crate::normal_map::pixels::{MinMaxScaling, Viewer};
 use crate::normal_map::scene_file::{NormalMapScene, Preset};
 use crate::normal_map::shade_min_max_pixel;
 use crate::scene::file::ModelName;
-use crate::shading::convention::clamped_dots;
+use crate::shading::convention::{clamped_dots, UnitForm};
 
 /// Pixels with max(r, g, b) at or below this are background in the tp preset (4/255).
 const BACKGROUND: f64 = 4.0 / 255.0;
@@ -49,7 +49,7 @@ fn tp_pixel_f64(scene: &NormalMapScene, (min, max): (f32, f32), rgb: [f32; 3], r
         if from_light == DVec3::ZERO {
             continue;
         }
-        let a = clamped_dots(n, from_light.to_array(), wo.to_array(), specular);
+        let a = clamped_dots(n, from_light.to_array(), wo.to_array(), specular, UnitForm::Quotients);
         let f = if a.half_vector {
             scene.material.eval(&a.dots)
         } else {

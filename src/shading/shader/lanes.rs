@@ -11,13 +11,13 @@ use std::borrow::Borrow;
 
 use glam::Vec3;
 
-use super::{clamped_term, reflected_radiance, Shader, BATCH};
+use super::{clamped_term, clamped_unit_form, reflected_radiance, Shader, BATCH};
 use crate::accel::shadow::{Occluder, ShadowRay};
 use crate::brdf::LocalDots;
 use crate::lanes::{dot3, map3, F32x8, LaneInstructions, LaneMask, Mask, Mask8, Real, LANES};
 use crate::light::{Light, LightKind, LightSamples};
 use crate::material::Material;
-use crate::shading::convention::{unit_by_division_of_length, ShadingConvention};
+use crate::shading::convention::{unit_of_length, ShadingConvention};
 use crate::surface::{SurfaceLanes, SurfacePoint};
 
 /// Most groups of one material a batch of [`BATCH`] points is cut into: two of eight, and one more
@@ -172,13 +172,14 @@ impl<O: Occluder> Shader<'_, O> {
         debug_assert_eq!(self.convention, ShadingConvention::Clamped);
         let material = &self.materials[points.material as usize];
         let x = points.position;
+        let form = clamped_unit_form(material);
         let mut radiance = [R::zero(); 3];
         for light in self.lights {
             // Where the light sends nothing (a light at the point), its irradiance is 0 and its
             // direction the zero vector: the term is 0 and finite.
-            // ω_i = (x − x_s)/‖x − x_s‖, each component divided by the length (`unit_by_division`); a
-            // directional light's direction of travel. A point light's sample needs the same
-            // length, so it is taken once.
+            // ω_i = (x − x_s)/‖x − x_s‖ in the material's `clamped_unit_form`; a directional
+            // light's direction of travel. A point light's sample needs the same length, so it
+            // is taken once.
             let (ls, wi_from_light) = match light.position() {
                 Some(x_s) => {
                     let x_s = map3(x_s.to_array(), R::of);
@@ -188,7 +189,7 @@ impl<O: Occluder> Shader<'_, O> {
                         LightKind::Point { .. } => light.sample_point_light_from(from_light, distance),
                         _ => light.sample_points(x),
                     };
-                    (ls, unit_by_division_of_length(from_light, distance).0)
+                    (ls, unit_of_length(from_light, distance, form).0)
                 }
                 None => {
                     let ls = light.sample_points(x);

@@ -19,9 +19,9 @@ use crate::brdf::LocalDots;
 use crate::accel::shadow::{Occluder, SceneExtent, ShadowRay};
 use crate::lanes::{dot3, map3, Mask, Real, Scalar};
 use crate::light::{Light, LightSample};
-use crate::material::{Material, PointBrdf};
+use crate::material::{BrdfModel, Material, PointBrdf};
 use crate::scene::shadows::ShadowOffset;
-use crate::shading::convention::{clamped_dots, ShadingConvention};
+use crate::shading::convention::{clamped_dots, ShadingConvention, UnitForm};
 use crate::surface::{SurfaceLanes, SurfacePoint};
 use crate::texture::TextureImage;
 
@@ -303,6 +303,16 @@ pub fn clamped_reads_to_viewer(material: &Material) -> bool {
     material.has_specular()
 }
 
+/// How the clamped convention forms `material`'s directions ([`UnitForm`]): by one reciprocal
+/// where its f_r is continuous in the clamped cosines (Lambert, Blinn-Phong), by quotients
+/// elsewhere (Cook-Torrance's guarded denominator jumps where n·ω_i or n·ω_o is 0).
+pub fn clamped_unit_form(material: &Material) -> UnitForm {
+    match material.model {
+        BrdfModel::Lambert | BrdfModel::BlinnPhong(_) => UnitForm::Reciprocal,
+        BrdfModel::CookTorrance(_) | BrdfModel::GltfPbr(_) => UnitForm::Quotients,
+    }
+}
+
 /// One light's L_i · f(ω_i, ω_o) · (n·ω_i) under the clamped convention, per channel, in any
 /// [`Real`] (f32 for one point, [`F32x8`] for eight).
 #[inline(always)]
@@ -313,7 +323,13 @@ fn clamped_term<R: Real>(
     wo: [R; 3],
     irradiance: [R; 3],
 ) -> [R; 3] {
-    let a = clamped_dots(n, wi_from_light, wo, clamped_reads_to_viewer(material));
+    let a = clamped_dots(
+        n,
+        wi_from_light,
+        wo,
+        clamped_reads_to_viewer(material),
+        clamped_unit_form(material),
+    );
     let diffuse = material.diffuse::<R>();
     let f = if a.half_vector.any() {
         let e = material.eval(&a.dots);
