@@ -211,7 +211,10 @@ fn tp_zero_cook_torrance_denominator_leaves_the_diffuse_part() {
     // Lambert forms ω_i by a reciprocal, Cook-Torrance by quotients (`UnitForm`): the diffuse
     // parts agree to a few ulps; a specular lobe would add far more.
     let ulps = (ct - lambert).abs().max_element() / (f64::EPSILON * lambert.max_element());
-    assert!(ulps <= 4.0, "the specular lobe is 0 where the denominator is 0: {ct} vs {lambert}");
+    assert!(
+        ulps <= 4.0,
+        "the specular lobe is 0 where the denominator is 0: {ct} vs {lambert}"
+    );
     let cos = 100.0 / (100.0f64 * 100.0 + 49.0 * 49.0 + 1.0).sqrt();
     for (c, albedo) in [0.4, 0.7, 0.4].into_iter().enumerate() {
         let expect = 0.5 * albedo / PI * cos;
