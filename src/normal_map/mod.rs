@@ -151,11 +151,10 @@ pub fn shade_image_with(
 ) -> (Image, NormalMapStats) {
     let instructions = instructions.min(LaneInstructions::detect());
     let rows = Rows { scene, image, surface };
-    let forms_to_viewer = clamped_reads_to_viewer(&scene.material);
-    let unit_form = clamped_unit_form(&scene.material);
+    let to_viewer = clamped_reads_to_viewer(&scene.material).then(|| clamped_unit_form(&scene.material));
     match (surface.decoding, precision) {
         (NormalDecoding::MinMax(s), MinMaxPrecision::Float64) => {
-            match (instructions, &MinMaxDecoding::new(s, forms_to_viewer, unit_form)) {
+            match (instructions, &MinMaxDecoding::new(s, to_viewer)) {
                 (LaneInstructions::Portable, s) => {
                     rows.shade::<MinMaxLanes<Lanes<f64, 4>>>(s, |job, buffers, pixels| job.run(buffers, pixels))
                 }
@@ -171,8 +170,7 @@ pub fn shade_image_with(
             }
         }
         (NormalDecoding::MinMax(s), MinMaxPrecision::Float32) => {
-            let decoding = MinMaxDecoding::new(s, forms_to_viewer, unit_form);
-            rows.shade_f32::<MinMaxLanes<Lanes<f32, LANES>>>(&decoding, instructions)
+            rows.shade_f32::<MinMaxLanes<Lanes<f32, LANES>>>(&MinMaxDecoding::new(s, to_viewer), instructions)
         }
         (NormalDecoding::Signed, _) => rows.shade_f32::<PhysicalLanes>(&(), instructions),
     }

@@ -105,26 +105,22 @@ pub struct MinMaxDecoding<T> {
     pub scaling: MinMaxScaling,
     /// [`MinMaxScaling::normal`] of each 8-bit level (unused for other samples).
     eight_bit: [T; 256],
-    /// Whether the points get their ω_o; without it `to_viewer` is the zero vector, which is
-    /// the same L_o where the material's does not read it
-    /// ([`clamped_reads_to_viewer`](crate::shading::shader::clamped_reads_to_viewer)), and
-    /// saves a square root and three divisions a pixel.
-    pub forms_to_viewer: bool,
-    /// How ω_o is formed from the offset to the viewer (the material's
-    /// [`clamped_unit_form`](crate::shading::shader::clamped_unit_form)).
-    pub unit_form: UnitForm,
+    /// How the points get their ω_o from the offset to the viewer (the material's
+    /// [`clamped_unit_form`](crate::shading::shader::clamped_unit_form)), or `None`: then
+    /// `to_viewer` is the zero vector, which is the same L_o where the material does not read it
+    /// ([`clamped_reads_to_viewer`](crate::shading::shader::clamped_reads_to_viewer)), and saves
+    /// a square root and the divisions a pixel.
+    pub to_viewer: Option<UnitForm>,
 }
 
 impl<T: Scalar> MinMaxDecoding<T> {
-    /// The table of `scaling`, for points that get their ω_o where `forms_to_viewer`, in
-    /// `unit_form`.
-    pub fn new(scaling: MinMaxScaling, forms_to_viewer: bool, unit_form: UnitForm) -> Self {
+    /// The table of `scaling`, for points that get their ω_o in `to_viewer`'s form, or none.
+    pub fn new(scaling: MinMaxScaling, to_viewer: Option<UnitForm>) -> Self {
         let eight_bit = std::array::from_fn(|v| scaling.normal([T::lit(v as f64); 3])[0]);
         MinMaxDecoding {
             scaling,
             eight_bit,
-            forms_to_viewer,
-            unit_form,
+            to_viewer,
         }
     }
 }
@@ -371,8 +367,7 @@ impl ImageSurface {
             Samples::Float(s) => scaling.normal(levels::<_, V>(&s[self.row_range(row)], cols)),
         };
         let col = V::from_fn(|i| V::Scalar::lit(cols[i] as f64));
-        let to_viewer = decoding.forms_to_viewer.then_some(decoding.unit_form);
-        self.tp_point_with_normal(normal, col, V::lit(row as f64), to_viewer)
+        self.tp_point_with_normal(normal, col, V::lit(row as f64), decoding.to_viewer)
     }
 
     /// The `tp` surface point of a foreground pixel at (`col`, `row`) with values `v` in
@@ -394,7 +389,7 @@ impl ImageSurface {
 
     /// [`ImageSurface::tp_point`] of a pixel whose normal `n` is decoded; ω_o formed in
     /// `to_viewer`'s form, or the zero vector where it is `None`
-    /// ([`MinMaxDecoding::forms_to_viewer`]).
+    /// ([`MinMaxDecoding::to_viewer`]).
     #[inline(always)]
     fn tp_point_with_normal<R: Real>(&self, n: [R; 3], col: R, row: R, to_viewer: Option<UnitForm>) -> SurfaceLanes<R> {
         let position = self.position_of(col, row);

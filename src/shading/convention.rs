@@ -117,7 +117,8 @@ pub fn unit_by_reciprocal_of_length<R: Real>(v: [R; 3], len: R) -> ([R; 3], R::M
 /// Generic over [`Real`]: the `tp` preset runs it on float64 lanes, the stability checks on f64.
 ///
 /// ω_h = (ω_i + ω_o)/‖ω_i + ω_o‖ (in `form`), with the sum formed once and its own length
-/// taken (no √(2 + 2 ω_i·ω_o), which cancels as ω_i → −ω_o); a zero (or NaN) length means no half vector.
+/// taken (no √(2 + 2 ω_i·ω_o), which cancels as ω_i → −ω_o); a zero (or NaN) length means no half vector
+/// (in [`UnitForm::Reciprocal`], also one below 1.2e-38).
 #[inline(always)]
 pub fn clamped_dots<R: Real>(
     n: [R; 3],

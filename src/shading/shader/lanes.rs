@@ -198,6 +198,7 @@ impl<O: Occluder> Shader<'_, O> {
             };
             let term = clamped_term(
                 material,
+                form,
                 points.shading_normal,
                 wi_from_light,
                 points.to_viewer,

@@ -314,22 +314,18 @@ pub fn clamped_unit_form(material: &Material) -> UnitForm {
 }
 
 /// One light's L_i · f(ω_i, ω_o) · (n·ω_i) under the clamped convention, per channel, in any
-/// [`Real`] (f32 for one point, [`F32x8`] for eight).
+/// [`Real`] (f32 for one point, [`F32x8`] for eight); ω_h formed in `form`, the material's
+/// [`clamped_unit_form`] (the caller's, which formed ω_i in it too).
 #[inline(always)]
 fn clamped_term<R: Real>(
     material: &Material,
+    form: UnitForm,
     n: [R; 3],
     wi_from_light: [R; 3],
     wo: [R; 3],
     irradiance: [R; 3],
 ) -> [R; 3] {
-    let a = clamped_dots(
-        n,
-        wi_from_light,
-        wo,
-        clamped_reads_to_viewer(material),
-        clamped_unit_form(material),
-    );
+    let a = clamped_dots(n, wi_from_light, wo, clamped_reads_to_viewer(material), form);
     let diffuse = material.diffuse::<R>();
     let f = if a.half_vector.any() {
         let e = material.eval(&a.dots);
