@@ -314,7 +314,7 @@ pub fn clamped_unit_form(material: &Material) -> UnitForm {
 }
 
 /// One light's L_i · f(ω_i, ω_o) · (n·ω_i) under the clamped convention, per channel, in any
-/// [`Real`] (f32 for one point, [`F32x8`] for eight); ω_h formed in `form`, the material's
+/// [`Real`] (one point or a lane group, f32 or float64); ω_h formed in `form`, the material's
 /// [`clamped_unit_form`] (the caller's, which formed ω_i in it too).
 #[inline(always)]
 fn clamped_term<R: Real>(
