@@ -184,8 +184,7 @@ fn time_material_eval(scene: &NormalMapScene, image: &NormalImage, repeats: usiz
                 n,
                 (-ls.wi).to_array(),
                 sp.to_viewer.to_array(),
-                true,
-                UnitForm::Quotients,
+                Some(UnitForm::Quotients),
             );
             a.half_vector.then_some(a.dots)
         })

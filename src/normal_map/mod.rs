@@ -30,7 +30,7 @@ use crate::normal_map::pixels::{ImageSurface, MinMaxDecoding, MinMaxScaling, Nor
 use crate::normal_map::plan::NormalMapPlan;
 use crate::normal_map::scene_file::{NormalMapScene, Preset};
 use crate::shading::convention::ShadingConvention;
-use crate::shading::shader::{clamped_reads_to_viewer, clamped_unit_form, Shader};
+use crate::shading::shader::{clamped_to_viewer_form, clamped_unit_form, Shader};
 use crate::surface::SurfaceLanes;
 
 /// Counters and per-stage times of one normal-map shading.
@@ -151,7 +151,7 @@ pub fn shade_image_with(
 ) -> (Image, NormalMapStats) {
     let instructions = instructions.min(LaneInstructions::detect());
     let rows = Rows { scene, image, surface };
-    let to_viewer = clamped_reads_to_viewer(&scene.material).then(|| clamped_unit_form(&scene.material));
+    let to_viewer = clamped_to_viewer_form(&scene.material);
     match (surface.decoding, precision) {
         (NormalDecoding::MinMax(s), MinMaxPrecision::Float64) => {
             match (instructions, &MinMaxDecoding::new(s, to_viewer)) {

@@ -105,11 +105,10 @@ pub struct MinMaxDecoding<T> {
     pub scaling: MinMaxScaling,
     /// [`MinMaxScaling::normal`] of each 8-bit level (unused for other samples).
     eight_bit: [T; 256],
-    /// How the points get their ω_o from the offset to the viewer (the material's
-    /// [`clamped_unit_form`](crate::shading::shader::clamped_unit_form)), or `None`: then
-    /// `to_viewer` is the zero vector, which is the same L_o where the material does not read it
-    /// ([`clamped_reads_to_viewer`](crate::shading::shader::clamped_reads_to_viewer)), and saves
-    /// a square root and the divisions a pixel.
+    /// How the points get their ω_o from the offset to the viewer, or `None`: then `to_viewer`
+    /// is the zero vector, which is the same L_o where the material does not read it, and saves
+    /// a square root and the divisions a pixel (the material's
+    /// [`clamped_to_viewer_form`](crate::shading::shader::clamped_to_viewer_form)).
     pub to_viewer: Option<UnitForm>,
 }
 

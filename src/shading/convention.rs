@@ -113,7 +113,8 @@ pub fn unit_by_reciprocal_of_length<R: Real>(v: [R; 3], len: R) -> ([R; 3], R::M
 
 /// The clamped convention's dot products for normal `n` (used as given, any length),
 /// `wi_from_light` (unit, from the light towards the point) and `wo` (unit or zero,
-/// from the point towards the viewer); the half-vector products only `with_half_vector`.
+/// from the point towards the viewer); the half-vector products only where `half_vector` says in
+/// which form to take ω_h (`None`: no half vector, its products 0).
 /// Generic over [`Real`]: the `tp` preset runs it on float64 lanes, the stability checks on f64.
 ///
 /// ω_h = (ω_i + ω_o)/‖ω_i + ω_o‖ (in `form`), with the sum formed once and its own length
@@ -124,17 +125,17 @@ pub fn clamped_dots<R: Real>(
     n: [R; 3],
     wi_from_light: [R; 3],
     wo: [R; 3],
-    with_half_vector: bool,
-    form: UnitForm,
+    half_vector: Option<UnitForm>,
 ) -> ClampedDots<R> {
     let wi = wi_from_light;
     let n_dot_i = clamp01(dot(n, wi));
     let n_dot_o = clamp01(dot(n, wo));
-    let (wh, half_vector) = if with_half_vector {
-        let sum = [wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]];
-        unit_of_length(sum, dot(sum, sum).sqrt(), form)
-    } else {
-        ([R::zero(); 3], R::Mask::splat(false))
+    let (wh, half_vector) = match half_vector {
+        Some(form) => {
+            let sum = [wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]];
+            unit_of_length(sum, dot(sum, sum).sqrt(), form)
+        }
+        None => ([R::zero(); 3], R::Mask::splat(false)),
     };
     // Without a half vector report 0 (ω_h is the zero vector there: nothing NaN in any lane).
     let keep = |v: R| R::select(half_vector, v, R::zero());
@@ -153,7 +154,7 @@ mod tests {
     fn products_are_clamped_and_the_normal_is_not_normalised() {
         // n of length > 1 (as a min-max-scaled colour can be): n·ω_i = 1.2 is clamped to 1.
         let n = [0.0, 0.0, 1.2f64];
-        let d = clamped_dots(n, [0.0, 0.0, 1.0], [0.0, 0.6, 0.8], true, UnitForm::Quotients);
+        let d = clamped_dots(n, [0.0, 0.0, 1.0], [0.0, 0.6, 0.8], Some(UnitForm::Quotients));
         assert!(d.half_vector);
         assert_eq!(d.dots.n_dot_i, 1.0);
         assert!((d.dots.n_dot_o - 0.96).abs() < 1e-15, "1.2 · 0.8");
@@ -166,8 +167,7 @@ mod tests {
             [0.0, 0.0, -1.0f32],
             [0.0, 0.0, 1.0],
             [0.0, 0.0, 1.0],
-            true,
-            UnitForm::Reciprocal,
+            Some(UnitForm::Reciprocal),
         );
         assert_eq!(
             (back.dots.n_dot_i, back.dots.n_dot_o, back.dots.n_dot_h),
@@ -181,8 +181,7 @@ mod tests {
             [0.3, 0.4, 0.5f32],
             [0.0, 0.6, 0.8],
             [0.0, -0.6, -0.8],
-            true,
-            UnitForm::Reciprocal,
+            Some(UnitForm::Reciprocal),
         );
         assert!(!d.half_vector);
         assert_eq!((d.dots.n_dot_h, d.dots.i_dot_h), (0.0, 0.0));
@@ -192,7 +191,7 @@ mod tests {
 
     #[test]
     fn zero_normal_and_zero_view_direction_give_finite_zeros() {
-        let d = clamped_dots([0.0f32; 3], [0.6, 0.0, 0.8], [0.0, 0.0, 1.0], true, UnitForm::Quotients);
+        let d = clamped_dots([0.0f32; 3], [0.6, 0.0, 0.8], [0.0, 0.0, 1.0], Some(UnitForm::Quotients));
         assert_eq!(d.dots.n_dot_i, 0.0);
         assert_eq!(d.dots.n_dot_h, 0.0);
         // ω_o = 0 (the viewer at the point): ω_h = ω_i.
@@ -200,8 +199,7 @@ mod tests {
             [0.0, 0.0, 1.0f32],
             [0.6, 0.0, 0.8],
             [0.0; 3],
-            true,
-            UnitForm::Reciprocal,
+            Some(UnitForm::Reciprocal),
         );
         assert!(d.half_vector);
         assert_eq!(d.dots.n_dot_o, 0.0);
@@ -249,13 +247,7 @@ mod tests {
 
     #[test]
     fn lambert_asks_for_no_half_vector() {
-        let d = clamped_dots(
-            [0.0, 0.0, 1.0f64],
-            [0.0, 0.6, 0.8],
-            [0.0, 0.0, 1.0],
-            false,
-            UnitForm::Reciprocal,
-        );
+        let d = clamped_dots([0.0, 0.0, 1.0f64], [0.0, 0.6, 0.8], [0.0, 0.0, 1.0], None);
         assert!(!d.half_vector);
         assert!((d.dots.n_dot_i - 0.8).abs() < 1e-15);
         assert_eq!((d.dots.n_dot_h, d.dots.i_dot_h), (0.0, 0.0));

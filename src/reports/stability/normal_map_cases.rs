@@ -49,7 +49,12 @@ fn tp_pixel_f64(scene: &NormalMapScene, (min, max): (f32, f32), rgb: [f32; 3], r
         if from_light == DVec3::ZERO {
             continue;
         }
-        let a = clamped_dots(n, from_light.to_array(), wo.to_array(), specular, UnitForm::Quotients);
+        let a = clamped_dots(
+            n,
+            from_light.to_array(),
+            wo.to_array(),
+            specular.then_some(UnitForm::Quotients),
+        );
         let f = if a.half_vector {
             scene.material.eval(&a.dots)
         } else {

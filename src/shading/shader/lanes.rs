@@ -11,7 +11,7 @@ use std::borrow::Borrow;
 
 use glam::Vec3;
 
-use super::{clamped_term, clamped_unit_form, reflected_radiance, Shader, BATCH};
+use super::{clamped_term, clamped_to_viewer_form, clamped_unit_form, reflected_radiance, Shader, BATCH};
 use crate::accel::shadow::{Occluder, ShadowRay};
 use crate::brdf::LocalDots;
 use crate::lanes::{dot3, map3, F32x8, LaneInstructions, LaneMask, Mask, Mask8, Real, LANES};
@@ -172,7 +172,7 @@ impl<O: Occluder> Shader<'_, O> {
         debug_assert_eq!(self.convention, ShadingConvention::Clamped);
         let material = &self.materials[points.material as usize];
         let x = points.position;
-        let form = clamped_unit_form(material);
+        let (form, half_vector) = (clamped_unit_form(material), clamped_to_viewer_form(material));
         let mut radiance = [R::zero(); 3];
         for light in self.lights {
             // Where the light sends nothing (a light at the point), its irradiance is 0 and its
@@ -198,7 +198,7 @@ impl<O: Occluder> Shader<'_, O> {
             };
             let term = clamped_term(
                 material,
-                form,
+                half_vector,
                 points.shading_normal,
                 wi_from_light,
                 points.to_viewer,

@@ -295,12 +295,13 @@ fn front_lift(lift: f32, facing_ng: Vec3, ng: Vec3) -> f32 {
     }
 }
 
-/// Whether the clamped convention's L_o of `material` reads ω_o. It enters only n·ω_o and the
-/// half vector, which only a specular lobe reads (`clamped_term`): a Lambert material's points
-/// may come without it (the normal-map driver then skips its square root and divisions).
+/// The form the clamped convention takes `material`'s ω_o and ω_h in, or `None` where its L_o
+/// reads neither: ω_o enters only n·ω_o and the half vector, which only a specular lobe reads
+/// ([`clamped_dots`]), so a Lambert material's points may come without it (the normal-map driver
+/// then skips its square root and divisions). Derived once per material, not per light.
 #[inline(always)]
-pub fn clamped_reads_to_viewer(material: &Material) -> bool {
-    material.has_specular()
+pub fn clamped_to_viewer_form(material: &Material) -> Option<UnitForm> {
+    material.has_specular().then(|| clamped_unit_form(material))
 }
 
 /// How the clamped convention forms `material`'s directions ([`UnitForm`]): by one reciprocal
@@ -314,18 +315,18 @@ pub fn clamped_unit_form(material: &Material) -> UnitForm {
 }
 
 /// One light's L_i · f(ω_i, ω_o) · (n·ω_i) under the clamped convention, per channel, in any
-/// [`Real`] (one point or a lane group, f32 or float64); ω_h formed in `form`, the material's
-/// [`clamped_unit_form`] (the caller's, which formed ω_i in it too).
+/// [`Real`] (one point or a lane group, f32 or float64); ω_h formed in `half_vector`, the
+/// material's [`clamped_to_viewer_form`] (the caller's, derived once for every light).
 #[inline(always)]
 fn clamped_term<R: Real>(
     material: &Material,
-    form: UnitForm,
+    half_vector: Option<UnitForm>,
     n: [R; 3],
     wi_from_light: [R; 3],
     wo: [R; 3],
     irradiance: [R; 3],
 ) -> [R; 3] {
-    let a = clamped_dots(n, wi_from_light, wo, clamped_reads_to_viewer(material), form);
+    let a = clamped_dots(n, wi_from_light, wo, half_vector);
     let diffuse = material.diffuse::<R>();
     let f = if a.half_vector.any() {
         let e = material.eval(&a.dots);
