@@ -1,6 +1,10 @@
 //! The worker threads of a call, and the one check of a thread count (`--threads`, Python's
 //! `threads=`).
 
+use std::sync::{Mutex, PoisonError};
+
+use rayon::ThreadPool;
+
 /// Worker threads allowed per logical CPU: more only adds switching, and a thread count
 /// typed with extra zeros (`--threads 100000`) would spawn threads until the process is killed.
 pub const MAX_THREADS_PER_CPU: usize = 8;
@@ -27,29 +31,158 @@ pub fn check_thread_count(threads: usize) -> Result<(), String> {
 pub enum Workers {
     /// rayon's global pool.
     Global,
-    /// A pool of its own.
-    Own(rayon::ThreadPool),
+    /// A pool of its own while the call runs: no other call shares its threads. Dropped, it goes
+    /// back to the idle pools for the next call of the same size (`None` only while it is given
+    /// back).
+    Own(Option<ThreadPool>),
 }
 
 impl Workers {
-    /// The global pool when `threads` is `None`, else a pool of that many threads.
+    /// The global pool when `threads` is `None`, else a pool of that many threads: an idle one
+    /// an earlier call of the same size gave back, or a new one.
     pub fn new(threads: Option<usize>) -> Result<Self, String> {
         let Some(threads) = threads else {
             return Ok(Workers::Global);
         };
         check_thread_count(threads)?;
+        if let Some(pool) = IDLE.take(threads) {
+            return Ok(Workers::Own(Some(pool)));
+        }
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
-            .map(Workers::Own)
+            .map(|pool| Workers::Own(Some(pool)))
             .map_err(|e| format!("cannot start {threads} threads: {e}"))
     }
 
     /// Runs `work` on these workers.
     pub fn install<T: Send>(&self, work: impl FnOnce() -> T + Send) -> T {
         match self {
-            Workers::Global => work(),
-            Workers::Own(pool) => pool.install(work),
+            Workers::Own(Some(pool)) => pool.install(work),
+            Workers::Global | Workers::Own(None) => work(),
         }
+    }
+}
+
+impl Drop for Workers {
+    fn drop(&mut self) {
+        if let Workers::Own(pool) = self {
+            if let Some(pool) = pool.take() {
+                IDLE.give_back(pool);
+            }
+        }
+    }
+}
+
+/// The pools calls gave back. A notebook calls `shade_normal_image(…, threads=2)` again and
+/// again: the next call of the same size takes the pool instead of starting its threads again.
+/// Idle rayon threads sleep.
+static IDLE: IdlePools = IdlePools::new();
+
+/// Idle pools, the most recently given back last; at most [`IdlePools::MOST`] of them, so a
+/// process that asks for many sizes keeps only the last few pools' threads.
+struct IdlePools(Mutex<Vec<ThreadPool>>);
+
+impl IdlePools {
+    /// Idle pools kept: a few sizes in turn (a sweep over `threads=`) still find theirs.
+    const MOST: usize = 4;
+
+    const fn new() -> Self {
+        IdlePools(Mutex::new(Vec::new()))
+    }
+
+    /// The most recently given back pool of `threads` threads, taken out.
+    fn take(&self, threads: usize) -> Option<ThreadPool> {
+        // A panic while the lock was held left the list whole: every operation on it is one
+        // push, remove or truncate.
+        let mut idle = self.0.lock().unwrap_or_else(PoisonError::into_inner);
+        let i = idle.iter().rposition(|pool| pool.current_num_threads() == threads)?;
+        Some(idle.remove(i))
+    }
+
+    /// `pool` kept for the next call of its size; the oldest idle pool is stopped when more
+    /// than [`IdlePools::MOST`] would be kept.
+    fn give_back(&self, pool: ThreadPool) {
+        let stopped = {
+            let mut idle = self.0.lock().unwrap_or_else(PoisonError::into_inner);
+            idle.push(pool);
+            let over = idle.len().saturating_sub(Self::MOST);
+            idle.drain(..over).collect::<Vec<_>>()
+        };
+        // Stopped outside the lock: dropping a pool signals its threads to end.
+        drop(stopped);
+    }
+
+    #[cfg(test)]
+    fn sizes(&self) -> Vec<usize> {
+        let idle = self.0.lock().unwrap_or_else(PoisonError::into_inner);
+        idle.iter().map(ThreadPool::current_num_threads).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::HashSet;
+    use std::thread::ThreadId;
+
+    use super::*;
+
+    fn pool(threads: usize) -> ThreadPool {
+        rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap()
+    }
+
+    #[test]
+    fn a_pool_given_back_serves_the_next_call_of_its_size_and_only_that() {
+        // A list of its own: the tests beside this one use the process's.
+        let idle = IdlePools::new();
+        idle.give_back(pool(1));
+        idle.give_back(pool(3));
+        assert!(idle.take(2).is_none(), "no pool of 2 threads was given back");
+        let one = idle.take(1).expect("the pool of one thread");
+        assert_eq!(one.current_num_threads(), 1);
+        assert!(
+            idle.take(1).is_none(),
+            "a pool is taken out, not shared with a second call"
+        );
+        assert_eq!(idle.sizes(), [3]);
+    }
+
+    #[test]
+    fn at_most_four_pools_stay_idle_the_oldest_stopped() {
+        let idle = IdlePools::new();
+        for threads in 1..=6 {
+            idle.give_back(pool(threads));
+        }
+        assert_eq!(idle.sizes(), [3, 4, 5, 6]);
+    }
+
+    #[test]
+    fn workers_of_a_size_reuse_a_dropped_pool_and_never_share_a_held_one() {
+        // Through the process's list, with a size no other test asks for (another test would
+        // have to give back four pools between the drop and the next call to evict this one).
+        let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let threads = (MAX_THREADS_PER_CPU * cpus).min(13);
+        let threads_of = |w: &Workers| -> HashSet<ThreadId> {
+            w.install(|| rayon::broadcast(|_| std::thread::current().id()))
+                .into_iter()
+                .collect()
+        };
+        let (first, second) = (
+            Workers::new(Some(threads)).unwrap(),
+            Workers::new(Some(threads)).unwrap(),
+        );
+        let (first_threads, second_threads) = (threads_of(&first), threads_of(&second));
+        assert_eq!((first_threads.len(), second_threads.len()), (threads, threads));
+        assert!(
+            first_threads.is_disjoint(&second_threads),
+            "two held workers share no thread"
+        );
+        drop(first);
+        let third = Workers::new(Some(threads)).unwrap();
+        assert_eq!(
+            threads_of(&third),
+            first_threads,
+            "the dropped pool's threads serve the next call"
+        );
     }
 }
