@@ -1,5 +1,6 @@
 """render(): equal to the CLI bit for bit, from files and from scenes built in Python."""
 
+import multiprocessing
 import signal
 import threading
 import time
@@ -131,6 +132,19 @@ def test_two_threads_render_at_once_and_give_what_one_thread_gives():
     for t in threads:
         t.join()
     assert all(same_bits(r, expected) for r in results)
+
+
+def _small_render_on_two_threads():
+    return pointshade.render(CORNELL, width=32, height=24, spp=2, threads=2)["color"]
+
+
+def test_a_forked_process_renders_on_threads_of_its_own():
+    # The parent's pool of two threads is kept for its next call; a process forked from it
+    # inherits that pool but not its threads, and must start its own instead of waiting on them.
+    expected = _small_render_on_two_threads()
+    with multiprocessing.get_context("fork").Pool(1) as pool:
+        color = pool.apply_async(_small_render_on_two_threads).get(timeout=120)
+    assert same_bits(color, expected)
 
 
 def test_keyboard_interrupt_stops_a_long_render():

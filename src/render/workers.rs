@@ -34,7 +34,13 @@ pub enum Workers {
     /// A pool of its own while the call runs: no other call shares its threads. Dropped, it goes
     /// back to the idle pools for the next call of the same size (`None` only while it is given
     /// back).
-    Own(Option<ThreadPool>),
+    Own(Option<StartedPool>),
+}
+
+/// A thread pool and the process that started its threads.
+pub struct StartedPool {
+    process: u32,
+    pool: ThreadPool,
 }
 
 impl Workers {
@@ -45,20 +51,21 @@ impl Workers {
             return Ok(Workers::Global);
         };
         check_thread_count(threads)?;
-        if let Some(pool) = IDLE.take(threads) {
-            return Ok(Workers::Own(Some(pool)));
+        let process = std::process::id();
+        if let Some(started) = IDLE.take(process, threads) {
+            return Ok(Workers::Own(Some(started)));
         }
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
-            .map(|pool| Workers::Own(Some(pool)))
+            .map(|pool| Workers::Own(Some(StartedPool { process, pool })))
             .map_err(|e| format!("cannot start {threads} threads: {e}"))
     }
 
     /// Runs `work` on these workers.
     pub fn install<T: Send>(&self, work: impl FnOnce() -> T + Send) -> T {
         match self {
-            Workers::Own(Some(pool)) => pool.install(work),
+            Workers::Own(Some(started)) => started.pool.install(work),
             Workers::Global | Workers::Own(None) => work(),
         }
     }
@@ -66,9 +73,9 @@ impl Workers {
 
 impl Drop for Workers {
     fn drop(&mut self) {
-        if let Workers::Own(pool) = self {
-            if let Some(pool) = pool.take() {
-                IDLE.give_back(pool);
+        if let Workers::Own(started) = self {
+            if let Some(started) = started.take() {
+                IDLE.give_back(started);
             }
         }
     }
@@ -81,7 +88,11 @@ static IDLE: IdlePools = IdlePools::new();
 
 /// Idle pools, the most recently given back last; at most [`IdlePools::MOST`] of them, so a
 /// process that asks for many sizes keeps only the last few pools' threads.
-struct IdlePools(Mutex<Vec<ThreadPool>>);
+///
+/// A process forked from this one (Python's `multiprocessing` on Linux) inherits the list, and
+/// any `Workers` it holds, but not their threads: a pool of the parent's would take its jobs and
+/// never run them. The child lets those go and starts its own.
+struct IdlePools(Mutex<Vec<StartedPool>>);
 
 impl IdlePools {
     /// Idle pools kept: a few sizes in turn (a sweep over `threads=`) still find theirs.
@@ -91,21 +102,31 @@ impl IdlePools {
         IdlePools(Mutex::new(Vec::new()))
     }
 
-    /// The most recently given back pool of `threads` threads, taken out.
-    fn take(&self, threads: usize) -> Option<ThreadPool> {
+    /// The most recently given back pool of `threads` threads that `process` (this process)
+    /// started, taken out; the pools another process started are let go first.
+    fn take(&self, process: u32, threads: usize) -> Option<StartedPool> {
         // A panic while the lock was held left the list whole: every operation on it is one
-        // push, remove or truncate.
+        // push, remove or drain.
         let mut idle = self.0.lock().unwrap_or_else(PoisonError::into_inner);
-        let i = idle.iter().rposition(|pool| pool.current_num_threads() == threads)?;
+        if idle.iter().any(|started| started.process != process) {
+            let (ours, theirs): (Vec<_>, Vec<_>) = idle.drain(..).partition(|started| started.process == process);
+            *idle = ours;
+            // Not dropped: that would signal threads that do not exist here, through locks a
+            // parent's thread may have held at the fork. A few handles leak, once per fork.
+            std::mem::forget(theirs);
+        }
+        let i = idle
+            .iter()
+            .rposition(|started| started.pool.current_num_threads() == threads)?;
         Some(idle.remove(i))
     }
 
-    /// `pool` kept for the next call of its size; the oldest idle pool is stopped when more
+    /// `started` kept for the next call of its size; the oldest idle pool is stopped when more
     /// than [`IdlePools::MOST`] would be kept.
-    fn give_back(&self, pool: ThreadPool) {
+    fn give_back(&self, started: StartedPool) {
         let stopped = {
             let mut idle = self.0.lock().unwrap_or_else(PoisonError::into_inner);
-            idle.push(pool);
+            idle.push(started);
             let over = idle.len().saturating_sub(Self::MOST);
             idle.drain(..over).collect::<Vec<_>>()
         };
@@ -116,7 +137,7 @@ impl IdlePools {
     #[cfg(test)]
     fn sizes(&self) -> Vec<usize> {
         let idle = self.0.lock().unwrap_or_else(PoisonError::into_inner);
-        idle.iter().map(ThreadPool::current_num_threads).collect()
+        idle.iter().map(|started| started.pool.current_num_threads()).collect()
     }
 }
 
@@ -127,31 +148,51 @@ mod tests {
 
     use super::*;
 
-    fn pool(threads: usize) -> ThreadPool {
-        rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap()
+    /// A pool of `threads` threads, as process `process` would have started it.
+    fn pool(process: u32, threads: usize) -> StartedPool {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        StartedPool { process, pool }
     }
+
+    const HERE: u32 = 7;
 
     #[test]
     fn a_pool_given_back_serves_the_next_call_of_its_size_and_only_that() {
         // A list of its own: the tests beside this one use the process's.
         let idle = IdlePools::new();
-        idle.give_back(pool(1));
-        idle.give_back(pool(3));
-        assert!(idle.take(2).is_none(), "no pool of 2 threads was given back");
-        let one = idle.take(1).expect("the pool of one thread");
-        assert_eq!(one.current_num_threads(), 1);
+        idle.give_back(pool(HERE, 1));
+        idle.give_back(pool(HERE, 3));
+        assert!(idle.take(HERE, 2).is_none(), "no pool of 2 threads was given back");
+        let one = idle.take(HERE, 1).expect("the pool of one thread");
+        assert_eq!(one.pool.current_num_threads(), 1);
         assert!(
-            idle.take(1).is_none(),
+            idle.take(HERE, 1).is_none(),
             "a pool is taken out, not shared with a second call"
         );
         assert_eq!(idle.sizes(), [3]);
     }
 
     #[test]
+    fn a_forked_process_never_takes_its_parents_pools() {
+        let idle = IdlePools::new();
+        let (parent, child) = (HERE, HERE + 1);
+        idle.give_back(pool(parent, 2));
+        idle.give_back(pool(parent, 1));
+        assert!(
+            idle.take(child, 2).is_none(),
+            "the parent's pool of 2 threads has none here"
+        );
+        assert!(idle.sizes().is_empty(), "every pool of the parent's is let go");
+        idle.give_back(pool(child, 2));
+        let taken = idle.take(child, 2).map(|started| started.pool.current_num_threads());
+        assert_eq!(taken, Some(2));
+    }
+
+    #[test]
     fn at_most_four_pools_stay_idle_the_oldest_stopped() {
         let idle = IdlePools::new();
         for threads in 1..=6 {
-            idle.give_back(pool(threads));
+            idle.give_back(pool(HERE, threads));
         }
         assert_eq!(idle.sizes(), [3, 4, 5, 6]);
     }
