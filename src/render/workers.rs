@@ -75,7 +75,7 @@ impl Drop for Workers {
     fn drop(&mut self) {
         if let Workers::Own(started) = self {
             if let Some(started) = started.take() {
-                IDLE.give_back(started);
+                IDLE.give_back(std::process::id(), started);
             }
         }
     }
@@ -108,25 +108,21 @@ impl IdlePools {
         // A panic while the lock was held left the list whole: every operation on it is one
         // push, remove or drain.
         let mut idle = self.0.lock().unwrap_or_else(PoisonError::into_inner);
-        if idle.iter().any(|started| started.process != process) {
-            let (ours, theirs): (Vec<_>, Vec<_>) = idle.drain(..).partition(|started| started.process == process);
-            *idle = ours;
-            // Not dropped: that would signal threads that do not exist here, through locks a
-            // parent's thread may have held at the fork. A few handles leak, once per fork.
-            std::mem::forget(theirs);
-        }
+        let_go_of_others(&mut idle, process);
         let i = idle
             .iter()
             .rposition(|started| started.pool.current_num_threads() == threads)?;
         Some(idle.remove(i))
     }
 
-    /// `started` kept for the next call of its size; the oldest idle pool is stopped when more
-    /// than [`IdlePools::MOST`] would be kept.
-    fn give_back(&self, started: StartedPool) {
+    /// `started` kept for the next call of its size by `process` (this process); the oldest idle
+    /// pool is stopped when more than [`IdlePools::MOST`] would be kept. Only this process's
+    /// pools are kept or stopped: a `Workers` held across a fork gives back its parent's pool.
+    fn give_back(&self, process: u32, started: StartedPool) {
         let stopped = {
             let mut idle = self.0.lock().unwrap_or_else(PoisonError::into_inner);
             idle.push(started);
+            let_go_of_others(&mut idle, process);
             let over = idle.len().saturating_sub(Self::MOST);
             idle.drain(..over).collect::<Vec<_>>()
         };
@@ -138,6 +134,17 @@ impl IdlePools {
     fn sizes(&self) -> Vec<usize> {
         let idle = self.0.lock().unwrap_or_else(PoisonError::into_inner);
         idle.iter().map(|started| started.pool.current_num_threads()).collect()
+    }
+}
+
+/// The pools of `idle` that another process started (this one's parent, before a fork), let go:
+/// not dropped, which would signal threads that do not exist here through locks a parent's
+/// thread may have held at the fork. A few handles leak, once per fork.
+fn let_go_of_others(idle: &mut Vec<StartedPool>, process: u32) {
+    if idle.iter().any(|started| started.process != process) {
+        let (ours, theirs): (Vec<_>, Vec<_>) = idle.drain(..).partition(|started| started.process == process);
+        *idle = ours;
+        std::mem::forget(theirs);
     }
 }
 
@@ -160,8 +167,8 @@ mod tests {
     fn a_pool_given_back_serves_the_next_call_of_its_size_and_only_that() {
         // A list of its own: the tests beside this one use the process's.
         let idle = IdlePools::new();
-        idle.give_back(pool(HERE, 1));
-        idle.give_back(pool(HERE, 3));
+        idle.give_back(HERE, pool(HERE, 1));
+        idle.give_back(HERE, pool(HERE, 3));
         assert!(idle.take(HERE, 2).is_none(), "no pool of 2 threads was given back");
         let one = idle.take(HERE, 1).expect("the pool of one thread");
         assert_eq!(one.pool.current_num_threads(), 1);
@@ -176,14 +183,14 @@ mod tests {
     fn a_forked_process_never_takes_its_parents_pools() {
         let idle = IdlePools::new();
         let (parent, child) = (HERE, HERE + 1);
-        idle.give_back(pool(parent, 2));
-        idle.give_back(pool(parent, 1));
+        idle.give_back(parent, pool(parent, 2));
+        idle.give_back(parent, pool(parent, 1));
         assert!(
             idle.take(child, 2).is_none(),
             "the parent's pool of 2 threads has none here"
         );
         assert!(idle.sizes().is_empty(), "every pool of the parent's is let go");
-        idle.give_back(pool(child, 2));
+        idle.give_back(child, pool(child, 2));
         let taken = idle.take(child, 2).map(|started| started.pool.current_num_threads());
         assert_eq!(taken, Some(2));
     }
@@ -192,7 +199,7 @@ mod tests {
     fn at_most_four_pools_stay_idle_the_oldest_stopped() {
         let idle = IdlePools::new();
         for threads in 1..=6 {
-            idle.give_back(pool(HERE, threads));
+            idle.give_back(HERE, pool(HERE, threads));
         }
         assert_eq!(idle.sizes(), [3, 4, 5, 6]);
     }
