@@ -298,7 +298,8 @@ fn front_lift(lift: f32, facing_ng: Vec3, ng: Vec3) -> f32 {
 /// The form the clamped convention takes `material`'s ω_o and ω_h in, or `None` where its L_o
 /// reads neither: ω_o enters only n·ω_o and the half vector, which only a specular lobe reads
 /// ([`clamped_dots`]), so a Lambert material's points may come without it (the normal-map driver
-/// then skips its square root and divisions). Derived once per material, not per light.
+/// then skips its square root and divisions). The lane shader derives it once per lane group,
+/// not per light.
 #[inline(always)]
 pub fn clamped_to_viewer_form(material: &Material) -> Option<UnitForm> {
     material.has_specular().then(|| clamped_unit_form(material))
