@@ -12,6 +12,7 @@ use pyo3::types::PyDict;
 use pointshade::film::Image;
 use pointshade::lanes::Scalar;
 use pointshade::normal_map::image::{Samples, UnitSample};
+use pointshade::render::Workers;
 use pointshade::scene::file::MeshTable;
 use pointshade::scene::obj::MeshArrays;
 use pointshade::shading::shader::rows::FloatRows;
@@ -195,7 +196,7 @@ pub fn mesh_arrays(
 
 /// An (H, W, 3|4) uint8, uint16 or float normal image's samples: width, height, RGBA samples (alpha at
 /// full scale for three channels), whether it has alpha.
-pub fn normal_samples(value: &Bound<'_, PyAny>) -> PyResult<(u32, u32, Samples, bool)> {
+pub fn normal_samples(value: &Bound<'_, PyAny>, workers: &Workers) -> PyResult<(u32, u32, Samples, bool)> {
     let a = array("normals", value, 3, &[None])?;
     let shape = a.shape();
     let (h, w, c) = (shape[0], shape[1], shape[2]);
@@ -207,17 +208,19 @@ pub fn normal_samples(value: &Bound<'_, PyAny>) -> PyResult<(u32, u32, Samples, 
     }
     let size = |v: usize| u32::try_from(v).map_err(|_| value_error("normals", format!("{w}×{h} is too large")));
     let (w32, h32) = (size(w)?, size(h)?);
-    /// Each pixel's samples as RGBA (`full` for a missing alpha), converted by `to`, in parallel.
+    /// Each pixel's samples as RGBA (`full` for a missing alpha), converted by `to`, in parallel
+    /// on `workers`.
     fn rgba<S: Copy + Sync, T: Copy + Send + Sync>(
+        workers: &Workers,
         v: &[S],
         c: usize,
         full: T,
         to: impl Fn(S) -> T + Sync,
     ) -> Vec<[T; 4]> {
-        match c {
-            3 => rgba_of::<3, S, T>(v, full, to),
-            _ => rgba_of::<4, S, T>(v, full, to),
-        }
+        workers.install(|| match c {
+            3 => rgba_of::<3, S, T>(v, full, &to),
+            _ => rgba_of::<4, S, T>(v, full, &to),
+        })
     }
     /// [`rgba`] for `C` channels: a loop of fixed shape per block of pixels, which the
     /// compiler turns into vector shuffles (a copy for four 8-bit channels).
@@ -244,13 +247,13 @@ pub fn normal_samples(value: &Bound<'_, PyAny>) -> PyResult<(u32, u32, Samples, 
         out
     }
     let unit = UnitSample(1.0);
-    let samples = if let Some(s) = with_elements(a, |v| rgba(v, c, u8::MAX, |x| x)) {
+    let samples = if let Some(s) = with_elements(a, |v| rgba(workers, v, c, u8::MAX, |x| x)) {
         Samples::Eight(s)
-    } else if let Some(s) = with_elements(a, |v| rgba(v, c, u16::MAX, |x| x)) {
+    } else if let Some(s) = with_elements(a, |v| rgba(workers, v, c, u16::MAX, |x| x)) {
         Samples::Sixteen(s)
-    } else if let Some(s) = with_elements(a, |v: &[f32]| rgba(v, c, unit, UnitSample)) {
+    } else if let Some(s) = with_elements(a, |v: &[f32]| rgba(workers, v, c, unit, UnitSample)) {
         Samples::Float(s)
-    } else if let Some(s) = with_elements(a, |v: &[f64]| rgba(v, c, unit, |x| UnitSample(x as f32))) {
+    } else if let Some(s) = with_elements(a, |v: &[f64]| rgba(workers, v, c, unit, |x| UnitSample(x as f32))) {
         Samples::Float(s)
     } else {
         return Err(PyTypeError::new_err(format!(

@@ -9,6 +9,7 @@ use pyo3::prelude::*;
 use pointshade::explore::server::Server;
 use pointshade::explore::Explorer;
 
+use crate::workers::detached;
 use crate::{py_err, value_error};
 
 /// The explorer's server, running until `stop`.
@@ -29,7 +30,7 @@ impl ExploreServer {
     fn new(py: Python<'_>, path: Option<PathBuf>, port: u32, mitsuba_dir: Option<PathBuf>) -> PyResult<Self> {
         let port =
             u16::try_from(port).map_err(|_| value_error("port", format!("must be in [0, 65535], got {port}")))?;
-        let mut explorer = py.detach(|| Explorer::open(path.as_deref())).map_err(py_err)?;
+        let mut explorer = detached(py, || Explorer::open(path.as_deref()))?.map_err(py_err)?;
         if let Some(dir) = mitsuba_dir {
             explorer.set_mitsuba_dir(dir);
         }

@@ -15,6 +15,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
 use crate::arrays::{image_of, rgb8_of};
+use crate::workers::{detached, on_workers};
 use crate::{py_err, value_error};
 
 /// `array` (float (H, W, 3)) as an image to encode: every pixel finite (an output file never
@@ -27,7 +28,7 @@ fn finite_image(array: &Bound<'_, PyAny>, exposure: f64) -> PyResult<Image> {
         ));
     }
     let image = image_of("array", array)?;
-    if let Some((x, y, v)) = image.first_non_finite() {
+    if let Some((x, y, v)) = on_workers(|| image.first_non_finite())? {
         return Err(value_error(
             "array",
             format!(
@@ -57,14 +58,14 @@ pub fn write_image(py: Python<'_>, path: PathBuf, array: Bound<'_, PyAny>, expos
         Some(_) if exposure != 0.0 => {
             return Err(value_error("exposure", "applies to float images only (a uint8 array is written as it is)"))
         }
-        Some((width, height, rgb)) => py.detach(|| encode_png8(width, height, rgb)),
+        Some((width, height, rgb)) => detached(py, || encode_png8(width, height, rgb))?,
         None => {
             let image = finite_image(&array, exposure)?;
-            py.detach(|| encode(&image, format, exposure as f32))
+            detached(py, || encode(&image, format, exposure as f32))?
         }
     };
     let bytes = bytes.map_err(|e| value_error("array", e))?;
-    py.detach(|| write_all_or_nothing(&[(path, bytes)])).map_err(py_err)
+    detached(py, || write_all_or_nothing(&[(path, bytes)]))?.map_err(py_err)
 }
 
 /// The 8-bit sRGB pixels a PNG of the image holds, as a uint8 (H, W, 3) array.
@@ -72,7 +73,7 @@ pub fn write_image(py: Python<'_>, path: PathBuf, array: Bound<'_, PyAny>, expos
 #[pyo3(signature = (array, *, exposure=0.0))]
 pub fn to_srgb8<'py>(py: Python<'py>, array: Bound<'py, PyAny>, exposure: f64) -> PyResult<Bound<'py, PyArrayDyn<u8>>> {
     let image = finite_image(&array, exposure)?;
-    let bytes = srgb8_pixels(&image, exposure as f32);
+    let bytes = detached(py, || srgb8_pixels(&image, exposure as f32))?;
     let shape = (image.height as usize, image.width as usize, 3);
     Ok(Array3::from_shape_vec(shape, bytes)
         .expect("three bytes a pixel")
@@ -85,7 +86,7 @@ pub fn to_srgb8<'py>(py: Python<'py>, array: Bound<'py, PyAny>, exposure: f64) -
 #[pyo3(signature = (array, *, exposure=0.0))]
 pub fn png_bytes<'py>(py: Python<'py>, array: Bound<'py, PyAny>, exposure: f64) -> PyResult<Bound<'py, PyBytes>> {
     let image = finite_image(&array, exposure)?;
-    let bytes = encode(&image, Format::Png, exposure as f32).map_err(|e| value_error("array", e))?;
+    let bytes = detached(py, || encode(&image, Format::Png, exposure as f32))?.map_err(|e| value_error("array", e))?;
     Ok(PyBytes::new(py, &bytes))
 }
 
@@ -94,9 +95,7 @@ pub fn png_bytes<'py>(py: Python<'py>, array: Bound<'py, PyAny>, exposure: f64) 
 /// as `pointshade normalmap` reads it (errors name the file).
 #[pyfunction]
 pub fn read_normal_image<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyAny>> {
-    let image = py
-        .detach(|| Confinement::NONE.run(|| NormalImage::load(&path)))
-        .map_err(py_err)?;
+    let image = detached(py, || Confinement::NONE.run(|| NormalImage::load(&path)))?.map_err(py_err)?;
     let channels = if image.has_alpha { 4 } else { 3 };
     let shape = (image.height as usize, image.width as usize, channels);
     fn array<'py, T: numpy::Element + Copy>(

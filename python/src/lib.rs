@@ -16,6 +16,7 @@ mod material_keys;
 mod options;
 mod preview;
 mod toml_values;
+mod workers;
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -46,6 +47,7 @@ use pointshade::validation::export::{export_files, ExportOptions};
 
 use arrays::{directions, image_of, ReadFloats};
 use interrupt::run_interruptible;
+use workers::detached;
 
 pyo3::create_exception!(
     pointshade,
@@ -230,8 +232,8 @@ fn shade_normal_image<'py>(
     let confinement = confinement(confine)?;
     let source = Path::new("shade_normal_image");
     let dir = dir.unwrap_or_else(|| PathBuf::from("."));
-    let mut samples = normals.map(|a| arrays::normal_samples(&a)).transpose()?;
-    let workers = options::workers(threads.as_ref())?;
+    let workers = workers::workers(threads.as_ref())?;
+    let mut samples = normals.map(|a| arrays::normal_samples(&a, &workers)).transpose()?;
     // Milliseconds of work: without the GIL, but not worth a thread that watches for Ctrl-C.
     let outcome = py.detach(|| {
         workers.install(|| -> Result<_, LibError> {
@@ -325,7 +327,7 @@ fn eval_brdf<'py>(
             unit_tolerance: arrays::UNIT_TOLERANCE,
         };
         let count = rows[0].rows();
-        let (out, inside) = py.detach(|| brdf_rows::<T>(material, rows, domain));
+        let (out, inside) = detached(py, || brdf_rows::<T>(material, rows, domain))?;
         if !inside {
             // Some row was near or past a limit: the exact checks name it, or pass it.
             check()?;
@@ -418,12 +420,12 @@ fn compare<'py>(
     }
     let ours = image_of("ours", &ours)?;
     let reference = image_of("ref", &reference)?;
-    let c = py
-        .detach(|| compare_checked(&ours, &reference, tol, worst, count_non_finite))
-        .map_err(|(side, problem)| match side {
+    let c = detached(py, || compare_checked(&ours, &reference, tol, worst, count_non_finite))?.map_err(
+        |(side, problem)| match side {
             Side::Ours => value_error("ours", problem),
             Side::Reference => value_error("ref", problem),
-        })?;
+        },
+    )?;
     let out = PyDict::new(py);
     out.set_item("pixels", c.pixels)?;
     out.set_item("rmse", c.rmse)?;
@@ -454,9 +456,7 @@ fn compare<'py>(
 /// A linear image file (EXR, or PNG decoded to linear) as a float32 (H, W, 3) array.
 #[pyfunction]
 fn read_image<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
-    let image = py
-        .detach(|| Confinement::NONE.run(|| pointshade::output::read_linear(&path)))
-        .map_err(py_err)?;
+    let image = detached(py, || Confinement::NONE.run(|| pointshade::output::read_linear(&path)))?.map_err(py_err)?;
     Ok(rgb_array(py, image))
 }
 
@@ -486,12 +486,12 @@ fn export_mitsuba<'py>(
         per_light,
         plugin_everywhere: false,
     };
-    py.detach(|| -> Result<Vec<String>, LibError> {
+    detached(py, || -> Result<Vec<String>, LibError> {
         let scene = Confinement::NONE.run(|| source.load(LoadOptions::default()))?;
         let (files, lines) = export_files(scene, &output, &options, &|key| key.to_string())?;
         pointshade::output::write_all_or_nothing(&files)?;
         Ok(lines)
-    })
+    })?
     .map_err(py_err)
 }
 
@@ -515,8 +515,10 @@ fn write_obj(
         normals.as_ref().unwrap_or(&none),
         uvs.as_ref().unwrap_or(&none),
     )?;
-    py.detach(|| pointshade::output::write_all_or_nothing(&[(path, arrays.to_obj().into_bytes())]))
-        .map_err(py_err)
+    detached(py, || {
+        pointshade::output::write_all_or_nothing(&[(path, arrays.to_obj().into_bytes())])
+    })?
+    .map_err(py_err)
 }
 
 /// A TOML document's text from a dict of str, bool, int, float, lists and dicts; errors name

@@ -8,7 +8,6 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
 use pointshade::render::options::{render_option, OptionValue, RenderOptions, Spelling, Values, RENDER_OPTIONS};
-use pointshade::render::Workers;
 
 use crate::py_err;
 
@@ -105,19 +104,6 @@ pub fn render_options(function: &str, options: Option<&Bound<'_, PyDict>>) -> Py
         out.set(&name, &value, Spelling::Keyword).map_err(py_err)?;
     }
     Ok(out)
-}
-
-/// The workers of a `threads=` keyword (checked as `render`'s is).
-pub fn workers(threads: Option<&Bound<'_, PyAny>>) -> PyResult<Workers> {
-    let options = match threads {
-        Some(t) => {
-            let dict = PyDict::new(t.py());
-            dict.set_item("threads", t)?;
-            render_options("threads", Some(&dict))?
-        }
-        None => RenderOptions::default(),
-    };
-    Workers::new(options.threads).map_err(|e| crate::value_error("threads", e))
 }
 
 /// `(name, placeholder, help)` of every render option, in the table's order (for the docstring

@@ -14,6 +14,7 @@ use std::thread::JoinHandle;
 
 use super::api::{respond, Reply, Shared, MAX_BODY};
 use super::session::Explorer;
+use crate::render::Workers;
 
 /// Threads taking requests: a render may run while the plots of the same edit are asked for.
 const THREADS: usize = 4;
@@ -87,7 +88,12 @@ fn serve(http: &tiny_http::Server, shared: &Shared, stopping: &AtomicBool, addre
             continue;
         };
         let started = std::time::Instant::now();
-        let reply = answer(&mut request, shared, address);
+        // On the process's workers, not on rayon's global pool directly: a server started in a
+        // forked process (`Workers`) would wait for ever on its parent's threads.
+        let reply = match Workers::new(None) {
+            Ok(workers) => workers.install(|| answer(&mut request, shared, address)),
+            Err(e) => Reply::error(500, e),
+        };
         let ms = started.elapsed().as_secs_f64() * 1e3;
         if log {
             eprintln!(

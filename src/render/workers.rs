@@ -1,6 +1,7 @@
 //! The worker threads of a call, and the one check of a thread count (`--threads`, Python's
 //! `threads=`).
 
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Mutex, PoisonError};
 
 use rayon::ThreadPool;
@@ -28,6 +29,11 @@ pub fn check_thread_count(threads: usize) -> Result<(), String> {
 /// Where a call's parallel work runs: rayon's global pool (all cores, started once and reused:
 /// starting threads costs more than shading a small normal image), or a pool of a given size.
 /// Everything parallel, loading included, runs inside it, so a thread count bounds the whole call.
+///
+/// A process forked from one that used the global pool (Python's `multiprocessing` on Linux)
+/// inherits that pool without its threads, and rayon cannot start it again (rayon-rs/rayon#708):
+/// its calls without a thread count run on a pool of the same size of its own instead. So every
+/// parallel entry of a library that may be forked (the Python module) runs inside a `Workers`.
 pub enum Workers {
     /// rayon's global pool.
     Global,
@@ -43,15 +49,26 @@ pub struct StartedPool {
     pool: ThreadPool,
 }
 
+/// The process whose calls without a thread count use rayon's global pool: the first to ask for
+/// it (0 before). A process forked from it sees another id here.
+static GLOBAL_POOL_PROCESS: AtomicU32 = AtomicU32::new(0);
+
 impl Workers {
-    /// The global pool when `threads` is `None`, else a pool of that many threads: an idle one
-    /// an earlier call of the same size gave back, or a new one.
+    /// The global pool when `threads` is `None` (in a forked process, a pool of the global
+    /// pool's size), else a pool of that many threads: an idle one an earlier call of the same
+    /// size gave back, or a new one.
     pub fn new(threads: Option<usize>) -> Result<Self, String> {
-        let Some(threads) = threads else {
-            return Ok(Workers::Global);
-        };
-        check_thread_count(threads)?;
         let process = std::process::id();
+        let threads = match threads {
+            Some(threads) => {
+                check_thread_count(threads)?;
+                threads
+            }
+            None if global_pool_serves(&GLOBAL_POOL_PROCESS, process) => return Ok(Workers::Global),
+            // Outside any pool this reads the size the global pool was built with; the
+            // inherited pool is not asked to run anything.
+            None => rayon::current_num_threads(),
+        };
         if let Some(started) = IDLE.take(process, threads) {
             return Ok(Workers::Own(Some(started)));
         }
@@ -78,6 +95,15 @@ impl Drop for Workers {
                 IDLE.give_back(std::process::id(), started);
             }
         }
+    }
+}
+
+/// Whether rayon's global pool runs the work of `process` (this process): it does in the first
+/// process to ask (recorded in `owner`), not in one forked from it.
+fn global_pool_serves(owner: &AtomicU32, process: u32) -> bool {
+    match owner.compare_exchange(0, process, Ordering::Relaxed, Ordering::Relaxed) {
+        Ok(_) => true,
+        Err(first) => first == process,
     }
 }
 
@@ -193,6 +219,19 @@ mod tests {
         idle.give_back(child, pool(child, 2));
         let taken = idle.take(child, 2).map(|started| started.pool.current_num_threads());
         assert_eq!(taken, Some(2));
+    }
+
+    #[test]
+    fn only_the_first_process_to_ask_runs_on_the_global_pool() {
+        let owner = AtomicU32::new(0);
+        let (parent, child) = (HERE, HERE + 1);
+        assert!(global_pool_serves(&owner, parent), "the first to ask");
+        assert!(global_pool_serves(&owner, parent), "and again");
+        assert!(
+            !global_pool_serves(&owner, child),
+            "a forked process inherits no threads"
+        );
+        assert!(!global_pool_serves(&owner, child + 1), "nor does one forked from that");
     }
 
     #[test]

@@ -1,0 +1,96 @@
+"""Every call in a process forked from one that used it (Python's multiprocessing on Linux,
+fork its default before Python 3.14): the child inherits rayon's global pool without its
+threads, so a call that ran its parallel work there would wait for ever."""
+
+import json
+import multiprocessing
+import tempfile
+import urllib.request
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import pointshade
+from conftest import REPO
+
+CORNELL = REPO / "scenes" / "cornell-box.toml"
+
+# Large enough that each call splits its work (the blocks are 4,096 to 16,384 pixels or rows):
+# work that is not split runs on the calling thread and would pass without the fix.
+SIDE = 256
+ROWS = 200_000
+
+
+def _normals():
+    y, x = np.mgrid[0:SIDE, 0:SIDE] / (SIDE - 1) * 2 - 1
+    z = np.sqrt(np.clip(1 - x * x - y * y, 0, 1))
+    return np.round((np.stack([x, y, z], -1) * 0.5 + 0.5) * 255).astype(np.uint8)
+
+
+def _float_image():
+    return np.random.default_rng(3).random((SIDE, SIDE, 3), dtype=np.float32)
+
+
+def _directions():
+    rng = np.random.default_rng(5)
+    d = rng.normal(size=(3, ROWS, 3))
+    d /= np.linalg.norm(d, axis=-1, keepdims=True)
+    d[:, :, 2] = np.abs(d[:, :, 2])
+    return d
+
+
+def _in_dir(write_and_read):
+    with tempfile.TemporaryDirectory() as dir:
+        return write_and_read(Path(dir))
+
+
+def _explore_render():
+    with pointshade.explore() as explorer:
+        with urllib.request.urlopen(explorer.url + "api/session", timeout=60) as reply:
+            state = json.loads(reply.read())["state"]
+        request = urllib.request.Request(explorer.url + "api/render", data=json.dumps(state).encode(), method="POST")
+        with urllib.request.urlopen(request, timeout=60) as reply:
+            return reply.read()
+
+
+CALLS = {
+    "render": lambda: pointshade.render(CORNELL, width=96, height=72, spp=2)["color"],
+    "Preview": lambda: pointshade.Preview(CORNELL, width=96, height=72, spp=2).render()["color"],
+    "shade_normal_image": lambda: pointshade.shade_normal_image(_normals(), preset="tp", brdf="blinn-phong"),
+    "eval_brdf": lambda: pointshade.eval_brdf({"model": "lambert"}, *_directions()),
+    "compare": lambda: pointshade.compare(_float_image(), _float_image() * 1.01)["relative_error"],
+    "to_srgb8": lambda: pointshade.to_srgb8(_float_image()),
+    "png and read_normal_image": lambda: _in_dir(
+        lambda d: (pointshade.write_image(d / "n.png", _normals()), pointshade.read_normal_image(d / "n.png"))[1]
+    ),
+    "exr and read_image": lambda: _in_dir(
+        lambda d: (pointshade.write_image(d / "i.exr", _float_image()), pointshade.read_image(d / "i.exr"))[1]
+    ),
+    "export_mitsuba": lambda: _in_dir(
+        lambda d: (pointshade.Scene.from_toml(CORNELL).export_mitsuba(d / "c.xml"), (d / "c.xml").read_text())[1]
+        .replace(str(d), "DIR")
+    ),
+    "explore": _explore_render,
+}
+
+
+def _call(name):
+    return CALLS[name]()
+
+
+def _equal(a, b):
+    if isinstance(a, np.ndarray):
+        return a.shape == b.shape and a.dtype == b.dtype and a.tobytes() == b.tobytes()
+    return a == b
+
+
+@pytest.mark.parametrize("name", CALLS)
+def test_a_call_in_a_forked_process_answers_as_in_its_parent(name):
+    expected = _call(name)  # the parent's work on the global pool (started here if not before)
+    with multiprocessing.get_context("fork").Pool(1) as pool:
+        try:
+            got = pool.apply_async(_call, (name,)).get(timeout=60)
+        except multiprocessing.TimeoutError:
+            pytest.fail(f"{name} gave no answer in 60 s in a forked process (waiting on its parent's threads)")
+    assert _equal(got, expected)
