@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use std::sync::Mutex;
 use std::time::Duration;
 
+use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -80,6 +81,9 @@ impl Preview {
     fn render<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let mut held = self.held();
         let held = &mut *held;
+        // A preview made before a fork (`multiprocessing` on Linux) holds its parent's workers.
+        let workers = std::mem::replace(&mut held.workers, Workers::Global);
+        held.workers = workers.in_this_process().map_err(PyRuntimeError::new_err)?;
         let rendered = run_interruptible(py, None, |stop, _| {
             let (preview, workers) = (&mut held.preview, &held.workers);
             workers.install(|| preview.render_until(Some(stop)))

@@ -54,9 +54,19 @@ def _explore_render():
             return reply.read()
 
 
+_HELD = {}
+
+
+def _preview_made_before_the_fork():
+    # Made in the parent's call; the child's call renders the object it inherited.
+    preview = _HELD.setdefault("preview", pointshade.Preview(CORNELL, width=96, height=72, spp=2))
+    return preview.render()["color"]
+
+
 CALLS = {
     "render": lambda: pointshade.render(CORNELL, width=96, height=72, spp=2)["color"],
     "Preview": lambda: pointshade.Preview(CORNELL, width=96, height=72, spp=2).render()["color"],
+    "a Preview made before the fork": _preview_made_before_the_fork,
     "shade_normal_image": lambda: pointshade.shade_normal_image(_normals(), preset="tp", brdf="blinn-phong"),
     "eval_brdf": lambda: pointshade.eval_brdf({"model": "lambert"}, *_directions()),
     "compare": lambda: pointshade.compare(_float_image(), _float_image() * 1.01)["relative_error"],

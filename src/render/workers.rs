@@ -79,6 +79,19 @@ impl Workers {
             .map_err(|e| format!("cannot start {threads} threads: {e}"))
     }
 
+    /// These workers, or, when another process made them (a Python object held across a fork),
+    /// workers of the same kind made here: the other process's threads do not run in this one.
+    pub fn in_this_process(self) -> Result<Workers, String> {
+        let process = std::process::id();
+        match &self {
+            Workers::Own(Some(started)) if started.process != process => {
+                Workers::new(Some(started.pool.current_num_threads()))
+            }
+            Workers::Global if !global_pool_serves(&GLOBAL_POOL_PROCESS, process) => Workers::new(None),
+            _ => Ok(self),
+        }
+    }
+
     /// Runs `work` on these workers.
     pub fn install<T: Send>(&self, work: impl FnOnce() -> T + Send) -> T {
         match self {
@@ -232,6 +245,24 @@ mod tests {
             "a forked process inherits no threads"
         );
         assert!(!global_pool_serves(&owner, child + 1), "nor does one forked from that");
+    }
+
+    #[test]
+    fn workers_another_process_made_are_made_again_here_at_their_size() {
+        let here = std::process::id();
+        // What a forked child holds: a pool its parent started (whose two threads, here, leak).
+        let inherited = Workers::Own(Some(pool(here.wrapping_add(1), 2)));
+        match &inherited.in_this_process().unwrap() {
+            Workers::Own(Some(started)) => {
+                assert_eq!((started.process, started.pool.current_num_threads()), (here, 2));
+            }
+            _ => panic!("a pool of two threads of this process"),
+        }
+        let own = Workers::new(Some(1)).unwrap().in_this_process().unwrap();
+        assert!(
+            matches!(&own, Workers::Own(Some(started)) if started.process == here),
+            "kept"
+        );
     }
 
     #[test]
