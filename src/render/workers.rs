@@ -2,7 +2,7 @@
 //! `threads=`).
 
 use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::{Mutex, PoisonError};
+use std::sync::{Mutex, OnceLock, PoisonError};
 
 use rayon::ThreadPool;
 
@@ -13,7 +13,7 @@ pub const MAX_THREADS_PER_CPU: usize = 8;
 /// Whether `threads` worker threads may be started: 1 ≤ threads ≤ [`MAX_THREADS_PER_CPU`] × the
 /// logical CPUs; the message says which bound a refused count breaks.
 pub fn check_thread_count(threads: usize) -> Result<(), String> {
-    let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let cpus = logical_cpus();
     let most = MAX_THREADS_PER_CPU * cpus;
     if threads == 0 {
         return Err("must be at least 1".into());
@@ -24,6 +24,15 @@ pub fn check_thread_count(threads: usize) -> Result<(), String> {
         ));
     }
     Ok(())
+}
+
+/// The logical CPUs this process may run on, asked once: the standard library reads the
+/// affinity mask and the cgroup quota files each time, which cost about as much as shading a
+/// small normal image (docs/performance-log.md). The count only bounds a thread count typed by
+/// mistake, so one taken at the first call serves the process's life.
+fn logical_cpus() -> usize {
+    static CPUS: OnceLock<usize> = OnceLock::new();
+    *CPUS.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
 }
 
 /// Where a call's parallel work runs: rayon's global pool (all cores, started once and reused:
@@ -278,8 +287,7 @@ mod tests {
     fn workers_of_a_size_reuse_a_dropped_pool_and_never_share_a_held_one() {
         // Through the process's list, with a size no other test asks for (another test would
         // have to give back four pools between the drop and the next call to evict this one).
-        let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
-        let threads = (MAX_THREADS_PER_CPU * cpus).min(13);
+        let threads = (MAX_THREADS_PER_CPU * logical_cpus()).min(13);
         let threads_of = |w: &Workers| -> HashSet<ThreadId> {
             w.install(|| rayon::broadcast(|_| std::thread::current().id()))
                 .into_iter()
