@@ -15,7 +15,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
 use crate::arrays::{image_of, rgb8_of};
-use crate::workers::{detached, on_workers};
+use crate::workers::detached;
 use crate::{py_err, value_error};
 
 /// `array` (float (H, W, 3)) as an image to encode: every pixel finite (an output file never
@@ -28,7 +28,7 @@ fn finite_image(array: &Bound<'_, PyAny>, exposure: f64) -> PyResult<Image> {
         ));
     }
     let image = image_of("array", array)?;
-    if let Some((x, y, v)) = on_workers(|| image.first_non_finite())? {
+    if let Some((x, y, v)) = detached(array.py(), || image.first_non_finite())? {
         return Err(value_error(
             "array",
             format!(

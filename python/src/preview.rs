@@ -82,8 +82,7 @@ impl Preview {
         let mut held = self.held();
         let held = &mut *held;
         // A preview made before a fork (`multiprocessing` on Linux) holds its parent's workers.
-        let workers = std::mem::replace(&mut held.workers, Workers::Global);
-        held.workers = workers.in_this_process().map_err(PyRuntimeError::new_err)?;
+        held.workers.move_to_this_process().map_err(PyRuntimeError::new_err)?;
         let rendered = run_interruptible(py, None, |stop, _| {
             let (preview, workers) = (&mut held.preview, &held.workers);
             workers.install(|| preview.render_until(Some(stop)))

@@ -25,13 +25,6 @@ pub fn workers(threads: Option<&Bound<'_, PyAny>>) -> PyResult<Workers> {
     Workers::new(options.threads).map_err(|e| crate::value_error("threads", e))
 }
 
-/// `work` run on the workers of a call without `threads=`, the GIL held (for parallel work
-/// too short to give the GIL up for, or on borrowed arrays).
-pub fn on_workers<T: Send>(work: impl FnOnce() -> T + Send) -> PyResult<T> {
-    let workers = Workers::new(None).map_err(PyRuntimeError::new_err)?;
-    Ok(workers.install(work))
-}
-
 /// `work` run without the GIL on the workers of a call without `threads=`.
 pub fn detached<T: Send>(py: Python<'_>, work: impl FnOnce() -> T + Send) -> PyResult<T> {
     let workers = Workers::new(None).map_err(PyRuntimeError::new_err)?;

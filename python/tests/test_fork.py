@@ -16,8 +16,10 @@ from conftest import REPO
 
 CORNELL = REPO / "scenes" / "cornell-box.toml"
 
-# Large enough that each call splits its work (the blocks are 4,096 to 16,384 pixels or rows):
-# work that is not split runs on the calling thread and would pass without the fix.
+# Large enough that the calls with parallel steps split their work (the blocks are 4,096 to
+# 16,384 pixels or rows): work that is not split runs on the calling thread and would pass
+# without the fix. Writing and reading a PNG's samples has no parallel step today (it answered
+# before the fix too); it is here so that one added outside the process's workers shows.
 SIDE = 256
 ROWS = 200_000
 

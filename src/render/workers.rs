@@ -88,17 +88,19 @@ impl Workers {
             .map_err(|e| format!("cannot start {threads} threads: {e}"))
     }
 
-    /// These workers, or, when another process made them (a Python object held across a fork),
-    /// workers of the same kind made here: the other process's threads do not run in this one.
-    pub fn in_this_process(self) -> Result<Workers, String> {
+    /// When another process made these workers (a Python object held across a fork), replaces
+    /// them with workers of the same kind made here: the other process's threads do not run in
+    /// this one. Workers of this process are kept.
+    pub fn move_to_this_process(&mut self) -> Result<(), String> {
         let process = std::process::id();
-        match &self {
+        *self = match self {
             Workers::Own(Some(started)) if started.process != process => {
-                Workers::new(Some(started.pool.current_num_threads()))
+                Workers::new(Some(started.pool.current_num_threads()))?
             }
-            Workers::Global if !global_pool_serves(&GLOBAL_POOL_PROCESS, process) => Workers::new(None),
-            _ => Ok(self),
-        }
+            Workers::Global if !global_pool_serves(&GLOBAL_POOL_PROCESS, process) => Workers::new(None)?,
+            _ => return Ok(()),
+        };
+        Ok(())
     }
 
     /// Runs `work` on these workers.
@@ -260,18 +262,19 @@ mod tests {
     fn workers_another_process_made_are_made_again_here_at_their_size() {
         let here = std::process::id();
         // What a forked child holds: a pool its parent started (whose two threads, here, leak).
-        let inherited = Workers::Own(Some(pool(here.wrapping_add(1), 2)));
-        match &inherited.in_this_process().unwrap() {
+        let mut inherited = Workers::Own(Some(pool(here.wrapping_add(1), 2)));
+        inherited.move_to_this_process().unwrap();
+        match &inherited {
             Workers::Own(Some(started)) => {
                 assert_eq!((started.process, started.pool.current_num_threads()), (here, 2));
             }
             _ => panic!("a pool of two threads of this process"),
         }
-        let own = Workers::new(Some(1)).unwrap().in_this_process().unwrap();
-        assert!(
-            matches!(&own, Workers::Own(Some(started)) if started.process == here),
-            "kept"
-        );
+        let mut own = Workers::new(Some(1)).unwrap();
+        let thread_of = |w: &Workers| w.install(|| std::thread::current().id());
+        let before = thread_of(&own);
+        own.move_to_this_process().unwrap();
+        assert_eq!(thread_of(&own), before, "this process's pool is kept, not made again");
     }
 
     #[test]
