@@ -2,6 +2,8 @@
 //! `TypeError` (wrong dtype or not an array) or `ValueError` (shape, layout, NaN) naming the
 //! argument. Arrays are read in place: nothing is copied to convert a layout or a dtype.
 
+use std::borrow::Cow;
+
 use numpy::{
     Element, PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArray, PyUntypedArrayMethods,
 };
@@ -194,9 +196,38 @@ pub fn mesh_arrays(
     })
 }
 
-/// An (H, W, 3|4) uint8, uint16 or float normal image's samples: width, height, RGBA samples (alpha at
-/// full scale for three channels), whether it has alpha.
-pub fn normal_samples(value: &Bound<'_, PyAny>, workers: &Workers) -> PyResult<(u32, u32, Samples, bool)> {
+/// A normal image array, held for the call: (H, W, 4) uint8 and uint16 arrays are read where
+/// they lie (numpy's borrow flag is held until this drops; every integer level is a valid
+/// sample), others are converted to RGBA samples once.
+pub struct NormalArray<'py> {
+    pub width: u32,
+    pub height: u32,
+    /// Whether the array has an alpha channel.
+    pub has_alpha: bool,
+    held: HeldSamples<'py>,
+}
+
+enum HeldSamples<'py> {
+    Eight(PyReadonlyArrayDyn<'py, u8>),
+    Sixteen(PyReadonlyArrayDyn<'py, u16>),
+    Converted(Samples<'static>),
+}
+
+impl NormalArray<'_> {
+    /// The RGBA samples, borrowed from the array or from their conversion.
+    pub fn samples(&self) -> Samples<'_> {
+        const CHECKED: &str = "C-contiguous: checked by `array`";
+        match &self.held {
+            HeldSamples::Eight(a) => Samples::Eight(Cow::Borrowed(a.as_slice().expect(CHECKED).as_chunks().0)),
+            HeldSamples::Sixteen(a) => Samples::Sixteen(Cow::Borrowed(a.as_slice().expect(CHECKED).as_chunks().0)),
+            HeldSamples::Converted(s) => s.borrowed(),
+        }
+    }
+}
+
+/// An (H, W, 3|4) uint8, uint16 or float normal image array `value`, checked and held for
+/// reading ([`NormalArray`]); a conversion runs on `workers`.
+pub fn normal_samples<'py>(value: &Bound<'py, PyAny>, workers: &Workers) -> PyResult<NormalArray<'py>> {
     let a = array("normals", value, 3, &[None])?;
     let shape = a.shape();
     let (h, w, c) = (shape[0], shape[1], shape[2]);
@@ -207,7 +238,23 @@ pub fn normal_samples(value: &Bound<'_, PyAny>, workers: &Workers) -> PyResult<(
         ));
     }
     let size = |v: usize| u32::try_from(v).map_err(|_| value_error("normals", format!("{w}×{h} is too large")));
-    let (w32, h32) = (size(w)?, size(h)?);
+    let (width, height, has_alpha) = (size(w)?, size(h)?, c == 4);
+    let held = |held| {
+        Ok(NormalArray {
+            width,
+            height,
+            has_alpha,
+            held,
+        })
+    };
+    if has_alpha {
+        if let Ok(typed) = a.cast::<PyArrayDyn<u8>>() {
+            return held(HeldSamples::Eight(typed.readonly()));
+        }
+        if let Ok(typed) = a.cast::<PyArrayDyn<u16>>() {
+            return held(HeldSamples::Sixteen(typed.readonly()));
+        }
+    }
     /// Each pixel's samples as RGBA (`full` for a missing alpha), converted by `to`, in parallel
     /// on `workers`.
     fn rgba<S: Copy + Sync, T: Copy + Send + Sync>(
@@ -248,20 +295,20 @@ pub fn normal_samples(value: &Bound<'_, PyAny>, workers: &Workers) -> PyResult<(
     }
     let unit = UnitSample(1.0);
     let samples = if let Some(s) = with_elements(a, |v| rgba(workers, v, c, u8::MAX, |x| x)) {
-        Samples::Eight(s)
+        Samples::Eight(s.into())
     } else if let Some(s) = with_elements(a, |v| rgba(workers, v, c, u16::MAX, |x| x)) {
-        Samples::Sixteen(s)
+        Samples::Sixteen(s.into())
     } else if let Some(s) = with_elements(a, |v: &[f32]| rgba(workers, v, c, unit, UnitSample)) {
-        Samples::Float(s)
+        Samples::Float(s.into())
     } else if let Some(s) = with_elements(a, |v: &[f64]| rgba(workers, v, c, unit, |x| UnitSample(x as f32))) {
-        Samples::Float(s)
+        Samples::Float(s.into())
     } else {
         return Err(PyTypeError::new_err(format!(
             "normals: expected a uint8, uint16 or float array (a PNG's samples, or them divided by full scale), got dtype {}",
             dtype_name(a)
         )));
     };
-    Ok((w32, h32, samples, c == 4))
+    held(HeldSamples::Converted(samples))
 }
 
 /// An (H, W, 3) uint8 array's width, height and bytes (8-bit sRGB, as a PNG stores them), or

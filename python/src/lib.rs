@@ -233,7 +233,11 @@ fn shade_normal_image<'py>(
     let source = Path::new("shade_normal_image");
     let dir = dir.unwrap_or_else(|| PathBuf::from("."));
     let workers = workers::workers(threads.as_ref())?;
-    let mut samples = normals.map(|a| arrays::normal_samples(&a, &workers)).transpose()?;
+    let held = normals
+        .as_ref()
+        .map(|a| arrays::normal_samples(a, &workers))
+        .transpose()?;
+    let mut samples = held.as_ref().map(|h| (h.width, h.height, h.samples(), h.has_alpha));
     // Milliseconds of work: without the GIL, but not worth a thread that watches for Ctrl-C.
     let outcome = py.detach(|| {
         workers.install(|| -> Result<_, LibError> {

@@ -54,6 +54,23 @@ def test_sixteen_bit_samples_are_read_at_their_depth(baked):
     assert np.allclose(a, b, rtol=1e-6, atol=1e-7) and a.max() > 0
 
 
+def test_rgba_arrays_read_in_place_shade_as_converted_ones(baked):
+    # (H, W, 4) uint8 and uint16 arrays are read where they lie; three channels are converted
+    # to RGBA first. Both ways give the same bits, and the caller's array is left as it was.
+    rgba8 = np.asarray(Image.open(baked))
+    assert not rgba8.flags.writeable  # PIL's arrays are read-only: an in-place read must accept them
+    rgba16 = rgba8.astype(np.uint16) * 257  # the same levels at 16 bits, writeable
+    before = rgba16.copy()
+    opaque = np.ascontiguousarray(rgba8[..., :3])  # converted, alpha at full scale
+    for brdf in BRDFS:
+        in_place = pointshade.shade_normal_image(rgba8, preset="tp", brdf=brdf)
+        assert in_place.max() > 0
+        assert pointshade.shade_normal_image(rgba16, preset="tp", brdf=brdf).tobytes() == in_place.tobytes()
+        assert pointshade.shade_normal_image(opaque, preset="tp", brdf=brdf).tobytes() == in_place.tobytes()
+    assert np.array_equal(rgba16, before) and rgba16.flags.writeable
+    rgba16[0, 0, 0] = 1  # numpy's borrow flag was released with the call
+
+
 @pytest.mark.parametrize("preset", ["tp", "physical"])
 def test_float_samples_are_the_integers_divided_by_full_scale(baked, preset):
     rgba = np.asarray(Image.open(baked))

@@ -191,8 +191,8 @@ pub fn lit_sphere(material: &Material, wi: [f64; 3], size: u32) -> Result<Vec<u8
         })
         .collect();
     let source = Path::new("lit sphere");
-    let image =
-        NormalImage::from_samples(source, size, size, Samples::Float(samples), true).map_err(|e| e.to_string())?;
+    let image = NormalImage::from_samples(source, size, size, Samples::Float(samples.into()), true)
+        .map_err(|e| e.to_string())?;
     let wi = Vec3::from(wi.map(|c| c as f32));
     let mut scene = NormalMapScene::from_preset(source, Preset::Physical, crate::scene::file::ModelName::Lambert);
     scene.material = material.clone();

@@ -63,7 +63,7 @@ pub struct Explorer {
 
 enum Held {
     NormalImage {
-        image: NormalImage,
+        image: NormalImage<'static>,
         /// The image's PNG bytes (`GET /api/normals.png`).
         png: Vec<u8>,
         /// Where the image's scene file would sit: the image's folder.
@@ -129,7 +129,7 @@ impl Explorer {
     }
 
     fn normal_image(
-        image: NormalImage,
+        image: NormalImage<'static>,
         png: Vec<u8>,
         dir: PathBuf,
         scene: &NormalMapScene,

@@ -2,6 +2,7 @@
 //! the checks every input gets (size, channels, a one-line error naming the file). How a pixel
 //! becomes a surface point is [`crate::normal_map::pixels`].
 
+use std::borrow::Cow;
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
@@ -23,8 +24,10 @@ pub const TP_BACKGROUND_LEVEL: f32 = 4.0 / 255.0;
 /// A decoded normal image: its RGBA samples as stored in the file (alpha at full scale where the
 /// file has none). Kept as integers — 4 bytes a pixel for 8-bit images — and converted to
 /// [0, 1] per pixel by [`Sample::unit`], which is cheaper than reading four floats a pixel.
+/// The samples are owned (a decoded file) or borrowed for `'a` (a caller's array, read where
+/// it lies).
 #[derive(Clone, Debug, PartialEq)]
-pub struct NormalImage {
+pub struct NormalImage<'a> {
     /// The file it was read from (for messages).
     pub source: PathBuf,
     /// Width in pixels.
@@ -32,20 +35,31 @@ pub struct NormalImage {
     /// Height in pixels.
     pub height: u32,
     /// Row-major RGBA samples.
-    pub samples: Samples,
+    pub samples: Samples<'a>,
     /// Whether the file has an alpha channel.
     pub has_alpha: bool,
 }
 
-/// Row-major RGBA samples at the file's bit depth.
+/// Row-major RGBA samples at the file's bit depth, owned or borrowed for `'a`.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Samples {
+pub enum Samples<'a> {
     /// 8 bits per channel.
-    Eight(Vec<[u8; 4]>),
+    Eight(Cow<'a, [[u8; 4]]>),
     /// 16 bits per channel.
-    Sixteen(Vec<[u16; 4]>),
+    Sixteen(Cow<'a, [[u16; 4]]>),
     /// Floats in [0, 1], as a PNG's samples divided by full scale (arrays from the Python module).
-    Float(Vec<[UnitSample; 4]>),
+    Float(Cow<'a, [[UnitSample; 4]]>),
+}
+
+impl Samples<'_> {
+    /// The same samples, borrowed: a view of owned ones for as long as they live.
+    pub fn borrowed(&self) -> Samples<'_> {
+        match self {
+            Samples::Eight(s) => Samples::Eight(Cow::Borrowed(s)),
+            Samples::Sixteen(s) => Samples::Sixteen(Cow::Borrowed(s)),
+            Samples::Float(s) => Samples::Float(Cow::Borrowed(s)),
+        }
+    }
 }
 
 /// A float sample in [0, 1]: what v/(2^bits − 1) is for an integer sample. Ordered (never NaN:
@@ -207,9 +221,9 @@ fn unit_rgba<S: Sample>(p: [S; 4]) -> ([f32; 3], f32) {
     ([p[0].unit(), p[1].unit(), p[2].unit()], p[3].unit())
 }
 
-impl NormalImage {
+impl<'a> NormalImage<'a> {
     /// Reads and decodes the PNG at `path`.
-    pub fn load(path: &Path) -> InputResult<NormalImage> {
+    pub fn load(path: &Path) -> InputResult<NormalImage<'static>> {
         let bytes = crate::input_files::read(path).map_err(|e| InputError::new(path, e))?;
         Self::decode(path, &bytes)
     }
@@ -220,9 +234,9 @@ impl NormalImage {
         source: &Path,
         width: u32,
         height: u32,
-        samples: Samples,
+        samples: Samples<'a>,
         has_alpha: bool,
-    ) -> InputResult<NormalImage> {
+    ) -> InputResult<NormalImage<'a>> {
         let err = |problem: String| InputError::new(source, problem);
         if width == 0 || height == 0 {
             return Err(err(format!("the image is empty ({width}×{height})")));
@@ -261,7 +275,7 @@ impl NormalImage {
     /// Decodes PNG bytes. RGB and RGBA at 8 or 16 bits are accepted (palette images arrive as
     /// RGB(A)); greyscale is refused — one channel cannot hold a direction — as is anything that
     /// is not a PNG, an empty image or one larger than a render may be.
-    pub fn decode(source: &Path, bytes: &[u8]) -> InputResult<NormalImage> {
+    pub fn decode(source: &Path, bytes: &[u8]) -> InputResult<NormalImage<'static>> {
         let err = |problem: String| InputError::new(source, problem);
         if !bytes.starts_with(PNG_SIGNATURE) {
             return Err(err("not a PNG file (a normal image must be an RGB or RGBA PNG)".into()));
@@ -274,7 +288,7 @@ impl NormalImage {
         let img = reader.decode().map_err(|e| err(format!("cannot decode PNG: {e}")))?;
         crate::texture::check_palette_indices(bytes).map_err(err)?;
         let (width, height) = (img.width(), img.height());
-        let image = |samples, has_alpha| Self::from_samples(source, width, height, samples, has_alpha);
+        let image = |samples, has_alpha| NormalImage::from_samples(source, width, height, samples, has_alpha);
         match img {
             DynamicImage::ImageRgb8(b) => image(
                 Samples::Eight(b.pixels().map(|p| [p[0], p[1], p[2], u8::MAX]).collect()),
@@ -389,13 +403,19 @@ mod tests {
     fn float_samples_are_units_and_checked() {
         let source = Path::new("normals");
         let unit = |v: [f32; 4]| v.map(UnitSample);
-        let image = NormalImage::from_samples(source, 2, 1, Samples::Float(vec![unit([0.2, 0.4, 1.0, 1.0]); 2]), false);
+        let image = NormalImage::from_samples(
+            source,
+            2,
+            1,
+            Samples::Float(vec![unit([0.2, 0.4, 1.0, 1.0]); 2].into()),
+            false,
+        );
         let image = image.unwrap();
         assert_eq!(image.pixel(1), ([0.2, 0.4, 1.0], 1.0));
         assert_eq!(image.levels(0), [0.2f32 as f64, 0.4f32 as f64, 1.0]);
         assert_eq!(image.full_scale(), 1.0);
         for bad in [f32::NAN, -0.1, 1.5] {
-            let samples = Samples::Float(vec![unit([0.2, 0.4, 1.0, 1.0]), unit([0.5, bad, 0.5, 1.0])]);
+            let samples = Samples::Float(vec![unit([0.2, 0.4, 1.0, 1.0]), unit([0.5, bad, 0.5, 1.0])].into());
             let e = NormalImage::from_samples(source, 2, 1, samples, false).unwrap_err();
             let expected = format!("normals: the sample at row 0, column 1, channel 1 is {bad}:");
             assert!(e.to_string().starts_with(&expected), "{e}");

@@ -193,7 +193,7 @@ pub enum MinMaxPrecision {
 #[derive(Clone, Copy)]
 struct Rows<'a> {
     scene: &'a NormalMapScene,
-    image: &'a NormalImage,
+    image: &'a NormalImage<'a>,
     surface: &'a ImageSurface,
 }
 
@@ -352,7 +352,7 @@ struct LaneRow<'a, G: LaneGroup> {
     shader: &'a Shader<'a, NoOcclusion>,
     surface: &'a ImageSurface,
     decoding: &'a G::Decoding,
-    image: &'a NormalImage,
+    image: &'a NormalImage<'a>,
     row: u32,
 }
 

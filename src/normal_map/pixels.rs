@@ -426,7 +426,7 @@ mod tests {
             source: "x.png".into(),
             width: 2,
             height: 1,
-            samples: Samples::Eight(vec![[51, 102, 153, 255], [76, 204, 127, 255]]),
+            samples: Samples::Eight(vec![[51, 102, 153, 255], [76, 204, 127, 255]].into()),
             has_alpha: false,
         };
         let s = MinMaxScaling::of(&img).unwrap();
@@ -437,7 +437,7 @@ mod tests {
         let n = NormalDecoding::MinMax(s).normal([0.2, 0.5, 0.8], 1.0).unwrap();
         assert!((n - Vec3::new(0.0, 0.5, 1.0)).abs().max_element() < 1e-6);
         let flat = NormalImage {
-            samples: Samples::Sixteen(vec![[300; 4]; 2]),
+            samples: Samples::Sixteen(vec![[300; 4]; 2].into()),
             ..img
         };
         assert!(MinMaxScaling::of(&flat).unwrap_err().contains("divides by zero"));
