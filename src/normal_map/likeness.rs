@@ -18,7 +18,7 @@ pub const LENGTH_TOLERANCE: f32 = 0.2;
 pub const MAX_FAILING_SHARE: f64 = 0.5;
 
 /// The counts behind the verdict.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct NormalLikeness {
     /// Foreground pixels looked at.
     pub foreground: usize,
@@ -36,6 +36,28 @@ impl NormalLikeness {
             Samples::Eight(s) => count(s),
             Samples::Sixteen(s) => count(s),
             Samples::Float(s) => count(s),
+        }
+    }
+
+    /// The counts of row `row` of `image` alone, in the instructions of the caller (the
+    /// normal-map rows count their own while they are in cache, [`NormalMapStats::likeness`]);
+    /// summed over the rows they are [`NormalLikeness::of`] the image.
+    ///
+    /// [`NormalMapStats::likeness`]: crate::normal_map::NormalMapStats::likeness
+    #[inline(always)]
+    pub fn of_row(image: &NormalImage, row: u32) -> Self {
+        let w = image.width as usize;
+        let range = row as usize * w..(row as usize + 1) * w;
+        let [foreground, off_unit, facing_away] = match &image.samples {
+            Samples::Eight(s) => count_block(&s[range]),
+            Samples::Sixteen(s) => count_block(&s[range]),
+            Samples::Float(s) => count_block(&s[range]),
+        }
+        .map(|n| n as usize);
+        NormalLikeness {
+            foreground,
+            off_unit,
+            facing_away,
         }
     }
 
@@ -57,6 +79,17 @@ impl NormalLikeness {
             self.foreground,
             100.0 * away
         ))
+    }
+}
+
+impl std::ops::Add for NormalLikeness {
+    type Output = NormalLikeness;
+    fn add(self, b: NormalLikeness) -> NormalLikeness {
+        NormalLikeness {
+            foreground: self.foreground + b.foreground,
+            off_unit: self.off_unit + b.off_unit,
+            facing_away: self.facing_away + b.facing_away,
+        }
     }
 }
 

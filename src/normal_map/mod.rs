@@ -38,13 +38,17 @@ use crate::surface::SurfaceLanes;
 pub struct NormalMapStats {
     /// Pixels that became surface points (the others are background).
     pub surface_points: u64,
-    /// Time summed over threads spent finding the foreground pixels of each row.
+    /// Time summed over threads spent finding the foreground pixels of each row (and counting
+    /// its image-check verdicts, [`NormalMapStats::likeness`]).
     pub surface_time: Duration,
     /// Time summed over threads spent decoding the foreground pixels into surface points and
     /// shading them: one loop, a lane group at a time, so the two are not timed apart.
     pub shading_time: Duration,
     /// Wall-clock time of surface points + shading.
     pub wall_time: Duration,
+    /// The image check's counts ([`NormalLikeness::of`] the image), counted by each row's worker
+    /// while the row is in its cache rather than in a pass of their own.
+    pub likeness: NormalLikeness,
     /// Rows holding a pixel that is not finite, counted by the worker that wrote the row while it
     /// is in its cache. The shader saturates L_o at `f32::MAX` (`shading::shader`), so this is 0
     /// today: it is defence in depth, so that a shader change letting an infinity or a NaN
@@ -71,11 +75,11 @@ pub struct ShadedNormalImage {
 /// is not finite ([`NormalMapStats::non_finite_rows`]).
 pub fn shade(scene: &NormalMapScene, image: &NormalImage, output: &str) -> InputResult<ShadedNormalImage> {
     let mut warnings = Vec::new();
-    if let Some(warning) = NormalLikeness::of(image).warning() {
-        warnings.push(format!("{}: {warning}", image.source.display()));
-    }
     let surface = image_surface(scene, image).map_err(|e| InputError::new(&image.source, e))?;
     let (radiance, stats) = shade_image(scene, image, &surface);
+    if let Some(warning) = stats.likeness.warning() {
+        warnings.push(format!("{}: {warning}", image.source.display()));
+    }
     if stats.non_finite_rows > 0 {
         let (x, y, p) = radiance
             .first_non_finite()
@@ -245,6 +249,7 @@ impl Rows<'_> {
                     surface_ns: (t1 - t0).as_nanos() as u64,
                     shading_ns: (t2 - t1).as_nanos() as u64,
                     points: buffers.columns.len() as u64,
+                    likeness: shaded.likeness,
                     non_finite_rows: u64::from(!shaded.finite),
                 }
             },
@@ -254,6 +259,7 @@ impl Rows<'_> {
             surface_time: Duration::from_nanos(counts.surface_ns),
             shading_time: Duration::from_nanos(counts.shading_ns),
             wall_time: start.elapsed(),
+            likeness: counts.likeness,
             non_finite_rows: counts.non_finite_rows,
         };
         (out, stats)
@@ -266,6 +272,7 @@ struct RowCounts {
     surface_ns: u64,
     shading_ns: u64,
     points: u64,
+    likeness: NormalLikeness,
     non_finite_rows: u64,
 }
 
@@ -276,6 +283,7 @@ impl std::ops::Add for RowCounts {
             surface_ns: self.surface_ns + b.surface_ns,
             shading_ns: self.shading_ns + b.shading_ns,
             points: self.points + b.points,
+            likeness: self.likeness + b.likeness,
             non_finite_rows: self.non_finite_rows + b.non_finite_rows,
         }
     }
@@ -362,6 +370,8 @@ struct RowShaded {
     surface_end: Instant,
     /// Whether every pixel of the row is finite (tested in the run, in its wider instructions).
     finite: bool,
+    /// The row's image-check counts (also in the run's instructions).
+    likeness: NormalLikeness,
 }
 
 impl<G: LaneGroup> LaneRow<'_, G> {
@@ -373,6 +383,7 @@ impl<G: LaneGroup> LaneRow<'_, G> {
     fn run(&self, buffers: &mut RowBuffers, pixels: &mut [Vec3]) -> RowShaded {
         debug_assert!(G::WIDTH <= MAX_GROUP);
         buffers.columns.clear();
+        let likeness = NormalLikeness::of_row(self.image, self.row);
         self.surface
             .foreground_columns(self.image, self.row, &mut buffers.columns);
         let surface_end = Instant::now();
@@ -395,6 +406,7 @@ impl<G: LaneGroup> LaneRow<'_, G> {
         RowShaded {
             surface_end,
             finite: all_finite(pixels),
+            likeness,
         }
     }
 

@@ -139,7 +139,7 @@ pub fn run(args: NormalMapArgs) -> Result<(), InputError> {
             output.display()
         );
         eprintln!(
-            "  stages: load + decode {:.4} s, shade {:.4} s (foreground scan {:.4} s + surface points and shading {:.4} s, summed over threads), output {:.4} s",
+            "  stages: load + decode {:.4} s, shade {:.4} s (foreground scan and image check {:.4} s + surface points and shading {:.4} s, summed over threads), output {:.4} s",
             load_time.as_secs_f64(),
             stats.wall_time.as_secs_f64(),
             stats.surface_time.as_secs_f64(),

@@ -12,9 +12,10 @@ use crate::support::Scratch;
 /// Shades `image` through `shade_image_with` for every lane instruction set and compares each
 /// pixel with one point at a time: `shade_min_max_pixel` for the tp preset (float64, rounded to f32 as
 /// the image path stores it), the scalar shader on `ImageSurface::point` for the physical one
-/// (one- and two-sided). Equal as numbers.
+/// (one- and two-sided). Equal as numbers; the image check's counts are the image's.
 fn assert_image_path_is_the_single_pixel_function(image: &pointshade::normal_map::image::NormalImage) {
     use pointshade::lanes::LaneInstructions;
+    use pointshade::normal_map::likeness::NormalLikeness;
     use pointshade::normal_map::{image_surface, shade_image_with, shader, MinMaxPrecision};
     let scaling = MinMaxScaling::of(image).unwrap();
     // Every instruction set this CPU runs (the register lanes' own tests say which are
@@ -34,7 +35,9 @@ fn assert_image_path_is_the_single_pixel_function(image: &pointshade::normal_map
             let surface = image_surface(&scene, image).unwrap();
             let one = shader(&scene, preset.convention());
             for &set in &sets {
-                let (shaded, _) = shade_image_with(&scene, image, &surface, set, MinMaxPrecision::Float64);
+                let (shaded, stats) = shade_image_with(&scene, image, &surface, set, MinMaxPrecision::Float64);
+                // The rows' own counts of the image check are the whole image's.
+                assert_eq!(stats.likeness, NormalLikeness::of(image), "{preset:?} {set:?}");
                 for row in 0..image.height {
                     for col in 0..image.width {
                         let index = (row * image.width + col) as usize;
