@@ -39,19 +39,19 @@ impl NormalLikeness {
         }
     }
 
-    /// The counts of row `row` of `image` alone, in the instructions of the caller (the
-    /// normal-map rows count their own while they are in cache, [`NormalMapStats::likeness`]);
-    /// summed over the rows they are [`NormalLikeness::of`] the image.
+    /// The counts of row `row` of `image` alone (the normal-map rows count their own while
+    /// they are in cache, [`NormalMapStats::likeness`]); summed over the rows they are
+    /// [`NormalLikeness::of`] the image. The same block code as [`NormalLikeness::of`]'s.
     ///
     /// [`NormalMapStats::likeness`]: crate::normal_map::NormalMapStats::likeness
-    #[inline(always)]
     pub fn of_row(image: &NormalImage, row: u32) -> Self {
         let w = image.width as usize;
         let range = row as usize * w..(row as usize + 1) * w;
+        let instructions = LaneInstructions::detect();
         let [foreground, off_unit, facing_away] = match &image.samples {
-            Samples::Eight(s) => count_block(&s[range]),
-            Samples::Sixteen(s) => count_block(&s[range]),
-            Samples::Float(s) => count_block(&s[range]),
+            Samples::Eight(s) => count_with(instructions, &s[range]),
+            Samples::Sixteen(s) => count_with(instructions, &s[range]),
+            Samples::Float(s) => count_with(instructions, &s[range]),
         }
         .map(|n| n as usize);
         NormalLikeness {
@@ -105,18 +105,25 @@ fn count<S: Verdicts>(samples: &[[S; 4]]) -> NormalLikeness {
     let instructions = LaneInstructions::detect();
     let [foreground, off_unit, facing_away] = samples
         .par_chunks(BLOCK)
-        .map(|block| match instructions {
-            // SAFETY: `detect` found AVX2 on this CPU (AVX-512F machines have it too).
-            #[cfg(target_arch = "x86_64")]
-            LaneInstructions::Avx2 | LaneInstructions::Avx512 => unsafe { count_block_avx2(block) },
-            _ => count_block(block),
-        })
+        .map(|block| count_with(instructions, block))
         .fold(|| [0usize; 3], |sum, b| [0, 1, 2].map(|k| sum[k] + b[k] as usize))
         .reduce(|| [0; 3], |a, b| [0, 1, 2].map(|k| a[k] + b[k]));
     NormalLikeness {
         foreground,
         off_unit,
         facing_away,
+    }
+}
+
+/// [`count_block`] in the widest form `instructions` (at most what [`LaneInstructions::detect`]
+/// found) allows.
+#[inline(always)]
+fn count_with<S: Verdicts>(instructions: LaneInstructions, block: &[[S; 4]]) -> [u32; 3] {
+    match instructions {
+        // SAFETY: `detect` found AVX2 on this CPU (AVX-512F machines have it too).
+        #[cfg(target_arch = "x86_64")]
+        LaneInstructions::Avx2 | LaneInstructions::Avx512 => unsafe { count_block_avx2(block) },
+        _ => count_block(block),
     }
 }
 
