@@ -310,6 +310,13 @@ impl<'a> NormalImage<'a> {
         }
     }
 
+    /// The indices of row `row`'s samples.
+    #[inline(always)]
+    pub fn row_range(&self, row: u32) -> std::ops::Range<usize> {
+        let w = self.width as usize;
+        row as usize * w..(row as usize + 1) * w
+    }
+
     /// Number of pixels.
     pub fn pixel_count(&self) -> usize {
         self.width as usize * self.height as usize

@@ -45,19 +45,11 @@ impl NormalLikeness {
     ///
     /// [`NormalMapStats::likeness`]: crate::normal_map::NormalMapStats::likeness
     pub fn of_row(image: &NormalImage, row: u32) -> Self {
-        let w = image.width as usize;
-        let range = row as usize * w..(row as usize + 1) * w;
-        let instructions = LaneInstructions::detect();
-        let [foreground, off_unit, facing_away] = match &image.samples {
-            Samples::Eight(s) => count_with(instructions, &s[range]),
-            Samples::Sixteen(s) => count_with(instructions, &s[range]),
-            Samples::Float(s) => count_with(instructions, &s[range]),
-        }
-        .map(|n| n as usize);
-        NormalLikeness {
-            foreground,
-            off_unit,
-            facing_away,
+        let row = image.row_range(row);
+        match &image.samples {
+            Samples::Eight(s) => of_block(&s[row]),
+            Samples::Sixteen(s) => of_block(&s[row]),
+            Samples::Float(s) => of_block(&s[row]),
         }
     }
 
@@ -102,28 +94,25 @@ trait Verdicts: Sample {
 /// `image`'s counts, as [`NormalLikeness::of`] returns them.
 fn count<S: Verdicts>(samples: &[[S; 4]]) -> NormalLikeness {
     const BLOCK: usize = 8192;
-    let instructions = LaneInstructions::detect();
-    let [foreground, off_unit, facing_away] = samples
+    samples
         .par_chunks(BLOCK)
-        .map(|block| count_with(instructions, block))
-        .fold(|| [0usize; 3], |sum, b| [0, 1, 2].map(|k| sum[k] + b[k] as usize))
-        .reduce(|| [0; 3], |a, b| [0, 1, 2].map(|k| a[k] + b[k]));
-    NormalLikeness {
-        foreground,
-        off_unit,
-        facing_away,
-    }
+        .map(of_block)
+        .reduce(NormalLikeness::default, |a, b| a + b)
 }
 
-/// [`count_block`] in the widest form `instructions` (at most what [`LaneInstructions::detect`]
-/// found) allows.
-#[inline(always)]
-fn count_with<S: Verdicts>(instructions: LaneInstructions, block: &[[S; 4]]) -> [u32; 3] {
-    match instructions {
+/// The counts of `block`: [`count_block`] in the widest form this CPU runs.
+fn of_block<S: Verdicts>(block: &[[S; 4]]) -> NormalLikeness {
+    let [foreground, off_unit, facing_away] = match LaneInstructions::detect() {
         // SAFETY: `detect` found AVX2 on this CPU (AVX-512F machines have it too).
         #[cfg(target_arch = "x86_64")]
         LaneInstructions::Avx2 | LaneInstructions::Avx512 => unsafe { count_block_avx2(block) },
         _ => count_block(block),
+    }
+    .map(|n| n as usize);
+    NormalLikeness {
+        foreground,
+        off_unit,
+        facing_away,
     }
 }
 

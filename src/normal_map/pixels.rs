@@ -301,9 +301,9 @@ impl ImageSurface {
             }
         }
         match &image.samples {
-            Samples::Eight(s) => rows(self, &s[self.row_range(row)], out),
-            Samples::Sixteen(s) => rows(self, &s[self.row_range(row)], out),
-            Samples::Float(s) => rows(self, &s[self.row_range(row)], out),
+            Samples::Eight(s) => rows(self, &s[image.row_range(row)], out),
+            Samples::Sixteen(s) => rows(self, &s[image.row_range(row)], out),
+            Samples::Float(s) => rows(self, &s[image.row_range(row)], out),
         }
     }
 
@@ -316,9 +316,9 @@ impl ImageSurface {
     pub fn lanes(&self, image: &NormalImage, row: u32, cols: [u32; LANES]) -> SurfaceLanes {
         debug_assert_eq!(self.decoding, NormalDecoding::Signed, "tp pixels go through tp_lanes");
         let rgb = match &image.samples {
-            Samples::Eight(s) => u8::unit_lanes(&s[self.row_range(row)], cols),
-            Samples::Sixteen(s) => u16::unit_lanes(&s[self.row_range(row)], cols),
-            Samples::Float(s) => UnitSample::unit_lanes(&s[self.row_range(row)], cols),
+            Samples::Eight(s) => u8::unit_lanes(&s[image.row_range(row)], cols),
+            Samples::Sixteen(s) => u16::unit_lanes(&s[image.row_range(row)], cols),
+            Samples::Float(s) => UnitSample::unit_lanes(&s[image.row_range(row)], cols),
         };
         // Columns are below 2^16 (images are at most 65536 wide): exact through i32, which
         // converts in one instruction where u32 → f32 takes several.
@@ -359,11 +359,11 @@ impl ImageSurface {
                 fn channel<V: LaneArray>(table: &[V::Scalar; 256], s: &[[u8; 4]], cols: &[u32], c: usize) -> V {
                     V::from_fn(|i| table[s[cols[i] as usize][c] as usize])
                 }
-                let (s, n) = (&s[self.row_range(row)], &decoding.eight_bit);
+                let (s, n) = (&s[image.row_range(row)], &decoding.eight_bit);
                 [channel(n, s, cols, 0), channel(n, s, cols, 1), channel(n, s, cols, 2)]
             }
-            Samples::Sixteen(s) => scaling.normal(levels::<_, V>(&s[self.row_range(row)], cols)),
-            Samples::Float(s) => scaling.normal(levels::<_, V>(&s[self.row_range(row)], cols)),
+            Samples::Sixteen(s) => scaling.normal(levels::<_, V>(&s[image.row_range(row)], cols)),
+            Samples::Float(s) => scaling.normal(levels::<_, V>(&s[image.row_range(row)], cols)),
         };
         let col = V::from_fn(|i| V::Scalar::lit(cols[i] as f64));
         self.tp_point_with_normal(normal, col, V::lit(row as f64), decoding.to_viewer)
@@ -407,12 +407,6 @@ impl ImageSurface {
             to_viewer,
             material: self.material,
         }
-    }
-
-    /// The indices of row `row`'s samples.
-    #[inline(always)]
-    fn row_range(&self, row: u32) -> std::ops::Range<usize> {
-        row as usize * self.width as usize..(row as usize + 1) * self.width as usize
     }
 }
 
