@@ -1,6 +1,7 @@
 //! numpy arrays in: dtype, shape, layout and finiteness checked before use, each failure a
 //! `TypeError` (wrong dtype or not an array) or `ValueError` (shape, layout, NaN) naming the
-//! argument. Arrays are read in place: nothing is copied to convert a layout or a dtype.
+//! argument. Arrays are read in place: nothing is copied to convert a layout, and only a normal
+//! image's three-channel or float arrays are converted (to the RGBA samples the shading reads).
 
 use std::borrow::Cow;
 
@@ -227,7 +228,7 @@ impl NormalArray<'_> {
 
 /// An (H, W, 3|4) uint8, uint16 or float normal image array `value`, checked and held for
 /// reading ([`NormalArray`]); a conversion runs on `workers`.
-pub fn normal_samples<'py>(value: &Bound<'py, PyAny>, workers: &Workers) -> PyResult<NormalArray<'py>> {
+pub fn normal_array<'py>(value: &Bound<'py, PyAny>, workers: &Workers) -> PyResult<NormalArray<'py>> {
     let a = array("normals", value, 3, &[None])?;
     let shape = a.shape();
     let (h, w, c) = (shape[0], shape[1], shape[2]);

@@ -235,7 +235,7 @@ fn shade_normal_image<'py>(
     let workers = workers::workers(threads.as_ref())?;
     let held = normals
         .as_ref()
-        .map(|a| arrays::normal_samples(a, &workers))
+        .map(|a| arrays::normal_array(a, &workers))
         .transpose()?;
     let mut samples = held.as_ref().map(|h| (h.width, h.height, h.samples(), h.has_alpha));
     // Milliseconds of work: without the GIL, but not worth a thread that watches for Ctrl-C.
