@@ -12,9 +12,10 @@
 //!   `confine=` in Python), for files it did not write itself: a glTF rendered on a server must
 //!   not read `/etc/passwd` through an image URI, a `../` or a link.
 
+use std::any::Any;
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};
-use std::sync::{Mutex, RwLock};
+use std::sync::{Mutex, PoisonError, RwLock};
 
 /// The largest input file read: 4 GiB, above any mesh, image or EXR the renderer can hold
 /// within the film and pixel limits, and below what a 2-core machine's memory takes.
@@ -28,6 +29,16 @@ static CONFINED_TO: RwLock<Option<PathBuf>> = RwLock::new(None);
 
 /// Held while a [`Confinement`] runs: one at a time in the process.
 static CONFINEMENT_RUNNING: Mutex<()> = Mutex::new(());
+
+/// This module's locks, taken in the order [`Confinement::run`] nests them (its turn, then the
+/// folder; the recorded reads are taken alone), for the fork handlers of `process_fork`.
+pub(crate) fn locks_for_fork() -> [Box<dyn Any>; 3] {
+    [
+        Box::new(CONFINEMENT_RUNNING.lock().unwrap_or_else(PoisonError::into_inner)),
+        Box::new(CONFINED_TO.write().unwrap_or_else(PoisonError::into_inner)),
+        Box::new(READS.lock().unwrap_or_else(PoisonError::into_inner)),
+    ]
+}
 
 /// Where the reads of an operation may go: anywhere, or inside one folder.
 ///

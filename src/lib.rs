@@ -22,6 +22,7 @@ pub mod material;
 pub mod normal_map;
 pub mod output;
 pub mod plan;
+pub mod process_fork;
 pub mod render;
 pub mod reports;
 pub mod scene;

@@ -106,3 +106,52 @@ def test_a_call_in_a_forked_process_answers_as_in_its_parent(name):
         except multiprocessing.TimeoutError:
             pytest.fail(f"{name} gave no answer in 60 s in a forked process (waiting on its parent's threads)")
     assert _equal(got, expected)
+
+
+# Python 3.12+ warns that a fork in a threaded process may deadlock the child: that is the test.
+@pytest.mark.filterwarnings("ignore:This process .* is multi-threaded")
+def test_a_process_forked_while_another_thread_loads_a_file_can_load_one():
+    # A load holds a process-wide lock (the confinement's turn) while it decodes, without the GIL.
+    # A child forked meanwhile inherits that lock held by a thread it does not have; the
+    # module's fork handlers (pointshade::process_fork) make the fork wait for the load to end
+    # instead. The thread loads a large PNG again and again, so the forks below land in a load
+    # almost surely; a child that waits on the lock is killed after 30 s and fails the test.
+    import os
+    import threading
+    import time
+
+    with tempfile.TemporaryDirectory() as dir:
+        path = Path(dir) / "large.png"
+        rng = np.random.default_rng(7)
+        pointshade.write_image(path, rng.integers(0, 256, size=(2048, 2048, 3), dtype=np.uint8))
+        stop = threading.Event()
+
+        def load_again_and_again():
+            while not stop.is_set():
+                pointshade.read_normal_image(path)
+
+        loader = threading.Thread(target=load_again_and_again)
+        loader.start()
+        try:
+            for _ in range(5):
+                time.sleep(0.01)
+                pid = os.fork()
+                if pid == 0:
+                    code = 1
+                    try:
+                        pointshade.read_normal_image(path)
+                        code = 0
+                    finally:
+                        os._exit(code)
+                deadline = time.monotonic() + 30
+                while (waited := os.waitpid(pid, os.WNOHANG)) == (0, 0) and time.monotonic() < deadline:
+                    time.sleep(0.01)
+                if waited == (0, 0):
+                    os.kill(pid, 9)
+                    os.waitpid(pid, 0)
+                    pytest.fail("a child forked during a load waited 30 s on the load's lock")
+                assert os.WIFEXITED(waited[1]) and os.WEXITSTATUS(waited[1]) == 0
+        finally:
+            stop.set()
+            loader.join()
+

@@ -29,6 +29,12 @@ fn pending() -> std::sync::MutexGuard<'static, Vec<Pending>> {
     PENDING.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
 }
 
+/// [`PENDING`]'s lock, for the fork handlers of `process_fork` (taken alone: no other lock is
+/// taken while it is held).
+pub(crate) fn lock_for_fork() -> Box<dyn std::any::Any> {
+    Box::new(pending())
+}
+
 /// Removes the temporaries of the writes in progress and puts moved-aside files back: what a
 /// signal handler does before the process exits, so that a stopped write leaves the old files
 /// and nothing else.

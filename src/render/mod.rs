@@ -19,7 +19,7 @@ pub mod progress;
 pub mod request;
 mod sample_cache;
 pub mod tile;
-mod workers;
+pub(crate) mod workers;
 pub use workers::{check_thread_count, Workers, MAX_THREADS_PER_CPU};
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};

@@ -122,6 +122,12 @@ impl Drop for Workers {
     }
 }
 
+/// The idle pools' lock, for the fork handlers of `process_fork` (taken alone: no other lock is
+/// taken while it is held).
+pub(crate) fn lock_for_fork() -> Box<dyn std::any::Any> {
+    Box::new(IDLE.0.lock().unwrap_or_else(PoisonError::into_inner))
+}
+
 /// Whether rayon's global pool runs the work of `process` (this process): it does in the first
 /// process to ask (recorded in `owner`), not in one forked from it.
 fn global_pool_serves(owner: &AtomicU32, process: u32) -> bool {
