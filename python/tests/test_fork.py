@@ -155,3 +155,36 @@ def test_a_process_forked_while_another_thread_loads_a_file_can_load_one():
             stop.set()
             loader.join()
 
+
+@pytest.mark.filterwarnings("ignore:This process .* is multi-threaded")
+def test_a_preview_rendering_in_another_thread_at_the_fork_is_an_error_in_the_child():
+    # The render holds the preview's lock, and its thread does not come along: the child's call
+    # must say so instead of waiting for a release that never comes.
+    import os
+    import threading
+    import time
+
+    preview = pointshade.Preview(CORNELL, width=256, height=192, spp=256)
+    renderer = threading.Thread(target=preview.render)
+    renderer.start()
+    try:
+        time.sleep(0.1)
+        pid = os.fork()
+        if pid == 0:
+            code = 1
+            try:
+                preview.materials
+            except RuntimeError as e:
+                code = 0 if "make a new Preview" in str(e) else 2
+            finally:
+                os._exit(code)
+        deadline = time.monotonic() + 30
+        while (waited := os.waitpid(pid, os.WNOHANG)) == (0, 0) and time.monotonic() < deadline:
+            time.sleep(0.01)
+        if waited == (0, 0):
+            os.kill(pid, 9)
+            os.waitpid(pid, 0)
+            pytest.fail("the child waited 30 s for a render of its parent's thread")
+        assert os.WIFEXITED(waited[1]) and os.WEXITSTATUS(waited[1]) == 0, f"child status {waited[1]:#x}"
+    finally:
+        renderer.join()

@@ -1,6 +1,10 @@
 """pointshade.Preview: each render is render()'s image of the edited scene, bit for bit, and an
 edit that leaves the view alone traces no camera ray."""
 
+import subprocess
+import sys
+import textwrap
+
 import numpy as np
 import pytest
 
@@ -90,3 +94,30 @@ def test_bad_edits_are_input_errors_that_change_nothing():
 def test_a_sampler_that_adapts_to_the_shading_is_refused():
     with pytest.raises(pointshade.InputError, match="fixed number of samples per pixel"):
         pointshade.Preview(SCENE, sampler="adaptive", **SMALL)
+
+
+def test_a_preview_used_by_two_threads_at_once_answers_both():
+    # A render holds the preview while it takes the GIL now and then (to see Ctrl-C). A second
+    # thread's call on the same preview waits for it without the GIL; waiting with it, both threads
+    # would wait for ever. In a process of its own, so that such a wait fails this test instead of
+    # hanging the run.
+    script = textwrap.dedent(
+        f"""
+        import threading, time
+        import pointshade
+        preview = pointshade.Preview({str(SCENE)!r}, width=256, height=192, spp=256)
+        rendered = []
+        renderer = threading.Thread(target=lambda: rendered.append(preview.render()))
+        renderer.start()
+        time.sleep(0.1)
+        names = preview.materials
+        renderer.join()
+        assert "teal" in names and rendered[0]["color"].shape == (192, 256, 3)
+        print("both answered")
+        """
+    )
+    try:
+        done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60)
+    except subprocess.TimeoutExpired:
+        pytest.fail("a second thread's call on a rendering Preview and the render waited for each other")
+    assert done.returncode == 0 and "both answered" in done.stdout, done.stderr
