@@ -4,7 +4,11 @@ threads, so a call that ran its parallel work there would wait for ever."""
 
 import json
 import multiprocessing
+import os
+import signal
 import tempfile
+import threading
+import time
 import urllib.request
 from pathlib import Path
 
@@ -108,6 +112,27 @@ def test_a_call_in_a_forked_process_answers_as_in_its_parent(name):
     assert _equal(got, expected)
 
 
+def _exit_code_of_forked(child, waiting_for):
+    """Forks; the child runs `child()` and exits with the code it returns (1 if it raises). The
+    parent waits up to 30 s for it, then kills it and fails the test."""
+    pid = os.fork()
+    if pid == 0:
+        code = 1
+        try:
+            code = child()
+        finally:
+            os._exit(code)
+    deadline = time.monotonic() + 30
+    while (waited := os.waitpid(pid, os.WNOHANG)) == (0, 0) and time.monotonic() < deadline:
+        time.sleep(0.01)
+    if waited == (0, 0):
+        os.kill(pid, signal.SIGKILL)
+        os.waitpid(pid, 0)
+        pytest.fail(f"the forked child waited 30 s {waiting_for}")
+    assert os.WIFEXITED(waited[1]), f"the forked child ended by a signal: status {waited[1]:#x}"
+    return os.WEXITSTATUS(waited[1])
+
+
 # Python 3.12+ warns that a fork in a threaded process may deadlock the child: that is the test.
 @pytest.mark.filterwarnings("ignore:This process .* is multi-threaded")
 def test_a_process_forked_while_another_thread_loads_a_file_can_load_one():
@@ -116,10 +141,6 @@ def test_a_process_forked_while_another_thread_loads_a_file_can_load_one():
     # module's fork handlers (pointshade::process_fork) make the fork wait for the load to end
     # instead. The thread loads a large PNG again and again, so the forks below land in a load
     # almost surely; a child that waits on the lock is killed after 30 s and fails the test.
-    import os
-    import threading
-    import time
-
     with tempfile.TemporaryDirectory() as dir:
         path = Path(dir) / "large.png"
         rng = np.random.default_rng(7)
@@ -135,22 +156,7 @@ def test_a_process_forked_while_another_thread_loads_a_file_can_load_one():
         try:
             for _ in range(5):
                 time.sleep(0.01)
-                pid = os.fork()
-                if pid == 0:
-                    code = 1
-                    try:
-                        pointshade.read_normal_image(path)
-                        code = 0
-                    finally:
-                        os._exit(code)
-                deadline = time.monotonic() + 30
-                while (waited := os.waitpid(pid, os.WNOHANG)) == (0, 0) and time.monotonic() < deadline:
-                    time.sleep(0.01)
-                if waited == (0, 0):
-                    os.kill(pid, 9)
-                    os.waitpid(pid, 0)
-                    pytest.fail("a child forked during a load waited 30 s on the load's lock")
-                assert os.WIFEXITED(waited[1]) and os.WEXITSTATUS(waited[1]) == 0
+                assert _exit_code_of_forked(lambda: (pointshade.read_normal_image(path), 0)[1], "on the load's lock") == 0
         finally:
             stop.set()
             loader.join()
@@ -160,31 +166,20 @@ def test_a_process_forked_while_another_thread_loads_a_file_can_load_one():
 def test_a_preview_rendering_in_another_thread_at_the_fork_is_an_error_in_the_child():
     # The render holds the preview's lock, and its thread does not come along: the child's call
     # must say so instead of waiting for a release that never comes.
-    import os
-    import threading
-    import time
-
     preview = pointshade.Preview(CORNELL, width=256, height=192, spp=256)
     renderer = threading.Thread(target=preview.render)
     renderer.start()
     try:
         time.sleep(0.1)
-        pid = os.fork()
-        if pid == 0:
-            code = 1
+
+        def refused():
             try:
                 preview.materials
             except RuntimeError as e:
-                code = 0 if "make a new Preview" in str(e) else 2
-            finally:
-                os._exit(code)
-        deadline = time.monotonic() + 30
-        while (waited := os.waitpid(pid, os.WNOHANG)) == (0, 0) and time.monotonic() < deadline:
-            time.sleep(0.01)
-        if waited == (0, 0):
-            os.kill(pid, 9)
-            os.waitpid(pid, 0)
-            pytest.fail("the child waited 30 s for a render of its parent's thread")
-        assert os.WIFEXITED(waited[1]) and os.WEXITSTATUS(waited[1]) == 0, f"child status {waited[1]:#x}"
+                return 0 if "make a new Preview" in str(e) else 2
+            return 3
+
+        code = _exit_code_of_forked(refused, "for a render of its parent's thread")
+        assert code == 0, "the child's call answered (3) or raised another RuntimeError (2): " + str(code)
     finally:
         renderer.join()
