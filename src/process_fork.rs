@@ -1,7 +1,7 @@
 //! Forks of a process that runs pointshade on several threads (Python's `multiprocessing`
 //! with the `fork` start method, `os.fork`). The child gets a copy of every lock as it was at
 //! the fork, but only the forking thread: a lock another thread held at that instant is held by
-//! no thread in the child, and the child's first call that takes it waits forever.
+//! no thread in the child, and the child's first call that takes it waits for ever.
 //!
 //! [`keep_locks_free_across_forks`] registers handlers with POSIX `pthread_atfork` that take the
 //! library's process-wide locks just before a fork, in the order the library nests them (so
@@ -13,8 +13,12 @@
 //! - `output::atomic`: the pending files of all-or-nothing writes;
 //! - `render::workers`: the idle thread pools.
 //!
-//! A thread that forks while it holds one of them would wait for itself. The library never
+//! A thread that forks while it holds one of these locks would wait for itself. The library never
 //! does: it forks nowhere, and the front ends fork (or let Python fork) only between calls.
+//!
+//! Values a call makes once per process (`OnceLock`s) are the same hazard: a fork while another
+//! thread makes one leaves the child's copy being made for ever. The ones the Python module's
+//! calls read are made when the handlers are registered instead.
 
 use std::any::Any;
 use std::cell::RefCell;
@@ -36,6 +40,9 @@ thread_local! {
 pub fn keep_locks_free_across_forks() {
     static REGISTERED: Once = Once::new();
     REGISTERED.call_once(|| {
+        // Made now rather than by a call, which a fork might interrupt.
+        let _ = crate::texture::srgb_decode_table();
+        let _ = workers::check_thread_count(1);
         // SAFETY: the three handlers are `extern "C"` functions without arguments that neither
         // unwind nor return anything, as `pthread_atfork` requires. Registration fails only for
         // want of memory, and then forks behave as without this module.
@@ -96,6 +103,65 @@ mod tests {
         // SAFETY: `pid` is this process's child; `status` is a valid place to write.
         assert_eq!(unsafe { libc::waitpid(pid, &mut status, 0) }, pid);
         status
+    }
+
+    /// The `static` locks of `src/` (a `Mutex` or an `RwLock`, or one the handlers name) into
+    /// `found` and its `OnceLock`s into `made`, by name, from the source text.
+    fn static_locks(dir: &std::path::Path, found: &mut Vec<String>, made: &mut Vec<String>) {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                static_locks(&path, found, made);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                for line in std::fs::read_to_string(&path).unwrap().lines() {
+                    let line = line
+                        .trim_start()
+                        .trim_start_matches("pub(crate) ")
+                        .trim_start_matches("pub ");
+                    let Some((name, ty)) = line.strip_prefix("static ").and_then(|l| l.split_once(':')) else {
+                        continue;
+                    };
+                    if ty.contains("Mutex<") || ty.contains("RwLock<") || TAKEN.contains(&name) {
+                        found.push(name.to_string());
+                    } else if ty.contains("OnceLock<") {
+                        made.push(name.to_string());
+                    }
+                }
+            }
+        }
+    }
+
+    /// The locks `take_locks` takes, by the names of their statics.
+    const TAKEN: [&str; 5] = ["CONFINEMENT_RUNNING", "CONFINED_TO", "READS", "PENDING", "IDLE"];
+
+    /// The `OnceLock`s `keep_locks_free_across_forks` makes, and the one it need not: the
+    /// convergence plot's font check is built into the CLI only, which never forks.
+    const MADE_EARLY: [&str; 3] = ["CPUS", "TABLE", "FOUND"];
+
+    #[test]
+    fn every_process_wide_lock_is_taken_before_a_fork_and_every_once_made_value_made_early() {
+        let (mut found, mut made) = (Vec::new(), Vec::new());
+        static_locks(
+            &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src"),
+            &mut found,
+            &mut made,
+        );
+        let sorted = |mut names: Vec<String>| {
+            names.sort();
+            names
+        };
+        assert_eq!(
+            sorted(found),
+            sorted(TAKEN.map(String::from).to_vec()),
+            "a process-wide lock that take_locks does not take would be inherited held by a child \
+             forked while another thread holds it: add it there and to TAKEN"
+        );
+        assert_eq!(
+            sorted(made),
+            sorted(MADE_EARLY.map(String::from).to_vec()),
+            "a OnceLock a forked child may find being made: make it in keep_locks_free_across_forks \
+             and add it to MADE_EARLY"
+        );
     }
 
     #[test]
