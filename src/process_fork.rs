@@ -76,7 +76,7 @@ mod tests {
     use crate::input_files::Confinement;
 
     /// Forks while another thread runs a confinement (whose turn is a lock held for the whole
-    /// run), and takes that lock in the child. Without the handlers the child waits forever, so
+    /// run), and takes that lock in the child. Without the handlers the child waits for ever, so
     /// an alarm ends it after 20 s and the test fails on its exit status.
     fn child_takes_a_lock_held_at_the_fork() -> i32 {
         let (locked, wait) = mpsc::channel();

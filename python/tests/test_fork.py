@@ -1,6 +1,7 @@
 """Every call in a process forked from one that used it (Python's multiprocessing on Linux,
 fork its default before Python 3.14): the child inherits rayon's global pool without its
-threads, so a call that ran its parallel work there would wait for ever."""
+threads, so a call that ran its parallel work there would wait for ever. And a fork while
+another thread is in a call: the child inherits no lock held by a thread it does not have."""
 
 import json
 import multiprocessing
@@ -151,12 +152,16 @@ def test_a_process_forked_while_another_thread_loads_a_file_can_load_one():
             while not stop.is_set():
                 pointshade.read_normal_image(path)
 
+        def load_once():
+            pointshade.read_normal_image(path)
+            return 0
+
         loader = threading.Thread(target=load_again_and_again)
         loader.start()
         try:
             for _ in range(5):
                 time.sleep(0.01)
-                assert _exit_code_of_forked(lambda: (pointshade.read_normal_image(path), 0)[1], "on the load's lock") == 0
+                assert _exit_code_of_forked(load_once, "on the load's lock") == 0
         finally:
             stop.set()
             loader.join()
