@@ -31,12 +31,19 @@ static CONFINED_TO: RwLock<Option<PathBuf>> = RwLock::new(None);
 static CONFINEMENT_RUNNING: Mutex<()> = Mutex::new(());
 
 /// This module's locks, taken in the order [`Confinement::run`] nests them (its turn, then the
-/// folder; the recorded reads are taken alone), for the fork handlers of `process_fork`.
-pub(crate) fn locks_for_fork() -> [Box<dyn Any>; 3] {
+/// folder; the recorded reads are taken alone), each with its static's name, for the fork
+/// handlers of `process_fork`.
+pub(crate) fn locks_for_fork() -> [(&'static str, Box<dyn Any>); 3] {
     [
-        Box::new(CONFINEMENT_RUNNING.lock().unwrap_or_else(PoisonError::into_inner)),
-        Box::new(CONFINED_TO.write().unwrap_or_else(PoisonError::into_inner)),
-        Box::new(READS.lock().unwrap_or_else(PoisonError::into_inner)),
+        (
+            "CONFINEMENT_RUNNING",
+            Box::new(CONFINEMENT_RUNNING.lock().unwrap_or_else(PoisonError::into_inner)),
+        ),
+        (
+            "CONFINED_TO",
+            Box::new(CONFINED_TO.write().unwrap_or_else(PoisonError::into_inner)),
+        ),
+        ("READS", Box::new(READS.lock().unwrap_or_else(PoisonError::into_inner))),
     ]
 }
 

@@ -29,10 +29,10 @@ fn pending() -> std::sync::MutexGuard<'static, Vec<Pending>> {
     PENDING.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
 }
 
-/// [`PENDING`]'s lock, for the fork handlers of `process_fork` (taken alone: no other lock is
-/// taken while it is held).
-pub(crate) fn lock_for_fork() -> Box<dyn std::any::Any> {
-    Box::new(pending())
+/// [`PENDING`]'s lock and name, for the fork handlers of `process_fork` (taken alone: no other
+/// lock is taken while it is held).
+pub(crate) fn lock_for_fork() -> (&'static str, Box<dyn std::any::Any>) {
+    ("PENDING", Box::new(pending()))
 }
 
 /// Removes the temporaries of the writes in progress and puts moved-aside files back: what a

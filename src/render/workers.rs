@@ -122,10 +122,10 @@ impl Drop for Workers {
     }
 }
 
-/// The idle pools' lock, for the fork handlers of `process_fork` (taken alone: no other lock is
-/// taken while it is held).
-pub(crate) fn lock_for_fork() -> Box<dyn std::any::Any> {
-    Box::new(IDLE.0.lock().unwrap_or_else(PoisonError::into_inner))
+/// The idle pools' lock and its static's name, for the fork handlers of `process_fork` (taken
+/// alone: no other lock is taken while it is held).
+pub(crate) fn lock_for_fork() -> (&'static str, Box<dyn std::any::Any>) {
+    ("IDLE", Box::new(IDLE.0.lock().unwrap_or_else(PoisonError::into_inner)))
 }
 
 /// Whether rayon's global pool runs the work of `process` (this process): it does in the first
