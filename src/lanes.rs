@@ -132,6 +132,20 @@ pub trait Real:
     fn max(self, other: Self) -> Self;
     /// The smaller of the two (the other one where either is NaN).
     fn min(self, other: Self) -> Self;
+    /// `self` where it is greater than `floor`, else `floor` (also where `self` is NaN): [`Real::max`]
+    /// against a bound that is never NaN, as one x86 instruction (`maxpd` is exactly this
+    /// select) where `max` needs three. Unlike `max`, it gives `floor` for two equal zeros, so
+    /// −0 against a floor of 0 gives +0 on every path.
+    #[inline(always)]
+    fn at_least(self, floor: Self) -> Self {
+        Self::select(self.gt(floor), self, floor)
+    }
+    /// `self` where it is less than `ceiling`, else `ceiling` (also where `self` is NaN):
+    /// [`Real::min`] against a bound that is never NaN, as one x86 instruction (`minpd`).
+    #[inline(always)]
+    fn at_most(self, ceiling: Self) -> Self {
+        Self::select(self.lt(ceiling), self, ceiling)
+    }
     /// √self (NaN below 0).
     fn sqrt(self) -> Self;
     /// 1/self.
@@ -423,6 +437,14 @@ impl<T: Scalar, const N: usize> Real for Lanes<T, N> {
     #[inline(always)]
     fn min(self, other: Self) -> Self {
         self.zip(other, T::min)
+    }
+    #[inline(always)]
+    fn at_least(self, floor: Self) -> Self {
+        self.zip(floor, T::at_least)
+    }
+    #[inline(always)]
+    fn at_most(self, ceiling: Self) -> Self {
+        self.zip(ceiling, T::at_most)
     }
     #[inline(always)]
     fn sqrt(self) -> Self {

@@ -199,7 +199,9 @@ impl Light {
                 let factor = match profile {
                     SpotProfile::Gltf => {
                         let scale = R::of(1.0 / (cos_inner - cos_outer).max(0.001));
-                        let cone = (cos * scale - R::of(cos_outer) * scale).max(R::zero()).min(R::one());
+                        let cone = (cos * scale - R::of(cos_outer) * scale)
+                            .at_least(R::zero())
+                            .at_most(R::one());
                         cone * cone
                     }
                     SpotProfile::Mitsuba => mitsuba_cone(cos, cos_inner, cos_outer),
@@ -241,7 +243,7 @@ impl Light {
             Falloff::InverseSquareWithin { range } => {
                 let r = distance / R::of(range);
                 let r2 = r * r;
-                let window = (R::one() - r2 * r2).max(R::zero()).min(R::one());
+                let window = (R::one() - r2 * r2).at_least(R::zero()).at_most(R::one());
                 lit = lit & window.gt(R::zero());
                 window / safe_d2
             }
@@ -249,9 +251,9 @@ impl Light {
         // Saturate instead of overflowing: huge intensities at tiny distances stay finite, so no
         // inf·0 = NaN can arise downstream.
         let max = R::of(f32::MAX);
-        let scale = factor * falloff.min(max);
+        let scale = factor * falloff.at_most(max);
         let irradiance = map3(self.power.to_array(), |c| {
-            R::select(lit, (R::of(c) * scale).min(max), R::zero())
+            R::select(lit, (R::of(c) * scale).at_most(max), R::zero())
         });
         let inv_distance = R::select(lit, distance, R::one()).recip();
         LightSamples {
@@ -270,9 +272,13 @@ impl Light {
 #[inline(always)]
 fn mitsuba_cone<R: Real>(cos: R, cos_inner: f32, cos_outer: f32) -> R {
     let (inner, outer) = (cos_inner.acos(), cos_outer.acos());
-    let theta = cos.max(-R::one()).min(R::one()).acos();
+    let theta = cos.at_least(-R::one()).at_most(R::one()).acos();
     let ramp = (R::of(outer) - theta) / R::of((outer - inner).max(f32::MIN_POSITIVE));
-    let inside = R::select(cos.ge(R::of(cos_inner)), R::one(), ramp.max(R::zero()).min(R::one()));
+    let inside = R::select(
+        cos.ge(R::of(cos_inner)),
+        R::one(),
+        ramp.at_least(R::zero()).at_most(R::one()),
+    );
     R::select(cos.gt(R::of(cos_outer)), inside, R::zero())
 }
 

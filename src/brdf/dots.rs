@@ -80,21 +80,21 @@ impl<R: Real> LocalDots<R> {
         let inv = len.recip();
         let inv_n = n_len.recip();
         let nxs = cross(n, sum);
-        let sin2_h = (dot(nxs, nxs) * (inv * inv_n) * (inv * inv_n)).min(R::one());
+        let sin2_h = (dot(nxs, nxs) * (inv * inv_n) * (inv * inv_n)).at_most(R::one());
         let keep = |v: R| R::select(frame, v, R::zero());
         let dots = Self {
             n_dot_i: keep(dot(n, wi) * inv_n),
             n_dot_o: keep(dot(n, wo) * inv_n),
-            n_dot_h: keep((dot(n, sum) * (inv * inv_n)).max(-R::one()).min(R::one())),
+            n_dot_h: keep((dot(n, sum) * (inv * inv_n)).at_least(-R::one()).at_most(R::one())),
             sin2_h: keep(sin2_h),
-            i_dot_h: keep((len * R::lit(0.5)).min(R::one())),
+            i_dot_h: keep((len * R::lit(0.5)).at_most(R::one())),
         };
         (dots, frame)
     }
 
     #[inline(always)]
     pub fn from_cosines(n_dot_i: R, n_dot_o: R, n_dot_h: R, i_dot_h: R) -> Self {
-        let n_dot_h = n_dot_h.max(-R::one()).min(R::one());
+        let n_dot_h = n_dot_h.at_least(-R::one()).at_most(R::one());
         Self {
             n_dot_i,
             n_dot_o,

@@ -100,10 +100,10 @@ impl MaskingShadowing {
         let lit = n_dot_i.gt(R::zero()) & n_dot_o.gt(R::zero());
         // Cosines in (0, 1]; where either is ≤ 0 or NaN, 1 stands in and the result is 0.
         let (ci, co) = (
-            R::select(lit, n_dot_i.min(R::one()), R::one()),
-            R::select(lit, n_dot_o.min(R::one()), R::one()),
+            R::select(lit, n_dot_i.at_most(R::one()), R::one()),
+            R::select(lit, n_dot_o.at_most(R::one()), R::one()),
         );
-        let alpha = alpha.max(R::lit(MIN_ALPHA));
+        let alpha = alpha.at_least(R::lit(MIN_ALPHA));
         let v = match self {
             Self::SchlickSmith => v_schlick(ci, co, schlick_k_beckmann(alpha)),
             Self::SchlickKaris => v_schlick(ci, co, schlick_k_karis(alpha)),
@@ -117,7 +117,7 @@ impl MaskingShadowing {
     /// [`MIN_ALPHA`]); 0 where either cosine is ≤ 0.
     #[inline(always)]
     pub fn g<R: Real>(self, n_dot_i: R, n_dot_o: R, alpha: R) -> R {
-        let (ci, co) = (n_dot_i.min(R::one()), n_dot_o.min(R::one()));
+        let (ci, co) = (n_dot_i.at_most(R::one()), n_dot_o.at_most(R::one()));
         R::lit(4.0) * ci * co * self.visibility(n_dot_i, n_dot_o, alpha)
     }
 }

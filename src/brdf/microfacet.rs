@@ -37,14 +37,14 @@ impl MicrofacetDistribution {
 /// so the result keeps its relative precision where 1 − c·c would cancel.
 #[inline(always)]
 pub(crate) fn one_minus_squared<R: Real>(c: R) -> R {
-    ((R::one() - c) * (R::one() + c)).max(R::zero())
+    ((R::one() - c) * (R::one() + c)).at_least(R::zero())
 }
 
 /// α clamped to [`MIN_ALPHA`, 1] (materials validate α ≤ 1; the clamp keeps direct calls finite),
-/// squared. NaN becomes `MIN_ALPHA` (`max` ignores NaN).
+/// squared. NaN becomes `MIN_ALPHA` (`at_least` gives its floor for NaN).
 #[inline(always)]
 fn alpha_squared<R: Real>(alpha: R) -> R {
-    let a = alpha.max(R::lit(MIN_ALPHA)).min(R::one());
+    let a = alpha.at_least(R::lit(MIN_ALPHA)).at_most(R::one());
     a * a
 }
 
@@ -64,12 +64,12 @@ fn alpha_squared<R: Real>(alpha: R) -> R {
 /// [`LocalDots`]: super::LocalDots
 #[inline(always)]
 pub fn ggx_d<R: Real>(n_dot_h: R, sin2_h: R, alpha: R) -> R {
-    let c = n_dot_h.min(R::one());
-    let s2 = sin2_h.max(R::zero()).min(R::one());
+    let c = n_dot_h.at_most(R::one());
+    let s2 = sin2_h.at_least(R::zero()).at_most(R::one());
     let a2 = alpha_squared(alpha);
     let t = s2 + a2 * c * c;
     let peak = (R::PI() * a2).recip();
-    // Test the raw input: `min` turned a NaN into 1.
+    // Test the raw input: `at_most` turned a NaN into 1.
     R::select(n_dot_h.gt(R::zero()), (a2 / (R::PI() * t * t)).min(peak), R::zero())
 }
 
@@ -83,13 +83,13 @@ pub fn ggx_d<R: Real>(n_dot_h: R, sin2_h: R, alpha: R) -> R {
 /// Surfaces*, 1963; in this form, Walter et al. 2007, eq. 25.
 #[inline(always)]
 pub fn beckmann_d<R: Real>(n_dot_h: R, sin2_h: R, alpha: R) -> R {
-    let c = n_dot_h.min(R::one());
+    let c = n_dot_h.at_most(R::one());
     let c2 = c * c;
-    // c² > 0 also rejects n·ω_h ≤ 0 and NaN (min absorbs NaN into 1, hence the first test).
+    // c² > 0 also rejects n·ω_h ≤ 0 and NaN (`at_most` turns NaN into 1, hence the first test).
     let lobe = n_dot_h.gt(R::zero()) & c2.gt(R::zero());
     let c2 = R::select(lobe, c2, R::one());
     let a2 = alpha_squared(alpha);
-    let tan2 = sin2_h.max(R::zero()).min(R::one()) / c2;
+    let tan2 = sin2_h.at_least(R::zero()).at_most(R::one()) / c2;
     let e = (-tan2 / a2).exp();
     let sec2 = R::one() + tan2;
     // e = 0 where sec⁴ may overflow: the product is 0, not 0·∞.

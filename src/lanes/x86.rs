@@ -189,6 +189,18 @@ macro_rules! f64_register_lanes {
                 Self::blend(self.compare::<_CMP_UNORD_Q>(self), other, m)
             }
             #[inline(always)]
+            fn at_least(self, floor: Self) -> Self {
+                // `vmaxpd a, b` is `a > b ? a : b`: the trait's definition.
+                // SAFETY: module note.
+                $v(unsafe { $max(self.0, floor.0) })
+            }
+            #[inline(always)]
+            fn at_most(self, ceiling: Self) -> Self {
+                // `vminpd a, b` is `a < b ? a : b`.
+                // SAFETY: module note.
+                $v(unsafe { $min(self.0, ceiling.0) })
+            }
+            #[inline(always)]
             fn sqrt(self) -> Self {
                 // SAFETY: module note.
                 $v(unsafe { $sqrt(self.0) })
@@ -469,13 +481,16 @@ mod tests {
                     ("neg", -a, |x| -x),
                     ("exp", a.exp(), f64::exp),
                 ];
-                let binary: [Binary<V>; 7] = [
+                let binary: [Binary<V>; 9] = [
                     ("add", a + bv, |x, y| x + y, false),
                     ("sub", a - bv, |x, y| x - y, false),
                     ("mul", a * bv, |x, y| x * y, false),
                     ("div", a / bv, |x, y| x / y, false),
                     ("max", a.max(bv), f64::max, true),
                     ("min", a.min(bv), f64::min, true),
+                    // Exact bits, zeros' signs included: the trait defines them by a select.
+                    ("at_least", a.at_least(bv), |x, y| if x > y { x } else { y }, false),
+                    ("at_most", a.at_most(bv), |x, y| if x < y { x } else { y }, false),
                     ("powf", a.powf(bv), f64::powf, false),
                 ];
                 let mut out = [0.0; 8];

@@ -55,7 +55,7 @@ pub struct ClampedDots<R: Real> {
 fn clamp01<R: Real>(v: R) -> R {
     // max/min return the other operand for NaN, so a NaN product (impossible for finite inputs)
     // would become 0 rather than reach the image.
-    v.max(R::zero()).min(R::one())
+    v.at_least(R::zero()).at_most(R::one())
 }
 
 /// v/‖v‖ with each component divided by ‖v‖ = √(v_x² + v_y² + v_z²), summed in that order (as

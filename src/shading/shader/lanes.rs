@@ -160,7 +160,7 @@ impl<O: Occluder> Shader<'_, O> {
         for light in self.lights {
             facing.add_reflected(&facing.lit(light), &mut radiance);
         }
-        map3(radiance, |c| c.min(F32x8::splat(f32::MAX)))
+        map3(radiance, |c| c.at_most(F32x8::splat(f32::MAX)))
     }
 
     /// The clamped convention's L_o (see [`ShadingConvention::Clamped`]) of points of one
@@ -208,7 +208,7 @@ impl<O: Occluder> Shader<'_, O> {
                 radiance[c] = radiance[c] + term[c];
             }
         }
-        map3(radiance, |c| c.min(R::lit(f32::MAX as f64)))
+        map3(radiance, |c| c.at_most(R::lit(f32::MAX as f64)))
     }
 
     /// [`Shader::shade`] of a batch of at most [`BATCH`] points under the physical convention,
