@@ -146,6 +146,12 @@ pub trait Real:
     fn at_most(self, ceiling: Self) -> Self {
         Self::select(self.lt(ceiling), self, ceiling)
     }
+    /// `self` clamped to [`low`, `high`]: [`Real::at_least`] then [`Real::at_most`], so NaN
+    /// gives `low`; neither bound may be NaN.
+    #[inline(always)]
+    fn clamped(self, low: Self, high: Self) -> Self {
+        self.at_least(low).at_most(high)
+    }
     /// √self (NaN below 0).
     fn sqrt(self) -> Self;
     /// 1/self.

@@ -199,9 +199,7 @@ impl Light {
                 let factor = match profile {
                     SpotProfile::Gltf => {
                         let scale = R::of(1.0 / (cos_inner - cos_outer).max(0.001));
-                        let cone = (cos * scale - R::of(cos_outer) * scale)
-                            .at_least(R::zero())
-                            .at_most(R::one());
+                        let cone = (cos * scale - R::of(cos_outer) * scale).clamped(R::zero(), R::one());
                         cone * cone
                     }
                     SpotProfile::Mitsuba => mitsuba_cone(cos, cos_inner, cos_outer),
@@ -243,7 +241,7 @@ impl Light {
             Falloff::InverseSquareWithin { range } => {
                 let r = distance / R::of(range);
                 let r2 = r * r;
-                let window = (R::one() - r2 * r2).at_least(R::zero()).at_most(R::one());
+                let window = (R::one() - r2 * r2).clamped(R::zero(), R::one());
                 lit = lit & window.gt(R::zero());
                 window / safe_d2
             }
@@ -272,13 +270,9 @@ impl Light {
 #[inline(always)]
 fn mitsuba_cone<R: Real>(cos: R, cos_inner: f32, cos_outer: f32) -> R {
     let (inner, outer) = (cos_inner.acos(), cos_outer.acos());
-    let theta = cos.at_least(-R::one()).at_most(R::one()).acos();
+    let theta = cos.clamped(-R::one(), R::one()).acos();
     let ramp = (R::of(outer) - theta) / R::of((outer - inner).max(f32::MIN_POSITIVE));
-    let inside = R::select(
-        cos.ge(R::of(cos_inner)),
-        R::one(),
-        ramp.at_least(R::zero()).at_most(R::one()),
-    );
+    let inside = R::select(cos.ge(R::of(cos_inner)), R::one(), ramp.clamped(R::zero(), R::one()));
     R::select(cos.gt(R::of(cos_outer)), inside, R::zero())
 }
 

@@ -85,7 +85,7 @@ impl<R: Real> LocalDots<R> {
         let dots = Self {
             n_dot_i: keep(dot(n, wi) * inv_n),
             n_dot_o: keep(dot(n, wo) * inv_n),
-            n_dot_h: keep((dot(n, sum) * (inv * inv_n)).at_least(-R::one()).at_most(R::one())),
+            n_dot_h: keep((dot(n, sum) * (inv * inv_n)).clamped(-R::one(), R::one())),
             sin2_h: keep(sin2_h),
             i_dot_h: keep((len * R::lit(0.5)).at_most(R::one())),
         };
@@ -94,7 +94,7 @@ impl<R: Real> LocalDots<R> {
 
     #[inline(always)]
     pub fn from_cosines(n_dot_i: R, n_dot_o: R, n_dot_h: R, i_dot_h: R) -> Self {
-        let n_dot_h = n_dot_h.at_least(-R::one()).at_most(R::one());
+        let n_dot_h = n_dot_h.clamped(-R::one(), R::one());
         Self {
             n_dot_i,
             n_dot_o,

@@ -40,7 +40,7 @@ pub fn schlick_f0_dielectric<R: Real>(ior: R) -> R {
 /// Graphics Forum 13(3), 1994, eq. 24.
 #[inline(always)]
 pub fn fresnel_schlick<R: Real>(f0: R, i_dot_h: R) -> R {
-    let m = R::one() - i_dot_h.at_least(R::zero()).at_most(R::one());
+    let m = R::one() - i_dot_h.clamped(R::zero(), R::one());
     let m2 = m * m;
     f0 + (R::one() - f0) * m2 * m2 * m
 }
@@ -51,7 +51,7 @@ pub fn fresnel_schlick<R: Real>(f0: R, i_dot_h: R) -> R {
 /// Source: B. Karis, "Real Shading in Unreal Engine 4", SIGGRAPH 2013 course notes.
 #[inline(always)]
 pub fn fresnel_schlick_sg<R: Real>(f0: R, i_dot_h: R) -> R {
-    let c = i_dot_h.at_least(R::zero()).at_most(R::one());
+    let c = i_dot_h.clamped(R::zero(), R::one());
     f0 + (R::one() - f0) * ((R::lit(-5.55473) * c - R::lit(6.98316)) * c).exp2()
 }
 
@@ -90,7 +90,7 @@ pub fn fresnel_conductor<R: Real>(i_dot_h: R, eta: R, k: R) -> R {
         eta.at_least(R::zero()).min(max_index),
         k.at_least(R::zero()).min(max_index),
     );
-    let c = i_dot_h.at_least(R::zero()).at_most(R::one());
+    let c = i_dot_h.clamped(R::zero(), R::one());
     let s2 = super::microfacet::one_minus_squared(c);
     let t1 = eta * eta - k * k - s2;
     let eta_k = eta * k;
@@ -122,7 +122,7 @@ pub fn fresnel_conductor<R: Real>(i_dot_h: R, eta: R, k: R) -> R {
     );
     R::select(
         rs_valid,
-        ((rs + rp) * R::lit(0.5)).at_least(R::zero()).at_most(R::one()),
+        ((rs + rp) * R::lit(0.5)).clamped(R::zero(), R::one()),
         R::one(),
     )
 }

@@ -34,7 +34,7 @@ pub fn lambert<R: Real>(kd: R, albedo: R) -> R {
 /// [`LocalDots`]: super::LocalDots
 #[inline(always)]
 pub fn blinn_phong<R: Real>(ks: R, n_dot_h: R, sin2_h: R, shininess: f32) -> R {
-    let c = n_dot_h.at_least(R::zero()).at_most(R::one());
+    let c = n_dot_h.clamped(R::zero(), R::one());
     ks * match whole_exponent(shininess) {
         Some(e) => whole_power(c, e),
         None => logarithmic_lobe(c, sin2_h, R::of(shininess)),
@@ -73,7 +73,7 @@ fn whole_power<R: Real>(mut base: R, exponent: u32) -> R {
 /// c^s for any exponent s ≥ 0, through ln_1p of sin²θ_h near the peak (0^0 = 1).
 #[inline(always)]
 fn logarithmic_lobe<R: Real>(c: R, sin2_h: R, shininess: R) -> R {
-    let s2 = sin2_h.at_least(R::zero()).at_most(R::one());
+    let s2 = sin2_h.clamped(R::zero(), R::one());
     let near_peak = s2.lt(R::lit(0.5)) & c.gt(R::zero());
     let lobe = R::choose(
         near_peak,

@@ -44,7 +44,7 @@ pub(crate) fn one_minus_squared<R: Real>(c: R) -> R {
 /// squared. NaN becomes `MIN_ALPHA` (`at_least` gives its floor for NaN).
 #[inline(always)]
 fn alpha_squared<R: Real>(alpha: R) -> R {
-    let a = alpha.at_least(R::lit(MIN_ALPHA)).at_most(R::one());
+    let a = alpha.clamped(R::lit(MIN_ALPHA), R::one());
     a * a
 }
 
@@ -65,7 +65,7 @@ fn alpha_squared<R: Real>(alpha: R) -> R {
 #[inline(always)]
 pub fn ggx_d<R: Real>(n_dot_h: R, sin2_h: R, alpha: R) -> R {
     let c = n_dot_h.at_most(R::one());
-    let s2 = sin2_h.at_least(R::zero()).at_most(R::one());
+    let s2 = sin2_h.clamped(R::zero(), R::one());
     let a2 = alpha_squared(alpha);
     let t = s2 + a2 * c * c;
     let peak = (R::PI() * a2).recip();
@@ -89,7 +89,7 @@ pub fn beckmann_d<R: Real>(n_dot_h: R, sin2_h: R, alpha: R) -> R {
     let lobe = n_dot_h.gt(R::zero()) & c2.gt(R::zero());
     let c2 = R::select(lobe, c2, R::one());
     let a2 = alpha_squared(alpha);
-    let tan2 = sin2_h.at_least(R::zero()).at_most(R::one()) / c2;
+    let tan2 = sin2_h.clamped(R::zero(), R::one()) / c2;
     let e = (-tan2 / a2).exp();
     let sec2 = R::one() + tan2;
     // e = 0 where sec⁴ may overflow: the product is 0, not 0·∞.

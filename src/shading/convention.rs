@@ -53,9 +53,9 @@ pub struct ClampedDots<R: Real> {
 
 #[inline(always)]
 fn clamp01<R: Real>(v: R) -> R {
-    // max/min return the other operand for NaN, so a NaN product (impossible for finite inputs)
+    // `clamped` gives its lower bound for NaN, so a NaN product (impossible for finite inputs)
     // would become 0 rather than reach the image.
-    v.at_least(R::zero()).at_most(R::one())
+    v.clamped(R::zero(), R::one())
 }
 
 /// v/‖v‖ with each component divided by ‖v‖ = √(v_x² + v_y² + v_z²), summed in that order (as
