@@ -86,10 +86,7 @@ pub const MAX_CONDUCTOR_INDEX: f64 = 1e8;
 #[inline(always)]
 pub fn fresnel_conductor<R: Real>(i_dot_h: R, eta: R, k: R) -> R {
     let max_index = R::lit(MAX_CONDUCTOR_INDEX);
-    let (eta, k) = (
-        eta.at_least(R::zero()).min(max_index),
-        k.at_least(R::zero()).min(max_index),
-    );
+    let (eta, k) = (eta.clamped(R::zero(), max_index), k.clamped(R::zero(), max_index));
     let c = i_dot_h.clamped(R::zero(), R::one());
     let s2 = super::microfacet::one_minus_squared(c);
     let t1 = eta * eta - k * k - s2;
