@@ -42,7 +42,7 @@ pub fn keep_locks_free_across_forks() {
     REGISTERED.call_once(|| {
         // Made now rather than by a call, which a fork might interrupt.
         let _ = crate::texture::srgb_decode_table();
-        let _ = workers::check_thread_count(1);
+        let _ = workers::logical_cpus();
         // SAFETY: the three handlers are `extern "C"` functions without arguments that neither
         // unwind nor return anything, as `pthread_atfork` requires. Registration fails only for
         // want of memory, and then forks behave as without this module.

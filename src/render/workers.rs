@@ -30,7 +30,7 @@ pub fn check_thread_count(threads: usize) -> Result<(), String> {
 /// affinity mask and the cgroup quota files each time, which cost about as much as shading a
 /// small normal image (docs/performance-log.md). The count only bounds a thread count typed by
 /// mistake, so one taken at the first call serves the process's life.
-fn logical_cpus() -> usize {
+pub(crate) fn logical_cpus() -> usize {
     static CPUS: OnceLock<usize> = OnceLock::new();
     *CPUS.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
 }
