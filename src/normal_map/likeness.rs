@@ -120,9 +120,9 @@ fn of_block<S: Verdicts>(block: &[[S; 4]]) -> NormalLikeness {
 }
 
 /// The verdicts of `block` summed: sixteen pixels per instruction in AVX-512 registers, eight
-/// in AVX2 ones, four in the portable build's SSE2 ones. Runs of [`MASK_PIXELS`] pixels none of which has a channel
-/// above the background level are skipped: their verdicts are all 0 (foreground needs one), and
-/// most of a normal image's background is such runs.
+/// in AVX2 ones, four in the portable build's SSE2 ones. Runs of [`MASK_PIXELS`] pixels none of
+/// which has a channel above the background level are skipped: their verdicts are all 0
+/// (foreground needs one), and most of a normal image's background is such runs.
 #[inline(always)]
 fn count_block<S: Verdicts>(block: &[[S; 4]]) -> [u32; 3] {
     block.chunks(MASK_PIXELS).fold([0u32; 3], |sum, run| {
