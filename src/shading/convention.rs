@@ -51,13 +51,6 @@ pub struct ClampedDots<R: Real> {
     pub half_vector: R::Mask,
 }
 
-#[inline(always)]
-fn clamp01<R: Real>(v: R) -> R {
-    // `clamped` gives its lower bound for NaN, so a NaN product (impossible for finite inputs)
-    // would become 0 rather than reach the image.
-    v.clamped(R::zero(), R::one())
-}
-
 /// v/‖v‖ with each component divided by ‖v‖ = √(v_x² + v_y² + v_z²), summed in that order (as
 /// `v / np.linalg.norm(v)` computes it); the zero vector where ‖v‖ is 0 or not finite, with the
 /// lanes where it is defined. Division, not a product with 1/‖v‖: in float64 the directions are
@@ -128,8 +121,10 @@ pub fn clamped_dots<R: Real>(
     half_vector: Option<UnitForm>,
 ) -> ClampedDots<R> {
     let wi = wi_from_light;
-    let n_dot_i = clamp01(dot(n, wi));
-    let n_dot_o = clamp01(dot(n, wo));
+    // Each cosine clamped to [0, 1]; `clamped` gives its lower bound for NaN, so a NaN product
+    // (impossible for finite inputs) would become 0 rather than reach the image.
+    let n_dot_i = dot(n, wi).clamped(R::zero(), R::one());
+    let n_dot_o = dot(n, wo).clamped(R::zero(), R::one());
     let (wh, half_vector) = match half_vector {
         Some(form) => {
             let sum = [wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]];
@@ -141,7 +136,12 @@ pub fn clamped_dots<R: Real>(
     let keep = |v: R| R::select(half_vector, v, R::zero());
     // sin²θ_h = (1 − c)(1 + c) from the clamped c: D is a function of that c.
     ClampedDots {
-        dots: LocalDots::from_cosines(n_dot_i, n_dot_o, keep(clamp01(dot(n, wh))), keep(clamp01(dot(wi, wh)))),
+        dots: LocalDots::from_cosines(
+            n_dot_i,
+            n_dot_o,
+            keep(dot(n, wh).clamped(R::zero(), R::one())),
+            keep(dot(wi, wh).clamped(R::zero(), R::one())),
+        ),
         half_vector,
     }
 }
