@@ -119,10 +119,11 @@ fn of_block<S: Verdicts>(block: &[[S; 4]]) -> NormalLikeness {
     }
 }
 
-/// The verdicts of `block` summed: sixteen pixels per instruction in AVX-512 registers, eight
-/// in AVX2 ones, four in the portable build's SSE2 ones. Runs of [`MASK_PIXELS`] pixels none of
-/// which has a channel above the background level are skipped: their verdicts are all 0
-/// (foreground needs one), and most of a normal image's background is such runs.
+/// The verdicts of `block` summed, in vector instructions as wide as the caller is compiled for
+/// (SSE2 in the portable build; [`count_block_avx2`], [`count_block_avx512`]). Runs of
+/// [`MASK_PIXELS`] pixels none of which has a channel above the background level are skipped:
+/// their verdicts are all 0 (foreground needs one), and most of a normal image's background is
+/// such runs.
 #[inline(always)]
 fn count_block<S: Verdicts>(block: &[[S; 4]]) -> [u32; 3] {
     block.chunks(MASK_PIXELS).fold([0u32; 3], |sum, run| {
@@ -146,7 +147,7 @@ unsafe fn count_block_avx2<S: Verdicts>(block: &[[S; 4]]) -> [u32; 3] {
     count_block(block)
 }
 
-/// [`count_block`] compiled for AVX-512F: sixteen pixels per instruction.
+/// [`count_block`] compiled for AVX-512F.
 ///
 /// # Safety
 /// The CPU must have AVX2 and AVX-512F.
@@ -314,7 +315,8 @@ mod tests {
                 [sum[0] + v[0], sum[1] + v[1], sum[2] + v[2]]
             });
             assert_eq!(count_block(block), one_by_one, "{len} pixels");
-            // The same block through the widest code this CPU runs.
+            // The same block through the widest code this CPU runs, and through each compiled
+            // form it can run (on an AVX-512 machine `of_block` no longer reaches the AVX2 one).
             let widest = of_block(block);
             assert_eq!(
                 [widest.foreground, widest.off_unit, widest.facing_away].map(|n| n as u32),
@@ -322,6 +324,22 @@ mod tests {
                 "{len} pixels, {:?}",
                 LaneInstructions::detect()
             );
+            #[cfg(target_arch = "x86_64")]
+            {
+                let detected = LaneInstructions::detect();
+                if detected >= LaneInstructions::Avx2 {
+                    // SAFETY: `detect` found AVX2.
+                    assert_eq!(unsafe { count_block_avx2(block) }, one_by_one, "{len} pixels, AVX2");
+                }
+                if detected >= LaneInstructions::Avx512 {
+                    // SAFETY: `detect` found AVX-512F and AVX2.
+                    assert_eq!(
+                        unsafe { count_block_avx512(block) },
+                        one_by_one,
+                        "{len} pixels, AVX-512"
+                    );
+                }
+            }
         }
         assert!(count_block(&pixels)[0] > 1000, "the test has foreground");
     }
