@@ -43,13 +43,11 @@ pub(crate) fn logical_cpus() -> usize {
 /// inherits that pool without its threads, and rayon cannot start it again (rayon-rs/rayon#708):
 /// its calls without a thread count run on a pool of the same size of its own instead. So every
 /// parallel entry of a library that may be forked (the Python module) runs inside a `Workers`.
-pub enum Workers {
-    /// rayon's global pool.
-    Global,
-    /// A pool of its own while the call runs: no other call shares its threads. Dropped, it goes
-    /// back to the idle pools for the next call of the same size (`None` only while it is given
-    /// back).
-    Own(Option<StartedPool>),
+pub struct Workers {
+    /// A pool of the call's own while it runs (no other call shares its threads), or `None`:
+    /// rayon's global pool. Dropped, an own pool goes back to the idle pools for the next call
+    /// of its size.
+    own: Option<StartedPool>,
 }
 
 /// A thread pool and the process that started its threads.
@@ -73,18 +71,20 @@ impl Workers {
                 check_thread_count(threads)?;
                 threads
             }
-            None if global_pool_serves(&GLOBAL_POOL_PROCESS, process) => return Ok(Workers::Global),
+            None if global_pool_serves(&GLOBAL_POOL_PROCESS, process) => return Ok(Workers { own: None }),
             // Outside any pool this reads the size the global pool was built with; the
             // inherited pool is not asked to run anything.
             None => rayon::current_num_threads(),
         };
         if let Some(started) = IDLE.take(process, threads) {
-            return Ok(Workers::Own(Some(started)));
+            return Ok(Workers { own: Some(started) });
         }
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
-            .map(|pool| Workers::Own(Some(StartedPool { process, pool })))
+            .map(|pool| Workers {
+                own: Some(StartedPool { process, pool }),
+            })
             .map_err(|e| format!("cannot start {threads} threads: {e}"))
     }
 
@@ -93,11 +93,9 @@ impl Workers {
     /// this one. Workers of this process are kept.
     pub fn move_to_this_process(&mut self) -> Result<(), String> {
         let process = std::process::id();
-        *self = match self {
-            Workers::Own(Some(started)) if started.process != process => {
-                Workers::new(Some(started.pool.current_num_threads()))?
-            }
-            Workers::Global if !global_pool_serves(&GLOBAL_POOL_PROCESS, process) => Workers::new(None)?,
+        *self = match &self.own {
+            Some(started) if started.process != process => Workers::new(Some(started.pool.current_num_threads()))?,
+            None if !global_pool_serves(&GLOBAL_POOL_PROCESS, process) => Workers::new(None)?,
             _ => return Ok(()),
         };
         Ok(())
@@ -105,19 +103,17 @@ impl Workers {
 
     /// Runs `work` on these workers.
     pub fn install<T: Send>(&self, work: impl FnOnce() -> T + Send) -> T {
-        match self {
-            Workers::Own(Some(started)) => started.pool.install(work),
-            Workers::Global | Workers::Own(None) => work(),
+        match &self.own {
+            Some(started) => started.pool.install(work),
+            None => work(),
         }
     }
 }
 
 impl Drop for Workers {
     fn drop(&mut self) {
-        if let Workers::Own(started) = self {
-            if let Some(started) = started.take() {
-                IDLE.give_back(std::process::id(), started);
-            }
+        if let Some(started) = self.own.take() {
+            IDLE.give_back(std::process::id(), started);
         }
     }
 }
@@ -268,14 +264,12 @@ mod tests {
     fn workers_another_process_made_are_made_again_here_at_their_size() {
         let here = std::process::id();
         // What a forked child holds: a pool its parent started (whose two threads, here, leak).
-        let mut inherited = Workers::Own(Some(pool(here.wrapping_add(1), 2)));
+        let mut inherited = Workers {
+            own: Some(pool(here.wrapping_add(1), 2)),
+        };
         inherited.move_to_this_process().unwrap();
-        match &inherited {
-            Workers::Own(Some(started)) => {
-                assert_eq!((started.process, started.pool.current_num_threads()), (here, 2));
-            }
-            _ => panic!("a pool of two threads of this process"),
-        }
+        let started = inherited.own.as_ref().expect("a pool of two threads of this process");
+        assert_eq!((started.process, started.pool.current_num_threads()), (here, 2));
         let mut own = Workers::new(Some(1)).unwrap();
         let thread_of = |w: &Workers| w.install(|| std::thread::current().id());
         let before = thread_of(&own);
