@@ -3,10 +3,10 @@
 //! the fork, but only the forking thread: a lock another thread held at that instant is held by
 //! no thread in the child, and the child's first call that takes it waits for ever.
 //!
-//! [`keep_locks_free_across_forks`] registers handlers with POSIX `pthread_atfork` that take the
-//! library's process-wide locks just before a fork, in the order the library nests them (so
-//! that the handler cannot deadlock against a call in progress), and release them just after it
-//! in the parent and in the child. The fork waits for other threads' critical sections to end
+//! [`prepare_for_forks`] makes a process safe to fork between calls. It registers handlers with
+//! POSIX `pthread_atfork` that take the library's process-wide locks just before a fork, in the
+//! order the library nests them (so that the handler cannot deadlock against a call in
+//! progress), and release them just after it in the parent and in the child. The fork waits for other threads' critical sections to end
 //! (the longest, a load under a confinement, lasts as long as the load), and the child starts
 //! with every lock free. The locks, in that order:
 //! - `input_files`: the confinement's turn, its folder and the recorded reads;
@@ -35,9 +35,11 @@ thread_local! {
     static HELD: RefCell<Vec<(&'static str, Box<dyn Any>)>> = const { RefCell::new(Vec::new()) };
 }
 
-/// Registers the fork handlers, once per process (a forked child inherits them). The Python
-/// module calls it when it is imported; a program that never forks need not.
-pub fn keep_locks_free_across_forks() {
+/// Makes this process safe to fork between calls, once per process (a forked child inherits
+/// what it sets up): registers the fork handlers that keep the library's locks free in the
+/// child, and makes the once-made values a call would otherwise make. The Python module calls
+/// it when it is imported; a program that never forks need not.
+pub fn prepare_for_forks() {
     static REGISTERED: Once = Once::new();
     REGISTERED.call_once(|| {
         // Made now rather than by a call, which a fork might interrupt.
@@ -132,7 +134,7 @@ mod tests {
         }
     }
 
-    /// The `OnceLock`s `keep_locks_free_across_forks` makes, and the one it need not: the
+    /// The `OnceLock`s `prepare_for_forks` makes, and the one it need not: the
     /// convergence plot's font check is built into the CLI only, which never forks.
     const MADE_EARLY: [&str; 3] = ["CPUS", "TABLE", "FOUND"];
 
@@ -158,14 +160,14 @@ mod tests {
         assert_eq!(
             sorted(made),
             sorted(MADE_EARLY.map(String::from).to_vec()),
-            "a OnceLock a forked child may find being made: make it in keep_locks_free_across_forks \
+            "a OnceLock a forked child may find being made: make it in prepare_for_forks \
              and add it to MADE_EARLY"
         );
     }
 
     #[test]
     fn a_child_forked_while_another_thread_holds_a_lock_finds_it_free() {
-        keep_locks_free_across_forks();
+        prepare_for_forks();
         let status = child_takes_a_lock_held_at_the_fork();
         assert!(
             libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0,

@@ -544,7 +544,7 @@ fn parse_toml<'py>(py: Python<'py>, text: &str, name: &str) -> PyResult<Bound<'p
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // `multiprocessing` forks on Linux, possibly while another thread is in a call.
-    pointshade::process_fork::keep_locks_free_across_forks();
+    pointshade::process_fork::prepare_for_forks();
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("InputError", m.py().get_type::<InputError>())?;
     m.add_function(wrap_pyfunction!(render, m)?)?;
