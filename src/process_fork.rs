@@ -6,9 +6,9 @@
 //! [`prepare_for_forks`] makes a process safe to fork between calls. It registers handlers with
 //! POSIX `pthread_atfork` that take the library's process-wide locks just before a fork, in the
 //! order the library nests them (so that the handler cannot deadlock against a call in
-//! progress), and release them just after it in the parent and in the child. The fork waits for other threads' critical sections to end
-//! (the longest, a load under a confinement, lasts as long as the load), and the child starts
-//! with every lock free. The locks, in that order:
+//! progress), and release them just after it in the parent and in the child. The fork waits
+//! for other threads' critical sections to end (the longest, a load under a confinement, lasts
+//! as long as the load), and the child starts with every lock free. The locks, in that order:
 //! - `input_files`: the confinement's turn, its folder and the recorded reads;
 //! - `output::atomic`: the pending files of all-or-nothing writes;
 //! - `render::workers`: the idle thread pools.
