@@ -51,7 +51,7 @@ pub struct Workers {
 }
 
 /// A thread pool and the process that started its threads.
-pub struct StartedPool {
+struct StartedPool {
     process: u32,
     pool: ThreadPool,
 }
